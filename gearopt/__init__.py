@@ -1,0 +1,8 @@
+"""gearopt: exact, differentiable gear-train design models on CasADi, optimised with Ipopt."""
+
+from . import numerics
+from .errors import (GearoptError, GearoptInputError, GeometryError, SolveError, InfeasibleProblemError,
+                     IterationLimitError, NumericalSolveError, BadInitialGuessError)
+from .geometry import GearPair, PairTolerances, iso_tr_4467_shift_limits, shift_split_iso_tr_4467
+
+__version__ = "0.1.0"

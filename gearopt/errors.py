@@ -1,0 +1,105 @@
+"""Typed errors of gearopt.
+
+Bad input and impossible geometry raise subclasses of :class:`GearoptInputError` (itself a ``ValueError``) whose
+message names the parameter, the value and the limit. Failed solves raise subclasses of :class:`SolveError` carrying
+Ipopt's return status, a hint, and the worst violated constraints by name.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+
+class GearoptError(Exception):
+    """Base class of every error gearopt raises on purpose."""
+
+
+class GearoptInputError(GearoptError, ValueError):
+    """An argument is outside its admissible range (message: parameter, value, limit)."""
+
+
+class GeometryError(GearoptInputError):
+    """Gear geometry that cannot exist: undercut, pointed tip, interference, contact ratio < 1, unreachable centre
+    distance, a profile shift outside its limits."""
+
+
+def check_range(name: str, value: float, low: float | None = None, high: float | None = None, *,
+                low_inclusive: bool = True, high_inclusive: bool = True, unit: str = "",
+                error: type[GearoptInputError] = GearoptInputError) -> None:
+    """Raise ``error`` naming ``name``, ``value`` and the violated limit when a numeric value is out of range.
+
+    Symbolic (CasADi) values are not checked here; the caller reports those as constraints instead.
+    """
+    try:
+        v = float(value)
+    except (TypeError, ValueError, RuntimeError):
+        return
+    u = f" {unit}" if unit else ""
+    if v != v:
+        raise error(f"{name}={value!r} is NaN")
+    if low is not None and (v < low or (v == low and not low_inclusive)):
+        rel = ">=" if low_inclusive else ">"
+        raise error(f"{name}={v:g}{u} is below its limit: must be {rel} {low:g}{u}")
+    if high is not None and (v > high or (v == high and not high_inclusive)):
+        rel = "<=" if high_inclusive else "<"
+        raise error(f"{name}={v:g}{u} exceeds its limit: must be {rel} {high:g}{u}")
+
+
+@dataclass
+class ViolatedConstraint:
+    """One constraint of a failed solve with its violation in the constraint's own units."""
+
+    name: str
+    violation: float
+    value: float
+    lower: float
+    upper: float
+    source: str = ""
+
+    def __str__(self) -> str:
+        where = f"  [{self.source}]" if self.source else ""
+        return (f"{self.name}: value {self.value:.6g} outside [{self.lower:.6g}, {self.upper:.6g}] "
+                f"by {self.violation:.3g}{where}")
+
+
+class SolveError(GearoptError, RuntimeError):
+    """An NLP solve did not converge. ``status`` is Ipopt's return status; ``violated`` lists the worst violated
+    constraints (largest first) at the last iterate; ``hint`` suggests what to try."""
+
+    def __init__(self, message: str, *, status: str = "", hint: str = "",
+                 violated: list[ViolatedConstraint] | None = None, result=None):
+        self.status = status
+        self.hint = hint
+        self.violated = list(violated or [])
+        self.result = result
+        lines = [message]
+        if status:
+            lines.append(f"Ipopt status: {status}")
+        if self.violated:
+            lines.append("Worst violated constraints:")
+            lines.extend(f"  - {v}" for v in self.violated)
+        if hint:
+            lines.append(f"Hint: {hint}")
+        super().__init__("\n".join(lines))
+
+
+class InfeasibleProblemError(SolveError):
+    """Ipopt converged to a point of local infeasibility: the constraints cannot all be met."""
+
+
+class IterationLimitError(SolveError):
+    """Ipopt stopped at its iteration or time limit before converging."""
+
+
+class NumericalSolveError(SolveError):
+    """Ipopt failed for numerical reasons (restoration failure, NaN/Inf in evaluation, too-small step)."""
+
+
+class BadInitialGuessError(GearoptInputError):
+    """The pre-solve check found NaN/Inf or inverted bounds at the initial guess (names listed in the message)."""
+
+
+__all__ = [
+    "GearoptError", "GearoptInputError", "GeometryError", "check_range", "ViolatedConstraint", "SolveError",
+    "InfeasibleProblemError", "IterationLimitError", "NumericalSolveError", "BadInitialGuessError",
+]

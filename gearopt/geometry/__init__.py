@@ -1,0 +1,7 @@
+"""Involute gear geometry: single-gear relations, pair macro geometry (ISO 21771), profile shift, trains."""
+
+from .pair import GearPair
+from .shift import iso_tr_4467_shift_limits, shift_split_iso_tr_4467
+from .tolerances import PairTolerances
+
+__all__ = ["GearPair", "PairTolerances", "iso_tr_4467_shift_limits", "shift_split_iso_tr_4467"]
