@@ -30,10 +30,14 @@ def check_range(name: str, value: float, low: float | None = None, high: float |
 
     Symbolic (CasADi) values are not checked here; the caller reports those as constraints instead.
     """
-    try:
-        v = float(value)
-    except (TypeError, ValueError, RuntimeError):
+    from . import numerics  # late import: numerics itself raises these errors
+
+    if numerics.is_symbolic(value):
         return
+    try:
+        v = numerics.to_float(value)
+    except (TypeError, ValueError, RuntimeError):
+        raise error(f"{name}={value!r} is not a number") from None
     u = f" {unit}" if unit else ""
     if v != v:
         raise error(f"{name}={value!r} is NaN")

@@ -3,5 +3,6 @@
 from .pair import GearPair
 from .shift import iso_tr_4467_shift_limits, shift_split_iso_tr_4467
 from .tolerances import PairTolerances
+from .train import GearSpec, GearTrain, MeshSpec, RackSpec
 
-__all__ = ["GearPair", "PairTolerances", "iso_tr_4467_shift_limits", "shift_split_iso_tr_4467"]
+__all__ = ["GearPair", "PairTolerances", "GearTrain", "GearSpec", "MeshSpec", "RackSpec", "iso_tr_4467_shift_limits", "shift_split_iso_tr_4467"]

@@ -452,14 +452,22 @@ class GearPair:
         return f"{name}={margin:.4g} < 0"
 
     def _pointed_tip_limit(self, i: int, ratio: float) -> float | None:
-        """Largest x_i (other data fixed, tips from the rack) for which the normal tip thickness is ratio m_n."""
+        """Largest x_i for which gear i's normal tip thickness equals ``ratio`` m_n, with this pair's tip
+        alteration k (or its explicit tip diameter) held fixed."""
         from scipy.optimize import brentq
 
+        c = self._core
+        m = nm.to_float(self.module_mm)
+        k = nm.to_float(c["k"]) if self.tip_shortening else 0.0
+        d, d_b = nm.to_float(c["d"][i]), nm.to_float(c["d_b"][i])
+
         def margin(xi):
-            x = list(self.profile_shifts)
-            x[i] = xi
-            p = replace(self, profile_shifts=tuple(x), tip_diameters_mm=None)
-            return nm.to_float(p._geometry["tip_thickness_mm"][i]) - ratio * nm.to_float(self.module_mm)
+            d_a = nm.to_float(self.tip_diameters_mm[i]) if self.tip_diameters_mm is not None \
+                else d + 2.0 * m * (self.addendum_coefficient + xi - k)
+            s_t = inv.transverse_tooth_thickness_reference(c["m_t"], xi, c["alpha_n"])
+            s_at = inv.transverse_tooth_thickness_at(d_a, d, d_b, s_t, c["alpha_t"])
+            s_an = s_at * nm.cos(inv.helix_angle_at(d_a, d, c["beta"]))
+            return nm.to_float(s_an) - ratio * m
 
         try:
             return brentq(margin, -1.0, 3.0, xtol=1e-6)

@@ -1,0 +1,104 @@
+"""Packaged default data: the representative diesel engine and its timing gear train (DESIGN.md section 6).
+
+``default_train.toml`` gives every number a sibling ``<key>_source`` string with its provenance ([V] public source,
+[T] thesis, [C] computed, [E] estimate). :func:`load_default_data` returns the parsed file; :func:`values` strips the
+provenance; :func:`load_default_train` builds the spur redesign or the helical baseline as a
+:class:`~gearopt.geometry.GearTrain`.
+"""
+
+from __future__ import annotations
+
+import tomllib
+from importlib import resources
+from pathlib import Path
+from typing import Any
+
+from ..errors import GearoptInputError
+from ..geometry.train import GearSpec, GearTrain, MeshSpec, RackSpec
+
+DEFAULT_FILE = "default_train.toml"
+TRAIN_KINDS = ("spur", "helical")
+
+
+def default_data_path() -> Path:
+    """Path of the packaged default data file."""
+    return Path(str(resources.files(__package__).joinpath(DEFAULT_FILE)))
+
+
+def load_default_data(path: str | Path | None = None) -> dict[str, Any]:
+    """Parse the default data file (or another file of the same schema) into nested dicts, provenance included."""
+    p = Path(path) if path is not None else default_data_path()
+    with open(p, "rb") as fh:
+        return tomllib.load(fh)
+
+
+def values(table: dict[str, Any]) -> dict[str, Any]:
+    """A table without its ``*_source`` provenance strings (recursively)."""
+    return {k: values(v) if isinstance(v, dict) else v for k, v in table.items() if not k.endswith("_source")}
+
+
+def missing_provenance(table: dict[str, Any], prefix: str = "") -> list[str]:
+    """Dotted names of numeric entries that lack a ``<key>_source`` sibling (empty list: fully documented)."""
+    missing = []
+    for key, val in table.items():
+        name = f"{prefix}{key}"
+        if isinstance(val, dict):
+            missing.extend(missing_provenance(val, name + "."))
+        elif _is_numeric(val) and f"{key}_source" not in table and not key.endswith("_source"):
+            missing.append(name)
+    return missing
+
+
+def _is_numeric(val) -> bool:
+    if isinstance(val, bool):
+        return False
+    if isinstance(val, (int, float)):
+        return True
+    if isinstance(val, list) and val:
+        return all(_is_numeric(v) or isinstance(v, list) and all(_is_numeric(e) for e in v) for v in val)
+    return False
+
+
+def train_from_data(data: dict[str, Any], kind: str = "spur") -> GearTrain:
+    """Build a :class:`GearTrain` of ``kind`` ("spur" or "helical") from parsed data of the default schema."""
+    if kind not in TRAIN_KINDS:
+        raise GearoptInputError(f"kind={kind!r} must be one of {TRAIN_KINDS}")
+    d = values(data)
+    rack = d["rack"]
+    gears = {}
+    for name, g in d["gears"].items():
+        gears[name] = GearSpec(
+            name=name, teeth=int(g["teeth"]), face_width_mm=float(g["face_width_mm"]),
+            tooth_thickness_upper_allowance_um=float(g.get("tooth_thickness_upper_allowance_um", 0.0)),
+            tooth_thickness_lower_allowance_um=float(g.get("tooth_thickness_lower_allowance_um", 0.0)),
+            tip_diameter_allowance_mm=(float(g.get("tip_diameter_lower_allowance_mm", 0.0)),
+                                       float(g.get("tip_diameter_upper_allowance_mm", 0.0))),
+            material=g.get("material"), role=g.get("role", ""))
+    meshes = {}
+    for name, m in d["meshes"].items():
+        mesh = MeshSpec(gears=tuple(m["gears"]), centre_distance_mm=float(m["centre_distance_mm"]),
+                        centre_distance_allowance_mm=(float(m.get("centre_distance_lower_allowance_mm", 0.0)),
+                                                      float(m.get("centre_distance_upper_allowance_mm", 0.0))))
+        if mesh.name != name:
+            raise GearoptInputError(f"mesh table {name!r} lists gears {m['gears']}: its name must be "
+                                    f"'<driving>-<driven>' = {mesh.name!r}")
+        meshes[name] = mesh
+    t = d["trains"][kind]
+    return GearTrain(
+        gears=gears, meshes=meshes,
+        rack=RackSpec(module_mm=float(rack["module_mm"]), pressure_angle_deg=float(rack["pressure_angle_deg"]),
+                      addendum_coefficient=float(rack["addendum_coefficient"]),
+                      dedendum_coefficient=float(rack["dedendum_coefficient"]),
+                      root_radius_coefficient=float(rack["root_radius_coefficient"])),
+        helix_angle_deg=float(t["helix_angle_deg"]), root_mesh=t["root_mesh"], root_gear=t["root_gear"],
+        root_profile_shift=t.get("root_profile_shift"), root_shift_split=t.get("root_shift_split", 0.5),
+        root_hand=t.get("root_hand", "right"), name=f"default {kind} timing train")
+
+
+def load_default_train(kind: str = "spur", path: str | Path | None = None) -> GearTrain:
+    """The packaged default timing train: ``"spur"`` (the redesign) or ``"helical"`` (the baseline)."""
+    return train_from_data(load_default_data(path), kind)
+
+
+__all__ = ["default_data_path", "load_default_data", "load_default_train", "train_from_data", "values",
+           "missing_provenance", "TRAIN_KINDS"]

@@ -1,0 +1,170 @@
+"""Declaration records of a :class:`~gearopt.design.problem.Problem` and the checks on their inputs.
+
+A record keeps what the user declared (name, bounds, scale, unit, the source line of the declaration) next to the
+CasADi symbol or expression it produced, so that results and failures can be reported by name. Bounds are stored
+as float arrays with ``-inf``/``+inf`` for a missing side; every array has one entry per scalar element.
+"""
+
+from __future__ import annotations
+
+import inspect
+import os
+from dataclasses import dataclass
+from typing import Union
+
+import casadi as ca
+import numpy as np
+
+from gearopt.errors import GearoptInputError
+
+ArrayLike = Union[float, int, np.ndarray, list, tuple]
+
+_DESIGN_DIR = os.path.dirname(os.path.abspath(__file__))
+
+
+@dataclass
+class VariableEntry:
+    """A named design variable. The decision variable Ipopt sees is ``symbol`` (scaled, O(1)); the user's
+    expression is ``scale * symbol``. ``init``, ``lower``, ``upper`` are in the variable's own units."""
+
+    name: str
+    symbol: ca.MX
+    size: int
+    vector: bool
+    init: np.ndarray
+    lower: np.ndarray
+    upper: np.ndarray
+    scale: np.ndarray
+    unit: str
+    source: str
+    bound_rows: slice | None
+    """Rows of Opti's constraint vector holding the bound ``lower/scale <= symbol <= upper/scale`` (None if free)."""
+
+
+@dataclass
+class ParameterEntry:
+    """A named parameter: fixed during a solve, changeable between solves without rebuilding the problem."""
+
+    name: str
+    symbol: ca.MX
+    size: int
+    vector: bool
+    value: np.ndarray
+    unit: str
+    source: str
+
+
+@dataclass
+class ConstraintEntry:
+    """A named constraint ``lower <= expr <= upper`` (elementwise, in the constraint's units). Ipopt sees
+    ``(expr - ref) / scale`` with ``ref`` the lower bound where there is one, else the upper bound."""
+
+    name: str
+    expr: ca.MX
+    size: int
+    vector: bool
+    lower: np.ndarray
+    upper: np.ndarray
+    scale: np.ndarray
+    unit: str
+    source: str
+    rows: slice
+
+    @property
+    def ref(self) -> np.ndarray:
+        """The bound subtracted from ``expr`` before scaling (constraint units)."""
+        return np.where(np.isfinite(self.lower), self.lower, self.upper)
+
+    def element_names(self) -> list[str]:
+        """``name`` for a scalar constraint, ``name[i]`` for each element of a vector constraint."""
+        return element_names(self.name, self.size, self.vector)
+
+
+def element_names(name: str, size: int, vector: bool) -> list[str]:
+    """Display names of the scalar elements of a named quantity: ``name`` or ``name[0]``, ``name[1]`` ..."""
+    return [f"{name}[{i}]" for i in range(size)] if vector else [name]
+
+
+def caller_source() -> str:
+    """``file:line`` of the first stack frame outside the ``gearopt.design`` package (the user's declaration).
+
+    Paths below the current working directory are shown relative to it.
+    """
+    frame = inspect.currentframe()
+    try:
+        while frame is not None and os.path.dirname(os.path.abspath(frame.f_code.co_filename)) == _DESIGN_DIR:
+            frame = frame.f_back
+        if frame is None:
+            return ""
+        path = os.path.abspath(frame.f_code.co_filename)
+        try:
+            rel = os.path.relpath(path)
+            path = path if rel.startswith("..") else rel
+        except ValueError:  # other drive on Windows
+            pass
+        return f"{path}:{frame.f_lineno}"
+    finally:
+        del frame
+
+
+def check_name(name: object, kind: str) -> str:
+    """Return ``name`` if it is a non-empty string, else raise :class:`GearoptInputError`."""
+    if not isinstance(name, str) or not name.strip():
+        raise GearoptInputError(f"{kind} name={name!r} is invalid: must be a non-empty string")
+    return name
+
+
+def as_elements(value: ArrayLike, size: int, *, owner: str, what: str, unit: str = "") -> np.ndarray:
+    """Broadcast a scalar or a length-``size`` array to a float array of shape ``(size,)``, all finite.
+
+    Raises :class:`GearoptInputError` naming ``owner`` and ``what`` for a wrong length, a non-number (e.g. a CasADi
+    expression where a number is required) or a NaN/Inf entry.
+    """
+    try:
+        arr = np.asarray(value, dtype=float).ravel()
+    except (TypeError, ValueError, RuntimeError, NotImplementedError) as exc:
+        raise GearoptInputError(
+            f"{owner}: {what}={value!r} must be a number or an array of numbers "
+            f"(put parameters inside the expression, not in the bounds)") from exc
+    if arr.size == 1:
+        arr = np.full(size, arr[0])
+    if arr.size != size:
+        raise GearoptInputError(f"{owner}: {what} has {arr.size} entries; limit: 1 or {size} (the size)")
+    bad = ~np.isfinite(arr)
+    if bad.any():
+        u = f" {unit}" if unit else ""
+        raise GearoptInputError(
+            f"{owner}: {what}={arr[bad][0]!r}{u} at element {int(np.flatnonzero(bad)[0])} is not finite "
+            f"(use None for a missing bound)")
+    return arr
+
+
+def as_bound(value: ArrayLike | None, size: int, *, owner: str, what: str, unit: str, missing: float) -> np.ndarray:
+    """Like :func:`as_elements`, but ``None`` means no bound and gives an array filled with ``missing`` (±inf)."""
+    if value is None:
+        return np.full(size, missing)
+    return as_elements(value, size, owner=owner, what=what, unit=unit)
+
+
+def check_positive(arr: np.ndarray, *, owner: str, what: str) -> None:
+    """Raise :class:`GearoptInputError` if any entry of ``arr`` is <= 0 (scales must be positive)."""
+    bad = arr <= 0.0
+    if bad.any():
+        i = int(np.flatnonzero(bad)[0])
+        raise GearoptInputError(f"{owner}: {what}={arr[i]:g} at element {i} is below its limit: must be > 0")
+
+
+def check_ordered(lower: np.ndarray, upper: np.ndarray, *, owner: str, unit: str) -> None:
+    """Raise :class:`GearoptInputError` naming the first element where ``upper < lower`` (inverted bounds)."""
+    bad = upper < lower
+    if bad.any():
+        i = int(np.flatnonzero(bad)[0])
+        u = f" {unit}" if unit else ""
+        where = f" at element {i}" if lower.size > 1 else ""
+        raise GearoptInputError(
+            f"{owner}: upper={upper[i]:g}{u} is below lower={lower[i]:g}{u}{where} (inverted bounds)")
+
+
+def numel(expr: ca.MX | ca.DM | float) -> int:
+    """Number of scalar elements of a CasADi expression or number."""
+    return int(ca.MX(expr).numel()) if not isinstance(expr, ca.MX) else int(expr.numel())

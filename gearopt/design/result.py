@@ -1,0 +1,203 @@
+"""Plain-data result of a :class:`~gearopt.design.problem.Problem` solve: values, tables, report.
+
+Sign convention of every multiplier reported here: it is the sensitivity of the optimal objective (``res.objective``,
+in the objective's units) to the bound that is active, per unit of the constrained quantity,
+``multiplier = d objective* / d bound``. For a minimisation an active lower bound has a positive multiplier and an
+active upper bound a negative one (for a maximisation the signs flip). An inactive constraint has multiplier ~0.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any, Callable
+
+import numpy as np
+import pandas as pd
+
+from gearopt.design.entries import ConstraintEntry, VariableEntry, element_names
+from gearopt.errors import ViolatedConstraint
+
+Number = float | np.ndarray
+
+CONSTRAINT_COLUMNS = ["name", "base", "value", "lower", "upper", "margin", "multiplier", "active", "scale", "unit",
+                      "source"]
+VARIABLE_COLUMNS = ["name", "base", "value", "init", "lower", "upper", "at_bound", "multiplier", "scale", "unit",
+                    "source"]
+
+
+@dataclass
+class ProblemResult:
+    """Outcome of one solve (successful or not), as plain data.
+
+    Attributes:
+        problem: name of the problem.
+        status: Ipopt's return status string (``"Solve_Succeeded"``, ``"Infeasible_Problem_Detected"`` ...).
+        success: True when Ipopt reports success (including ``Solved_To_Acceptable_Level``).
+        objective: objective value at the returned point, in the objective's own (unscaled) units.
+        iterations: Ipopt iteration count.
+        solve_time_s: wall-clock time of the Ipopt run, s.
+        build_time_s: wall-clock time spent building since the previous solve (declarations, pre-solve check,
+            CasADi's solver construction), s. Close to zero for a re-solve of an unchanged problem.
+        values: variable name -> value in the variable's units (float for scalars, 1-D array for vectors).
+        parameters: parameter name -> value used in this solve.
+        multipliers: constraint name -> multiplier (see the module docstring for units and sign).
+        constraints: one row per constraint element: name (``c`` or ``c[i]``), base (declared name), value,
+            lower, upper (±inf if absent), margin (distance to the nearest bound in the constraint's units,
+            negative if violated), multiplier, active, scale, unit, source (``file:line`` of the declaration).
+        variables: one row per variable element: name, base, value, init (start guess of this solve), lower,
+            upper, at_bound, multiplier (of the variable bounds), scale, unit, source.
+        active_tol: tolerance in scaled units used for ``active`` and ``at_bound``.
+    """
+
+    problem: str
+    status: str
+    success: bool
+    objective: float
+    iterations: int
+    solve_time_s: float
+    build_time_s: float
+    values: dict[str, Number]
+    parameters: dict[str, Number]
+    multipliers: dict[str, Number]
+    constraints: pd.DataFrame = field(repr=False)
+    variables: pd.DataFrame = field(repr=False)
+    active_tol: float = 1e-6
+    _evaluate: Callable[[Any], np.ndarray] | None = field(default=None, repr=False, compare=False)
+
+    def value(self, expr: Any) -> Number:
+        """Value of ``expr`` at this result's point: a variable or parameter name, or any CasADi expression built
+        from the problem's variables and parameters. Returns a float for a scalar, an array otherwise."""
+        if isinstance(expr, str):
+            if expr in self.values:
+                return self.values[expr]
+            if expr in self.parameters:
+                return self.parameters[expr]
+            raise KeyError(f"no variable or parameter named {expr!r} in problem '{self.problem}'")
+        if self._evaluate is None:
+            raise RuntimeError("this result carries no evaluator (it was built without its problem)")
+        out = np.asarray(self._evaluate(expr), dtype=float)
+        if out.size == 1:
+            return float(out.ravel()[0])
+        return out.ravel() if 1 in out.shape else out
+
+    def violations(self, n: int | None = None) -> list[ViolatedConstraint]:
+        """Violated constraint and variable-bound elements, worst first (ranked by violation / scale, the
+        quantity Ipopt sees), at most ``n`` of them. Violations are in each element's own units."""
+        found: list[tuple[float, ViolatedConstraint]] = []
+        for table, suffix in ((self.constraints, ""), (self.variables, " (bounds)")):
+            for row in table.itertuples(index=False):
+                violation = max(row.lower - row.value, row.value - row.upper, 0.0)
+                if violation > self.active_tol * row.scale:
+                    item = ViolatedConstraint(f"{row.name}{suffix}", float(violation), float(row.value),
+                                              float(row.lower), float(row.upper), row.source)
+                    found.append((violation / row.scale, item))
+        found.sort(key=lambda pair: -pair[0])
+        return [item for _, item in found[:n]]
+
+    def report(self) -> str:
+        """Readable text report: status line, objective, timings, variable table and constraint table."""
+        state = "converged" if self.success else "FAILED"
+        lines = [f"Problem '{self.problem}': {self.status} ({state}) after {self.iterations} iterations",
+                 f"  objective      {self.objective:.8g}",
+                 f"  build / solve  {self.build_time_s:.3g} s / {self.solve_time_s:.3g} s", ""]
+        if self.parameters:
+            lines.append("Parameters")
+            lines.extend(f"  {k} = {_fmt_value(v)}" for k, v in self.parameters.items())
+            lines.append("")
+        lines.append("Variables")
+        lines.append(_table_text(self.variables, ["name", "value", "lower", "upper", "at_bound", "multiplier",
+                                                  "unit"]))
+        lines.append("")
+        lines.append("Constraints (active: at a bound with a nonzero multiplier; multiplier = d objective/d bound)")
+        lines.append(_table_text(self.constraints, ["name", "value", "lower", "upper", "margin", "multiplier",
+                                                    "active", "unit", "source"]))
+        worst = self.violations(5)
+        if worst:
+            lines.append("")
+            lines.append("Violated")
+            lines.extend(f"  - {v}" for v in worst)
+        return "\n".join(lines)
+
+
+def constraint_table(constraints: list[ConstraintEntry], g: np.ndarray, lam_g: np.ndarray, *,
+                     objective_factor: float, tol: float) -> pd.DataFrame:
+    """Build the constraint table.
+
+    Args:
+        constraints: constraint records in declaration order.
+        g: unscaled constraint values, all elements stacked in declaration order.
+        lam_g: Opti's multiplier vector (CasADi sign convention, scaled problem).
+        objective_factor: ``-sense * objective_scale`` turning a scaled CasADi multiplier into
+            ``d objective / d bound`` once divided by the constraint scale.
+        tol: activity tolerance in scaled units (margin and multiplier).
+    """
+    rows = []
+    offset = 0
+    for c in constraints:
+        values = g[offset:offset + c.size]
+        offset += c.size
+        lam = lam_g[c.rows]
+        margin = np.minimum(values - c.lower, c.upper - values)
+        for i, label in enumerate(c.element_names()):
+            rows.append({
+                "name": label, "base": c.name, "value": float(values[i]), "lower": float(c.lower[i]),
+                "upper": float(c.upper[i]), "margin": float(margin[i]),
+                "multiplier": float(objective_factor * lam[i] / c.scale[i]),
+                "active": bool(abs(margin[i]) <= tol * c.scale[i] and abs(lam[i]) > tol),
+                "scale": float(c.scale[i]), "unit": c.unit, "source": c.source})
+    return pd.DataFrame(rows, columns=CONSTRAINT_COLUMNS)
+
+
+def variable_table(variables: list[VariableEntry], values: dict[str, np.ndarray], inits: dict[str, np.ndarray],
+                   lam_g: np.ndarray, *, objective_factor: float, tol: float) -> pd.DataFrame:
+    """Build the variable table (values and ``inits`` in variable units, keyed by name; other arguments as in
+    :func:`constraint_table`). The multiplier is that of the variable's bounds, 0 for a free variable."""
+    rows = []
+    for v in variables:
+        x = values[v.name]
+        lam = lam_g[v.bound_rows] if v.bound_rows is not None else np.zeros(v.size)
+        for i, label in enumerate(element_names(v.name, v.size, v.vector)):
+            at_bound = min(abs(x[i] - v.lower[i]), abs(v.upper[i] - x[i])) <= tol * v.scale[i]
+            rows.append({
+                "name": label, "base": v.name, "value": float(x[i]), "init": float(inits[v.name][i]),
+                "lower": float(v.lower[i]), "upper": float(v.upper[i]), "at_bound": bool(at_bound),
+                "multiplier": float(objective_factor * lam[i] / v.scale[i]), "scale": float(v.scale[i]),
+                "unit": v.unit, "source": v.source})
+    return pd.DataFrame(rows, columns=VARIABLE_COLUMNS)
+
+
+def multipliers_by_name(constraints: list[ConstraintEntry], table: pd.DataFrame) -> dict[str, Number]:
+    """Constraint name -> multiplier (float for a scalar constraint, array for a vector one)."""
+    out: dict[str, Number] = {}
+    offset = 0
+    column = table["multiplier"].to_numpy()
+    for c in constraints:
+        block = column[offset:offset + c.size].copy()
+        offset += c.size
+        out[c.name] = block if c.vector else float(block[0])
+    return out
+
+
+def _fmt_number(v: float) -> str:
+    if np.isinf(v):
+        return "-"
+    return f"{v:.6g}"
+
+
+def _fmt_value(v: Number) -> str:
+    arr = np.atleast_1d(np.asarray(v, dtype=float))
+    text = ", ".join(_fmt_number(x) for x in arr)
+    return f"[{text}]" if np.ndim(v) else text
+
+
+def _table_text(table: pd.DataFrame, columns: list[str]) -> str:
+    if table.empty:
+        return "  (none)"
+    shown = table[columns].copy()
+    for col in columns:
+        if shown[col].dtype == bool:
+            shown[col] = shown[col].map({True: "yes", False: ""})
+        elif np.issubdtype(shown[col].dtype, np.floating):
+            shown[col] = shown[col].map(_fmt_number)
+    text = shown.to_string(index=False)
+    return "\n".join("  " + line for line in text.splitlines())

@@ -1,0 +1,149 @@
+"""Dual-typed numerics: numeric = symbolic, overflow-free smoothing, exact limits, derivatives vs finite differences."""
+
+import math
+
+import casadi as ca
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from gearopt import numerics as nm
+from gearopt.errors import GearoptInputError
+
+SMOOTH = {
+    "softplus": (lambda x, w: nm.softplus(x, w), lambda x: np.maximum(x, 0.0)),
+    "smooth_abs": (lambda x, w: nm.smooth_abs(x, w), np.abs),
+    "smooth_max": (lambda x, w: nm.smooth_max(x, 0.3 * x + 1.0, w), lambda x: np.maximum(x, 0.3 * x + 1.0)),
+    "smooth_min": (lambda x, w: nm.smooth_min(x, 0.3 * x + 1.0, w), lambda x: np.minimum(x, 0.3 * x + 1.0)),
+}
+
+
+def _sx_eval(fun, xs, *extra):
+    x = ca.SX.sym("x")
+    f = ca.Function("f", [x], [fun(x, *extra)])
+    return np.array(f.map(len(xs))(np.asarray(xs)[None, :])).ravel()
+
+
+@pytest.mark.parametrize("name", SMOOTH)
+def test_smooth_numeric_equals_symbolic(name):
+    fun, _ = SMOOTH[name]
+    xs = np.linspace(-50.0, 50.0, 201)
+    np.testing.assert_allclose(fun(xs, 2.0), _sx_eval(fun, xs, 2.0), rtol=1e-14, atol=1e-12)
+
+
+@pytest.mark.parametrize("name", SMOOTH)
+def test_smooth_no_overflow_or_nan_up_to_1e6_widths(name):
+    fun, exact = SMOOTH[name]
+    w = 0.01
+    xs = np.array([-1e6, -1e5, -1.0, 0.0, 1.0, 1e5, 1e6]) * w
+    with np.errstate(over="raise", invalid="raise", divide="raise"):  # underflow of exp(-big) to 0 is exact enough
+        num = fun(xs, w)
+    sym = _sx_eval(fun, xs, w)
+    assert np.all(np.isfinite(num)) and np.all(np.isfinite(sym))
+    # far from the kink the smooth function is the exact one to rounding
+    np.testing.assert_allclose(num[[0, -1]], exact(xs[[0, -1]]), rtol=1e-12)
+
+
+@pytest.mark.parametrize("name", SMOOTH)
+def test_smooth_converges_to_exact_with_documented_bound(name):
+    fun, exact = SMOOTH[name]
+    xs = np.linspace(-3.0, 3.0, 601)
+    errors = []
+    for w in (1.0, 0.1, 0.01, 0.001):
+        err = np.max(np.abs(fun(xs, w) - exact(xs)))
+        assert err <= w * math.log(2.0) * (1 + 1e-12)  # bound stated in the numerics docstring
+        errors.append(err)
+    assert errors[-1] < 1e-3 * errors[0] * 1.01
+
+
+@pytest.mark.parametrize("name", SMOOTH)
+def test_smooth_derivative_matches_finite_differences(name):
+    fun, _ = SMOOTH[name]
+    x = ca.SX.sym("x")
+    df = ca.Function("df", [x], [ca.jacobian(fun(x, 0.5), x)])
+    for x0 in (-2.0, -0.1, 0.0, 0.07, 1.5):
+        h = 1e-6
+        fd = (fun(x0 + h, 0.5) - fun(x0 - h, 0.5)) / (2 * h)
+        assert float(df(x0)) == pytest.approx(fd, rel=1e-7, abs=1e-8)
+
+
+def test_softplus_derivative_at_kink_is_one_half():
+    x = ca.SX.sym("x")
+    df = ca.Function("df", [x], [ca.jacobian(nm.softplus(x, 1e-3), x)])
+    assert float(df(0.0)) == pytest.approx(0.5, abs=1e-15)
+
+
+def test_width_must_be_positive():
+    with pytest.raises(GearoptInputError, match="width"):
+        nm.softplus(1.0, 0.0)
+
+
+def test_where_is_dual_typed():
+    assert nm.where(1.0 > 0.0, 2.0, 3.0) == 2.0
+    x = ca.SX.sym("x")
+    f = ca.Function("f", [x], [nm.where(x > 0, x, -2 * x)])
+    assert float(f(-1.0)) == 2.0 and float(f(3.0)) == 3.0
+
+
+def test_guarded_functions_never_nan():
+    with np.errstate(all="raise"):
+        assert nm.sqrt_safe(-1.0) == 0.0
+        assert nm.acos_safe(1.0 + 1e-9) == 0.0
+        assert nm.acos_safe(-1.5) == pytest.approx(math.pi)
+
+
+# --- involute -----------------------------------------------------------------------------------------------------
+
+def test_involute_known_value():
+    # inv 20 deg = 0.014904383867336 (KHK Gear Technical Reference involute table: 0.014904)
+    assert nm.involute(math.radians(20.0)) == pytest.approx(0.0149043838673, rel=1e-12)
+
+
+def test_involute_series_branch_continuous_and_accurate():
+    # at the switch (0.1 rad) the series and tan(a) - a agree to the cancellation error of the latter (~1e-13 rel.)
+    a = 0.1 - 1e-15
+    assert nm.involute(a) == pytest.approx(math.tan(0.1) - 0.1, rel=2e-13)
+    # tan(a) - a for a = 1e-3, by the series to 6 terms (exact to double precision): a^3/3 + 2a^5/15 + ...
+    a0 = 1e-3
+    ref = a0**3 / 3 + 2 * a0**5 / 15 + 17 * a0**7 / 315
+    assert nm.involute(a0) == pytest.approx(ref, rel=1e-15)
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.floats(min_value=1e-5, max_value=math.radians(75.0)))
+def test_inverse_involute_round_trip_numeric(alpha):
+    assert abs(nm.inverse_involute(nm.involute(alpha)) - alpha) < 1e-12
+
+
+def test_inverse_involute_vectorised_and_symbolic_equal():
+    alphas = np.linspace(1e-4, math.radians(75.0), 5001)
+    y = nm.involute(alphas)
+    num = nm.inverse_involute(y)
+    assert np.max(np.abs(num - alphas)) < 1e-12
+    v = ca.SX.sym("v")
+    expr = nm.inverse_involute(v)
+    f = ca.Function("f", [v], [expr, ca.jacobian(expr, v)]).map(len(y))
+    sym, dsym = (np.array(o).ravel() for o in f(y[None, :]))
+    assert np.max(np.abs(sym - num)) < 1e-12
+    # derivative of the inverse: d alpha / d inv = 1 / tan^2(alpha)
+    np.testing.assert_allclose(dsym, 1.0 / np.tan(alphas) ** 2, rtol=1e-10)
+
+
+def test_inverse_involute_start_documented_accuracy():
+    alphas = np.linspace(1e-4, math.radians(75.0), 20001)
+    start = nm._inverse_involute_start(nm.involute(alphas))
+    assert np.max(np.abs(start / alphas - 1.0)) < 5e-5
+
+
+def test_inverse_involute_rejects_out_of_range():
+    with pytest.raises(GearoptInputError, match="inv_value"):
+        nm.inverse_involute(-0.01)
+    with pytest.raises(GearoptInputError, match="inv_value"):
+        nm.inverse_involute(5.0)
+
+
+def test_inverse_involute_mx_works():
+    v = ca.MX.sym("v")
+    f = ca.Function("f", [v], [nm.inverse_involute(v)])
+    assert float(f(nm.involute(0.4))) == pytest.approx(0.4, abs=1e-14)
