@@ -25,6 +25,12 @@ def default_data_path() -> Path:
     return Path(str(resources.files(__package__).joinpath(DEFAULT_FILE)))
 
 
+def load_thesis_tables() -> dict[str, Any]:
+    """The thesis' macro-design tables 3.1-3.4 (``thesis_tables.toml``), for shape checks."""
+    with resources.files(__package__).joinpath("thesis_tables.toml").open("rb") as fh:
+        return tomllib.load(fh)
+
+
 def load_default_data(path: str | Path | None = None) -> dict[str, Any]:
     """Parse the default data file (or another file of the same schema) into nested dicts, provenance included."""
     p = Path(path) if path is not None else default_data_path()
@@ -43,7 +49,8 @@ def missing_provenance(table: dict[str, Any], prefix: str = "") -> list[str]:
     for key, val in table.items():
         name = f"{prefix}{key}"
         if isinstance(val, dict):
-            missing.extend(missing_provenance(val, name + "."))
+            if f"{key}_source" not in table:  # an inline table with one source string covers its entries
+                missing.extend(missing_provenance(val, name + "."))
         elif _is_numeric(val) and f"{key}_source" not in table and not key.endswith("_source"):
             missing.append(name)
     return missing
@@ -57,6 +64,18 @@ def _is_numeric(val) -> bool:
     if isinstance(val, list) and val:
         return all(_is_numeric(v) or isinstance(v, list) and all(_is_numeric(e) for e in v) for v in val)
     return False
+
+
+def provenance_tags(table: dict[str, Any]) -> dict[str, str]:
+    """Dotted name -> provenance tag (``V``, ``T``, ``C``, ``E``, ``M``) of every ``*_source`` string, or ``"?"``."""
+    tags = {}
+    for key, val in table.items():
+        if isinstance(val, dict):
+            tags.update({f"{key}.{k}": v for k, v in provenance_tags(val).items()})
+        elif key.endswith("_source"):
+            text = str(val).lstrip()
+            tags[key] = text[1] if len(text) > 2 and text[0] == "[" and text[2] == "]" else "?"
+    return tags
 
 
 def train_from_data(data: dict[str, Any], kind: str = "spur") -> GearTrain:
@@ -100,5 +119,5 @@ def load_default_train(kind: str = "spur", path: str | Path | None = None) -> Ge
     return train_from_data(load_default_data(path), kind)
 
 
-__all__ = ["default_data_path", "load_default_data", "load_default_train", "train_from_data", "values",
-           "missing_provenance", "TRAIN_KINDS"]
+__all__ = ["default_data_path", "load_default_data", "load_thesis_tables", "load_default_train", "train_from_data", "values",
+           "missing_provenance", "provenance_tags", "TRAIN_KINDS"]
