@@ -133,9 +133,10 @@ def as_elements(value: ArrayLike, size: int, *, owner: str, what: str, unit: str
     bad = ~np.isfinite(arr)
     if bad.any():
         u = f" {unit}" if unit else ""
+        advice = " (use None for a missing bound)" if what in ("lower", "upper") else ""
         raise GearoptInputError(
-            f"{owner}: {what}={arr[bad][0]!r}{u} at element {int(np.flatnonzero(bad)[0])} is not finite "
-            f"(use None for a missing bound)")
+            f"{owner}: {what}={float(arr[bad][0])}{u} at element {int(np.flatnonzero(bad)[0])} is not finite; "
+            f"limit: a finite number{advice}")
     return arr
 
 
@@ -164,7 +165,3 @@ def check_ordered(lower: np.ndarray, upper: np.ndarray, *, owner: str, unit: str
         raise GearoptInputError(
             f"{owner}: upper={upper[i]:g}{u} is below lower={lower[i]:g}{u}{where} (inverted bounds)")
 
-
-def numel(expr: ca.MX | ca.DM | float) -> int:
-    """Number of scalar elements of a CasADi expression or number."""
-    return int(ca.MX(expr).numel()) if not isinstance(expr, ca.MX) else int(expr.numel())

@@ -12,6 +12,8 @@ WORST_SHOWN = 5
 """How many violated constraints a solve error lists."""
 
 INFEASIBLE_STATUSES = frozenset({"Infeasible_Problem_Detected", "Invalid_Problem_Definition"})
+NOT_STARTED_STATUSES = frozenset({"Invalid_Problem_Definition", "Invalid_Option", "Not_Enough_Degrees_Of_Freedom"})
+"""Statuses with which Ipopt returns before its first iteration (its iterate and iteration count are meaningless)."""
 LIMIT_STATUSES = frozenset({"Maximum_Iterations_Exceeded", "Maximum_CpuTime_Exceeded", "Maximum_WallTime_Exceeded"})
 
 _HINTS = {

@@ -81,18 +81,9 @@ class ProblemResult:
         return out.ravel() if 1 in out.shape else out
 
     def violations(self, n: int | None = None) -> list[ViolatedConstraint]:
-        """Violated constraint and variable-bound elements, worst first (ranked by violation / scale, the
-        quantity Ipopt sees), at most ``n`` of them. Violations are in each element's own units."""
-        found: list[tuple[float, ViolatedConstraint]] = []
-        for table, suffix in ((self.constraints, ""), (self.variables, " (bounds)")):
-            for row in table.itertuples(index=False):
-                violation = max(row.lower - row.value, row.value - row.upper, 0.0)
-                if violation > self.active_tol * row.scale:
-                    item = ViolatedConstraint(f"{row.name}{suffix}", float(violation), float(row.value),
-                                              float(row.lower), float(row.upper), row.source)
-                    found.append((violation / row.scale, item))
-        found.sort(key=lambda pair: -pair[0])
-        return [item for _, item in found[:n]]
+        """Violated constraint and variable-bound elements, worst first, at most ``n`` (see
+        :func:`violations_from_tables`)."""
+        return violations_from_tables(self.constraints, self.variables, self.active_tol, n)
 
     def report(self) -> str:
         """Readable text report: status line, objective, timings, variable table and constraint table."""
@@ -178,10 +169,31 @@ def multipliers_by_name(constraints: list[ConstraintEntry], table: pd.DataFrame)
     return out
 
 
+def violations_from_tables(constraints: pd.DataFrame, variables: pd.DataFrame | None, tol: float,
+                           n: int | None = None) -> list[ViolatedConstraint]:
+    """Violated elements of a constraint table and (optionally) of a variable table's bounds, worst first.
+
+    An element counts when its violation exceeds ``tol * scale``; elements are ranked by violation / scale (the
+    quantity Ipopt sees) and reported with their violation in their own units. Variable rows are named
+    ``"<name> (bounds)"``. Non-finite values are not counted (the pre-solve check reports those).
+    """
+    found: list[tuple[float, ViolatedConstraint]] = []
+    tables = [(constraints, "")] + ([(variables, " (bounds)")] if variables is not None else [])
+    for table, suffix in tables:
+        for row in table.itertuples(index=False):
+            violation = max(row.lower - row.value, row.value - row.upper, 0.0)
+            if violation > tol * row.scale:
+                item = ViolatedConstraint(f"{row.name}{suffix}", float(violation), float(row.value),
+                                          float(row.lower), float(row.upper), row.source)
+                found.append((violation / row.scale, item))
+    found.sort(key=lambda pair: -pair[0])
+    return [item for _, item in found[:n]]
+
+
 def _fmt_number(v: float) -> str:
     if np.isinf(v):
         return "-"
-    return f"{v:.6g}"
+    return f"{v + 0.0:.6g}"
 
 
 def _fmt_value(v: Number) -> str:
@@ -195,9 +207,9 @@ def _table_text(table: pd.DataFrame, columns: list[str]) -> str:
         return "  (none)"
     shown = table[columns].copy()
     for col in columns:
-        if shown[col].dtype == bool:
+        if pd.api.types.is_bool_dtype(shown[col]):
             shown[col] = shown[col].map({True: "yes", False: ""})
-        elif np.issubdtype(shown[col].dtype, np.floating):
+        elif pd.api.types.is_float_dtype(shown[col]):
             shown[col] = shown[col].map(_fmt_number)
     text = shown.to_string(index=False)
     return "\n".join("  " + line for line in text.splitlines())

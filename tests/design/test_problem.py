@@ -1,0 +1,388 @@
+"""Tests of gearopt.design.Problem: optimum, multipliers, scaling, parameters, pre-solve check, typed failures.
+
+Every reference value is analytic (derived in the comment next to it), not produced by this code.
+"""
+
+from __future__ import annotations
+
+import casadi as ca
+import numpy as np
+import pytest
+
+from gearopt.design import InitialGuessWarning, Problem, ProblemResult
+from gearopt.errors import (BadInitialGuessError, GearoptInputError, InfeasibleProblemError, IterationLimitError,
+                            SolveError)
+
+THIS_FILE = "test_problem.py"
+
+
+def rosenbrock(name: str = "rosenbrock") -> Problem:
+    """f = (1-x)^2 + 100 (y-x^2)^2, unique minimum f=0 at (1, 1); classic start (-1.2, 1)."""
+    p = Problem(name)
+    x = p.variable("x", init=-1.2)
+    y = p.variable("y", init=1.0)
+    p.minimize((1 - x) ** 2 + 100 * (y - x ** 2) ** 2)
+    return p
+
+
+def circle_problem(var_scale: float = 1.0, con_scale: float = 1.0) -> Problem:
+    """min x^2 + y^2 s.t. x + y >= 1 (active), x <= 2 (inactive).
+
+    KKT: 2x = 2y = lambda, x + y = 1 -> x = y = 1/2, f* = 1/2. With the bound c of x + y >= c, f*(c) = c^2/2, so
+    d f*/d c = c = 1: the multiplier is 1.
+    """
+    p = Problem("circle")
+    x = p.variable("x", init=0.0, scale=var_scale)
+    y = p.variable("y", init=0.0, scale=var_scale)
+    p.subject_to("sum_min", x + y, lower=1.0, scale=con_scale)
+    p.subject_to("x_max", x, upper=2.0, scale=con_scale)
+    p.minimize(x ** 2 + y ** 2)
+    return p
+
+
+# --------------------------------------------------------------------------- optimum and multipliers
+
+def test_rosenbrock_minimum_found():
+    res = rosenbrock().solve()
+    assert isinstance(res, ProblemResult)
+    assert res.success and res.status == "Solve_Succeeded"
+    assert res.values["x"] == pytest.approx(1.0, abs=1e-7)
+    assert res.values["y"] == pytest.approx(1.0, abs=1e-7)
+    assert res.objective == pytest.approx(0.0, abs=1e-12)
+    assert res.iterations > 5
+    assert res.solve_time_s > 0 and res.build_time_s > 0
+
+
+def test_kkt_multiplier_and_constraint_table():
+    res = circle_problem().solve()
+    assert res.values["x"] == pytest.approx(0.5, abs=1e-7)
+    assert res.values["y"] == pytest.approx(0.5, abs=1e-7)
+    assert res.objective == pytest.approx(0.5, abs=1e-7)
+    table = res.constraints.set_index("name")
+    active = table.loc["sum_min"]
+    assert active["multiplier"] == pytest.approx(1.0, rel=1e-6)
+    assert res.multipliers["sum_min"] == pytest.approx(1.0, rel=1e-6)
+    assert active["margin"] == pytest.approx(0.0, abs=1e-7)
+    assert bool(active["active"]) is True
+    assert (active["lower"], active["upper"]) == (1.0, np.inf)
+    assert THIS_FILE in active["source"]
+    inactive = table.loc["x_max"]
+    # x = 0.5 against x <= 2: margin 1.5 in the constraint's units, no multiplier.
+    assert inactive["margin"] == pytest.approx(1.5, abs=1e-7)
+    assert abs(inactive["multiplier"]) < 1e-6
+    assert bool(inactive["active"]) is False
+
+
+def test_equality_and_upper_bound_multiplier_signs():
+    # Equality x + y == c: same optimum and f*(c) = c^2/2, so the multiplier is again 1.
+    p = Problem("equality")
+    x = p.variable("x", init=0.0)
+    y = p.variable("y", init=0.0)
+    p.subject_to("sum_eq", x + y, lower=1.0, upper=1.0)
+    p.minimize(x ** 2 + y ** 2)
+    res = p.solve()
+    assert res.multipliers["sum_eq"] == pytest.approx(1.0, rel=1e-6)
+
+    # min (x-2)^2 s.t. x^2 <= u with u = 1: x* = 1, f*(u) = (sqrt(u) - 2)^2, d f*/d u = (sqrt(u)-2)/sqrt(u) = -1.
+    q = Problem("upper")
+    x = q.variable("x", init=0.0)
+    q.subject_to("x_sq_max", x ** 2, upper=1.0)
+    q.minimize((x - 2) ** 2)
+    res = q.solve()
+    assert res.values["x"] == pytest.approx(1.0, abs=1e-7)
+    assert res.multipliers["x_sq_max"] == pytest.approx(-1.0, rel=1e-6)
+
+    # Maximising -(x-2)^2 instead: objective* = -f*, so d objective*/d u = +1.
+    m = Problem("upper_max")
+    x = m.variable("x", init=0.0)
+    m.subject_to("x_sq_max", x ** 2, upper=1.0)
+    m.maximize(-(x - 2) ** 2)
+    res = m.solve()
+    assert res.objective == pytest.approx(-1.0, abs=1e-7)
+    assert res.multipliers["x_sq_max"] == pytest.approx(1.0, rel=1e-6)
+
+
+def test_variable_bound_reported_at_bound_with_multiplier():
+    # min (x-3)^2 with x <= 1: x* = 1, f*(u) = (u-3)^2, d f*/d u = -4.
+    p = Problem("bounded")
+    x = p.variable("x", init=0.0, lower=-1.0, upper=1.0, scale=2.0, unit="mm")
+    p.minimize((x - 3) ** 2)
+    res = p.solve()
+    row = res.variables.set_index("name").loc["x"]
+    assert row["value"] == pytest.approx(1.0, abs=1e-7)
+    assert bool(row["at_bound"]) is True
+    assert row["multiplier"] == pytest.approx(-4.0, rel=1e-6)
+    assert row["unit"] == "mm"
+
+
+# --------------------------------------------------------------------------- scaling
+
+def projection_problem(var_scale: float, con_scale: float) -> Problem:
+    """Project (3, 2) onto the half-plane x + y <= 1 inside the disc x^2 + y^2 <= 9, with a vector variable.
+
+    Analytic: the point is (3, 2) - t (1, 1) with 5 - 2t = 1, t = 2 -> (1, 0) (inside the disc, |.|^2 = 1 < 9).
+    f*(u) = (5 - u)^2 / 2, so the multiplier of x + y <= u is -(5 - u) = -4; the disc is inactive.
+    """
+    p = Problem("projection")
+    z = p.variable("z", init=[0.5, -0.5], scale=var_scale, n=2)
+    p.subject_to("half_plane", z[0] + z[1], upper=1.0, scale=con_scale)
+    p.subject_to("disc", ca.sumsqr(z), upper=9.0, scale=con_scale)
+    p.minimize((z[0] - 3) ** 2 + (z[1] - 2) ** 2)
+    return p
+
+
+@pytest.mark.parametrize("var_scale", [1.0, 7.0])
+@pytest.mark.parametrize("con_scale", [1.0, 7.0])
+def test_scale_invariance(var_scale, con_scale):
+    res = projection_problem(var_scale, con_scale).solve()
+    np.testing.assert_allclose(res.values["z"], [1.0, 0.0], atol=1e-7)
+    assert res.multipliers["half_plane"] == pytest.approx(-4.0, rel=1e-6)
+    assert abs(res.multipliers["disc"]) < 1e-6
+    reference = projection_problem(1.0, 1.0).solve()
+    np.testing.assert_allclose(res.values["z"], reference.values["z"], atol=1e-7)
+    assert res.multipliers["half_plane"] == pytest.approx(reference.multipliers["half_plane"], rel=1e-6)
+
+
+def test_scaled_variable_is_scale_times_decision_variable():
+    p = Problem("scaled")
+    x = p.variable("x", init=3.5, scale=7.0, lower=0.0, upper=14.0)
+    # Ipopt's decision variable is x/7; the expression handed back is 7 * x_s.
+    symbol = ca.symvar(x)[0]
+    assert float(ca.substitute(x, symbol, ca.MX(0.5))) == pytest.approx(3.5)
+    lower = np.asarray(ca.evalf(p.opti.lbg)).ravel()
+    upper = np.asarray(ca.evalf(p.opti.ubg)).ravel()
+    np.testing.assert_allclose([lower[0], upper[0]], [0.0, 2.0])
+
+
+# --------------------------------------------------------------------------- parameters and re-solve
+
+def parametric_problem() -> tuple[Problem, ca.MX, ca.MX]:
+    """min x^2 + y^2 s.t. x + y >= k: x = y = k/2, multiplier d f*/d k = k."""
+    p = Problem("parametric")
+    k = p.parameter("k_N", value=1.0, unit="N")
+    x = p.variable("x", init=0.0)
+    y = p.variable("y", init=0.0)
+    p.subject_to("sum_min", x + y - k, lower=0.0)
+    p.minimize(x ** 2 + y ** 2)
+    return p, k, x
+
+
+def test_set_parameter_resolves_without_rebuilding():
+    p, _, _ = parametric_problem()
+    opti = p.opti
+    first = p.solve()
+    assert first.values["x"] == pytest.approx(0.5, abs=1e-7)
+    assert p.solver_builds == 1
+    p.set_parameter("k_N", 3.0)
+    second = p.solve()
+    assert p.opti is opti
+    assert p.solver_builds == 1
+    assert second.parameters["k_N"] == 3.0 and first.parameters["k_N"] == 1.0
+    assert second.values["x"] == pytest.approx(1.5, abs=1e-7)
+    assert second.values["y"] == pytest.approx(1.5, abs=1e-7)
+    assert second.multipliers["sum_min"] == pytest.approx(3.0, rel=1e-6)
+    # The first result is detached from later parameter changes.
+    assert first.values["x"] == pytest.approx(0.5, abs=1e-7)
+
+
+def test_warm_start_and_option_change():
+    p, _, _ = parametric_problem()
+    cold = p.solve()
+    warm = p.solve(warm_start=True)
+    assert warm.values["x"] == pytest.approx(cold.values["x"], abs=1e-7)
+    assert warm.variables["init"].to_numpy() == pytest.approx([0.5, 0.5], abs=1e-7)
+    assert p.solver_builds == 1
+    p.solve(tol=1e-9)  # different Ipopt options: a new solver instance
+    assert p.solver_builds == 2
+
+
+def test_value_of_any_expression_at_solution():
+    p, k, x = parametric_problem()
+    res = p.solve()
+    # x = 1/2, k = 1: 4x + k = 3.
+    assert res.value(x * 4 + k) == pytest.approx(3.0, abs=1e-6)
+    np.testing.assert_allclose(res.value(ca.vertcat(x, k)), [0.5, 1.0], atol=1e-7)
+    assert res.value("k_N") == 1.0
+    with pytest.raises(KeyError):
+        res.value("no_such_name")
+
+
+# --------------------------------------------------------------------------- typed failures
+
+def test_infeasible_bounds_raise_with_both_constraints_named():
+    p = Problem("infeasible")
+    x = p.variable("x", init=0.0)
+    p.subject_to("x_min", x, lower=2.0)
+    p.subject_to("x_max", x, upper=1.0)
+    p.minimize(x ** 2)
+    with pytest.raises(InfeasibleProblemError) as info:
+        p.solve()
+    err = info.value
+    names = {v.name for v in err.violated}
+    assert names == {"x_min", "x_max"}
+    assert "x_min" in str(err) and THIS_FILE in str(err)
+    assert err.hint and err.status
+    assert isinstance(err.result, ProblemResult) and not err.result.success
+
+
+def test_nonlinear_infeasible_problem():
+    # The disc x^2 + y^2 <= 1 never reaches the line x + y >= 3 (closest approach sqrt(2) < 3).
+    p = Problem("infeasible_nl")
+    x = p.variable("x", init=0.1)
+    y = p.variable("y", init=0.2)
+    p.subject_to("disc", x ** 2 + y ** 2, upper=1.0)
+    p.subject_to("line", x + y, lower=3.0)
+    p.minimize(x ** 2)
+    with pytest.raises(InfeasibleProblemError) as info:
+        p.solve()
+    err = info.value
+    assert err.status == "Infeasible_Problem_Detected"
+    assert "cannot all be met" in err.hint
+    assert "line" in [v.name for v in err.violated]
+    assert "line" in str(err)
+
+
+def test_iteration_limit():
+    with pytest.raises(IterationLimitError) as info:
+        rosenbrock().solve(max_iter=2)
+    err = info.value
+    assert err.status == "Maximum_Iterations_Exceeded"
+    assert err.result.iterations == 2 and not err.result.success
+    assert isinstance(err, SolveError)
+
+
+# --------------------------------------------------------------------------- pre-solve check and bad input
+
+def test_nan_at_initial_guess_names_the_constraint():
+    p = Problem("nan")
+    x = p.variable("x", init=-1.0)
+    p.subject_to("root_min", ca.sqrt(x), lower=0.5)
+    p.minimize(x ** 2)
+    with pytest.raises(BadInitialGuessError, match="root_min") as info:
+        p.check_initial_guess()
+    assert THIS_FILE in str(info.value)
+    with pytest.raises(BadInitialGuessError, match="root_min"):
+        p.solve()
+    assert p.solver_builds == 0  # Ipopt never ran
+
+
+def test_nan_objective_at_initial_guess():
+    p = Problem("nan_objective")
+    y = p.variable("y", init=-1.0)
+    p.minimize(ca.log(y) + y ** 2)
+    with pytest.raises(BadInitialGuessError, match="objective: value is nan"):
+        p.solve()
+
+
+def test_initial_guess_on_domain_edge_is_judged_where_ipopt_starts():
+    # sqrt has an infinite derivative at 0, but Ipopt pushes x = 0 inside the bound x >= 0 before evaluating.
+    # min x^2 s.t. sqrt(x) >= 1/2 -> x* = 1/4.
+    p = Problem("edge")
+    x = p.variable("x", init=0.0, lower=0.0)
+    p.subject_to("root_min", ca.sqrt(x), lower=0.5)
+    p.minimize(x ** 2)
+    assert p.check_initial_guess().ok
+    assert p.solve().values["x"] == pytest.approx(0.25, abs=1e-7)
+
+
+def test_init_outside_bounds_is_flagged_not_fatal():
+    p = Problem("outside")
+    x = p.variable("x", init=5.0, lower=0.0, upper=1.0)
+    p.minimize((x - 0.25) ** 2)
+    report = p.check_initial_guess()
+    assert [f.name for f in report.outside_bounds] == ["x"]
+    with pytest.warns(InitialGuessWarning, match="x"):
+        res = p.solve()
+    assert res.values["x"] == pytest.approx(0.25, abs=1e-7)
+
+
+def test_inverted_bounds_name_the_variable():
+    p = Problem("bad")
+    with pytest.raises(GearoptInputError, match="profile_shift_1.*upper=-0.5.*lower=1"):
+        p.variable("profile_shift_1", init=0.3, lower=1.0, upper=-0.5)
+
+
+@pytest.mark.parametrize("kwargs, pattern", [
+    ({"scale": 0.0}, "scale=0.*must be > 0"),
+    ({"scale": -2.0}, "scale=-2"),
+    ({"init": float("nan")}, "init=nan"),
+    ({"n": 0}, "n=0"),
+    ({"lower": [0.0, 1.0]}, "2 entries"),
+])
+def test_bad_variable_input(kwargs, pattern):
+    p = Problem("bad")
+    args = {"init": 0.0, **kwargs}
+    with pytest.raises(GearoptInputError, match=pattern):
+        p.variable("x1", **args)
+
+
+def test_bad_names_and_constraints():
+    p = Problem("bad")
+    x = p.variable("x", init=0.0)
+    with pytest.raises(GearoptInputError, match="already used by the variable"):
+        p.variable("x", init=0.0)
+    with pytest.raises(GearoptInputError, match="already used by the variable"):
+        p.subject_to("x", x, lower=0.0)
+    with pytest.raises(GearoptInputError, match="at least one bound"):
+        p.subject_to("c", x)
+    with pytest.raises(GearoptInputError, match="inverted"):
+        p.subject_to("c", x, lower=2.0, upper=1.0)
+    with pytest.raises(GearoptInputError, match="constant"):
+        p.subject_to("c", 3.0, lower=0.0)
+    with pytest.raises(GearoptInputError, match="c"):
+        p.subject_to("c", p.parameter("k", 1.0) * 2, lower=0.0)
+    with pytest.raises(GearoptInputError, match="scalar"):
+        p.minimize(ca.vertcat(x, x))
+    with pytest.raises(GearoptInputError, match="not declared"):
+        p.set_parameter("nope", 1.0)
+
+
+# --------------------------------------------------------------------------- vector constraints and report
+
+def test_vector_constraint_rows_and_report():
+    # min sum (z_i - 2)^2 s.t. z_i <= u_i with u = (1, 3): z = (1, 2); multipliers d f*/d u_i = (2(1-2), 0) = (-2, 0).
+    p = Problem("vector")
+    z = p.variable("z", init=0.0, n=2, unit="mm")
+    p.subject_to("z_max", z, upper=[1.0, 3.0], unit="mm")
+    p.subject_to("z_sum_min", ca.sum1(z), lower=0.0, unit="mm")
+    p.minimize(ca.sumsqr(z - 2))
+    res = p.solve()
+    np.testing.assert_allclose(res.values["z"], [1.0, 2.0], atol=1e-7)
+    np.testing.assert_allclose(res.multipliers["z_max"], [-2.0, 0.0], atol=1e-6)
+    assert list(res.constraints["name"]) == ["z_max[0]", "z_max[1]", "z_sum_min"]
+    assert list(res.constraints["active"]) == [True, False, False]
+    assert res.constraints.loc[1, "margin"] == pytest.approx(1.0, abs=1e-7)
+    text = res.report()
+    for token in ("Problem 'vector'", "Solve_Succeeded", "z_max[0]", "z_sum_min", "yes", THIS_FILE):
+        assert token in text
+    assert res.violations() == []
+
+
+# --- constraints that do not depend on the variables (added with the shift-distribution NLP) ------------------------
+
+def test_constant_constraint_is_recorded_not_sent_to_ipopt():
+    # an affine constraint with a zero coefficient (x*0.5*2 - x) used to make Ipopt report Invalid_Problem_Definition
+    # through CasADi's detect_simple_bounds when a second variable exists
+    from gearopt.design import Problem
+
+    p = Problem("constant")
+    x = p.variable("x", init=0.5, lower=-1.0, upper=1.0)
+    t = p.variable("t", init=0.0, lower=-5.0, upper=5.0)
+    zero = ca.MX(0.75) + ca.mtimes(ca.DM([[0.0]]), x)
+    p.subject_to("fixed_margin", zero, lower=0.0)
+    p.subject_to("epigraph", ca.sin(x) - t, lower=0.0)
+    p.maximize(t)
+    res = p.solve()
+    assert "fixed_margin" in p.constant_constraints
+    assert res.values["x"] == pytest.approx(1.0, abs=1e-6)
+
+
+def test_violated_constant_constraint_raises_by_name():
+    from gearopt.design import Problem
+    from gearopt.errors import InfeasibleProblemError
+
+    p = Problem("constant_violated")
+    x = p.variable("x", init=0.5, lower=-1.0, upper=1.0)
+    with pytest.raises(InfeasibleProblemError, match="fixed_margin") as e:
+        p.subject_to("fixed_margin", ca.MX(-0.2) + ca.mtimes(ca.DM([[0.0]]), x), lower=0.0)
+    assert e.value.violated[0].name == "fixed_margin"
