@@ -248,8 +248,8 @@ def involute(alpha_rad):
 INVOLUTE_MAX = float(math.tan(math.radians(75.0)) - math.radians(75.0))
 
 #: Newton steps unrolled in the symbolic inverse involute: the start below is within 5e-5 (relative) of the root
-#: over 0..75 deg, so 4 quadratic steps reach machine precision (tested).
-_SYMBOLIC_NEWTON_STEPS = 4
+#: over 0..75 deg, so 2 quadratic steps already reach machine precision (benchmarks/bench_geometry.py); 3 for margin.
+_SYMBOLIC_NEWTON_STEPS = 3
 
 
 def _inverse_involute_start(y):
@@ -266,7 +266,8 @@ def _inverse_involute_start(y):
 def inverse_involute(inv_value):
     """Pressure angle [rad] whose involute is ``inv_value`` [rad]: solves ``tan(a) - a = inv_value``.
 
-    Numeric input: vectorised Newton iteration to ``|inv(a) - y| <= 1e-15`` (|a - a*| below 1e-12 rad), for
+    Numeric input: vectorised Newton iteration until the step is below 1e-12 relative (the error after that step is
+    at rounding level, |a - a*| below 1e-14 rad, tested), for
     ``0 <= inv_value <= INVOLUTE_MAX`` (angles up to 75 deg); out-of-range input raises ``GearoptInputError``.
     Symbolic input: a fixed number of unrolled Newton steps from a starting point above the root, i.e. a smooth
     CasADi expression whose value and derivative (``1/tan^2 a``) match the numeric solution to machine precision.
@@ -284,11 +285,11 @@ def inverse_involute(inv_value):
         raise GearoptInputError(
             f"inverse_involute: inv_value={bad!r} outside [0, {INVOLUTE_MAX:.4f}] (pressure angles 0..75 deg)")
     a = np.where(y > 0.0, _inverse_involute_start(np.maximum(y, 1e-300)), 0.0)
-    for _ in range(60):
+    for _ in range(8):  # quadratic convergence from a 5e-5 start: 2-3 steps; stop once a step is at rounding level
         t = np.tan(a)
         step = np.where(y > 0.0, (involute(a) - y) / np.maximum(t * t, 1e-300), 0.0)
         a = a - step
-        if np.all(np.abs(step) <= 1e-15 * np.maximum(a, 1e-300)):
+        if np.all(np.abs(step) <= 1e-12 * np.maximum(a, 1e-300)):
             break
     return float(a) if a.ndim == 0 else a
 
