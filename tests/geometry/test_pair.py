@@ -262,3 +262,20 @@ def test_symbolic_pair_check_refuses_and_constraints_are_expressions():
     f = ca.Function("f", [x], [cons["undercut_margin_1"]])
     h_ff = 1.25 - 0.38 * (1 - math.sin(math.radians(20)))
     assert float(f(0.3)) == pytest.approx(0.3 - (h_ff - 20 * math.sin(math.radians(20)) ** 2 / 2))
+
+
+def test_symbolic_tip_diameters_drive_contact_ratio_and_tip_thickness():
+    da = ca.SX.sym("da", 2)
+    p = go.GearPair.from_profile_shifts(teeth=(30, 60), profile_shifts=(0.2, 0.0), module_mm=3.0,
+                                        tip_diameters_mm=(da[0], da[1]))
+    g = p.geometry()
+    f = ca.Function("f", [da], [g["transverse_contact_ratio"], g["tip_thickness_mm"][0]])
+    num = go.GearPair.from_profile_shifts(teeth=(30, 60), profile_shifts=(0.2, 0.0), module_mm=3.0,
+                                          tip_diameters_mm=(96.5, 185.0)).geometry()
+    eps, s_a = (float(v) for v in f([96.5, 185.0]))
+    assert eps == pytest.approx(num["transverse_contact_ratio"], abs=1e-12)
+    assert s_a == pytest.approx(num["tip_thickness_mm"][0], abs=1e-12)
+    # a smaller tip shortens the path of contact by the change of its roll length (d rho_a / d d_a = d_a/(4 rho_a))
+    rho_a = math.sqrt(96.5**2 - num["base_diameter_mm"][0] ** 2) / 2
+    d_eps = float(ca.Function("d", [da], [ca.jacobian(g["transverse_contact_ratio"], da)])([96.5, 185.0])[0])
+    assert d_eps == pytest.approx(96.5 / (4 * rho_a) / num["base_pitch_mm"], rel=1e-9)
