@@ -2,3 +2,6 @@
 
 from .ltca import LTCAResult, ltca
 from .microgeometry import Microgeometry
+from .stiffness import (StiffnessValidityWarning, contact_line_length_mm, iso6336_stiffness, line_of_contact_stiffness,
+                        mesh_damping, mesh_stiffness_table)
+from .tip_relief import governing_tip_relief_um, min_tip_relief_table, min_tip_relief_um

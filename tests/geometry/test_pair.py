@@ -8,7 +8,7 @@ import math
 import casadi as ca
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
 import gearopt as go
@@ -66,6 +66,8 @@ def test_path_points_are_ordered_and_consistent():
 @given(z1=st.integers(14, 60), z2=st.integers(14, 120), x1=st.floats(-0.3, 0.8), x2=st.floats(-0.3, 0.8),
        beta=st.sampled_from([0.0, 8.0, 15.0, 30.0]))
 def test_round_trip_shifts_centre_distance_shifts(z1, z2, x1, x2, beta):
+    # (very negative sums with few teeth have no working pressure angle: GeometryError, tested elsewhere)
+    assume(x1 + x2 >= -0.4)
     p = go.GearPair.from_profile_shifts(teeth=(z1, z2), profile_shifts=(x1, x2), module_mm=3.0,
                                         helix_angle_deg=beta, face_width_mm=20.0)
     a = p.geometry()["centre_distance_mm"]
