@@ -49,6 +49,16 @@ def check_range(name: str, value: float, low: float | None = None, high: float |
         raise error(f"{name}={v:g}{u} exceeds its limit: must be {rel} {high:g}{u}")
 
 
+def per_gear(value, name: str) -> tuple:
+    """A per-gear argument as a 2-tuple (gear 1, gear 2): a scalar applies to both gears; any other length raises
+    ``GearoptInputError`` naming the parameter."""
+    if isinstance(value, (tuple, list)):
+        if len(value) != 2:
+            raise GearoptInputError(f"{name}={value!r} must be a scalar or a 2-tuple (gear 1, gear 2)")
+        return tuple(value)
+    return (value, value)
+
+
 @dataclass
 class ViolatedConstraint:
     """One constraint of a failed solve with its violation in the constraint's own units."""
@@ -104,6 +114,6 @@ class BadInitialGuessError(GearoptInputError):
 
 
 __all__ = [
-    "GearoptError", "GearoptInputError", "GeometryError", "check_range", "ViolatedConstraint", "SolveError",
+    "GearoptError", "GearoptInputError", "GeometryError", "check_range", "per_gear", "ViolatedConstraint", "SolveError",
     "InfeasibleProblemError", "IterationLimitError", "NumericalSolveError", "BadInitialGuessError",
 ]

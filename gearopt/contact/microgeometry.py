@@ -25,17 +25,9 @@ from dataclasses import dataclass
 from typing import Any
 
 from .. import numerics as nm
-from ..errors import GearoptInputError, check_range
+from ..errors import GearoptInputError, check_range, per_gear
 
 SHAPES = ("linear", "parabolic")
-
-
-def _pair(value, name):
-    if isinstance(value, (tuple, list)):
-        if len(value) != 2:
-            raise GearoptInputError(f"{name}={value!r} must be a scalar or a 2-tuple (gear 1, gear 2)")
-        return tuple(value)
-    return (value, value)
 
 
 @dataclass(frozen=True)
@@ -62,7 +54,7 @@ class Microgeometry:
         for name in ("tip_relief_um", "tip_relief_start_roll_deg", "tip_relief_start_diameter_mm", "tip_relief_2_um",
                      "tip_relief_2_start_roll_deg", "root_relief_um", "root_relief_start_roll_deg",
                      "root_relief_start_diameter_mm", "profile_crown_um", "lead_crown_um", "lead_slope_um"):
-            object.__setattr__(self, name, _pair(getattr(self, name), name))
+            object.__setattr__(self, name, per_gear(getattr(self, name), name))
         if self.relief_shape not in SHAPES:
             raise GearoptInputError(f"relief_shape={self.relief_shape!r} must be one of {SHAPES}")
         for name in ("tip_relief_um", "tip_relief_2_um", "root_relief_um", "profile_crown_um", "lead_crown_um"):

@@ -40,7 +40,7 @@ from typing import Any
 import pandas as pd
 
 from .. import numerics as nm
-from ..errors import GearoptInputError, check_range
+from ..errors import GearoptInputError, check_range, per_gear
 from ..units import RAD_PER_DEG, UM_PER_MM
 
 #: Young's modulus [MPa] and Poisson's ratio of gear steel used by default (ISO 6336-1 reference steel).
@@ -62,18 +62,9 @@ Number = Any  # float, ndarray or CasADi expression
 # helpers
 # ----------------------------------------------------------------------------------------------------------------
 
-def _per_gear(value, name: str) -> tuple:
-    """A scalar (same for both gears) or a 2-sequence (gear 1, gear 2)."""
-    if isinstance(value, (tuple, list)):
-        if len(value) != 2:
-            raise GearoptInputError(f"{name}={value!r} must be a scalar or a 2-tuple (gear 1, gear 2)")
-        return tuple(value)
-    return (value, value)
-
-
 def _check_material(E_MPa, poisson) -> tuple[tuple, tuple]:
-    E = _per_gear(E_MPa, "E_MPa")
-    nu = _per_gear(poisson, "poisson")
+    E = per_gear(E_MPa, "E_MPa")
+    nu = per_gear(poisson, "poisson")
     for i in range(2):
         check_range(f"E_MPa[{i}]", E[i], 0.0, None, low_inclusive=False, unit="MPa")
         check_range(f"poisson[{i}]", nu[i], 0.0, 0.5, high_inclusive=False)

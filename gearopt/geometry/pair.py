@@ -19,7 +19,7 @@ from functools import cached_property
 from typing import Any
 
 from .. import numerics as nm
-from ..errors import GearoptInputError, GeometryError, check_range
+from ..errors import GearoptInputError, GeometryError, check_range, per_gear
 from ..units import DEG_PER_RAD, RAD_PER_DEG
 from . import involute as inv
 from .shift import (check_centre_distance_reachable, iso_tr_4467_shift_limits, shift_split_iso_tr_4467,
@@ -28,15 +28,6 @@ from .shift import (check_centre_distance_reachable, iso_tr_4467_shift_limits, s
 from .tolerances import PairTolerances, transverse_backlash_mm
 
 Number = Any  # float, numpy scalar or CasADi expression
-
-
-def _pair(value, name: str) -> tuple:
-    """Accept a scalar (same for both gears) or a 2-sequence."""
-    if isinstance(value, (tuple, list)):
-        if len(value) != 2:
-            raise GearoptInputError(f"{name}={value!r} must be a scalar or a 2-tuple (gear 1, gear 2)")
-        return tuple(value)
-    return (value, value)
 
 
 def _check_teeth(teeth) -> tuple[int, int]:
@@ -97,7 +88,7 @@ class GearPair:
         """
         teeth = _check_teeth(teeth)
         _check_scalars(module_mm, pressure_angle_deg, helix_angle_deg, face_width_mm)
-        x = _pair(profile_shifts, "profile_shifts")
+        x = per_gear(profile_shifts, "profile_shifts")
         for i, xi in enumerate(x):
             check_range(f"profile_shifts[{i}]", xi, -3.0, 3.0)
         alpha_n = pressure_angle_deg * RAD_PER_DEG
@@ -143,7 +134,7 @@ class GearPair:
             raise GearoptInputError(f"unknown option(s) {sorted(unknown)}; allowed: {sorted(allowed)}")
         opts = dict(options)
         if opts.get("tip_diameters_mm") is not None:
-            opts["tip_diameters_mm"] = _pair(opts["tip_diameters_mm"], "tip_diameters_mm")
+            opts["tip_diameters_mm"] = per_gear(opts["tip_diameters_mm"], "tip_diameters_mm")
             for i, da in enumerate(opts["tip_diameters_mm"]):
                 check_range(f"tip_diameters_mm[{i}]", da, 0.0, None, low_inclusive=False, unit="mm")
         if opts.get("tolerances") is None:
@@ -163,7 +154,7 @@ class GearPair:
             opts["helix_hands"] = hands
         return cls(teeth=teeth, module_mm=module_mm, pressure_angle_deg=pressure_angle_deg,
                    helix_angle_deg=helix_angle_deg, profile_shifts=tuple(x), centre_distance_mm=a,
-                   face_width_mm=_pair(face_width_mm, "face_width_mm"), **opts)
+                   face_width_mm=per_gear(face_width_mm, "face_width_mm"), **opts)
 
     def with_options(self, **changes) -> "GearPair":
         """Copy with some fields replaced (e.g. ``tolerances=...``, ``tip_diameters_mm=...``)."""
@@ -480,7 +471,7 @@ def _check_scalars(module_mm, pressure_angle_deg, helix_angle_deg, face_width_mm
     check_range("pressure_angle_deg", pressure_angle_deg, 0.0, 45.0, low_inclusive=False, high_inclusive=False,
                 unit="deg")
     check_range("helix_angle_deg", helix_angle_deg, 0.0, 45.0, high_inclusive=False, unit="deg")
-    for i, b in enumerate(_pair(face_width_mm, "face_width_mm")):
+    for i, b in enumerate(per_gear(face_width_mm, "face_width_mm")):
         check_range(f"face_width_mm[{i}]", b, 0.0, None, low_inclusive=False, unit="mm")
 
 
