@@ -7,7 +7,7 @@ Ipopt's return status, a hint, and the worst violated constraints by name.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 
 class GearoptError(Exception):

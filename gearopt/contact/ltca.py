@@ -28,7 +28,6 @@ from typing import Any, Callable
 
 import numpy as np
 
-from .. import numerics as nm
 from ..errors import GearoptInputError, check_range
 from ..geometry.pair import GearPair
 from .microgeometry import Microgeometry, lead_deviation_um, misalignment_gap_um, profile_deviation_um

@@ -86,9 +86,12 @@ def change_table(spur: GearTrain, thesis: dict) -> pd.DataFrame:
 
 
 def mesh_check_table(train: GearTrain, **limits) -> pd.DataFrame:
-    """Per mesh: contact ratios (nominal and worst case), backlash range, tip thicknesses, bottom clearances, and
-    the verdict of :meth:`GearPair.check` with ``limits`` (``"ok"`` or the violated limits by name)."""
-    rows = []
+    """Per mesh: contact ratios (nominal and worst case), backlash range (from :meth:`GearTrain.mesh_table`), tip
+    thicknesses, bottom clearances, SAP roll angles, and the verdict of :meth:`GearPair.check` with ``limits``
+    (``"ok"`` or the violated limits by name)."""
+    shared = ["transverse_contact_ratio", "worst_case_transverse_contact_ratio", "overlap_contact_ratio",
+              "total_contact_ratio", "normal_backlash_min_mm", "normal_backlash_max_mm"]
+    rows = {}
     for name, pair in train.pairs.items():
         g = pair.geometry()
         try:
@@ -96,18 +99,11 @@ def mesh_check_table(train: GearTrain, **limits) -> pd.DataFrame:
             verdict = "ok"
         except GeometryError as err:
             verdict = str(err).split(": ", 1)[1]
-        rows.append({
-            "mesh": name,
-            "transverse_contact_ratio": g["transverse_contact_ratio"],
-            "worst_case_transverse_contact_ratio": g["worst_case_transverse_contact_ratio"],
-            "overlap_contact_ratio": g["overlap_contact_ratio"],
-            "total_contact_ratio": g["total_contact_ratio"],
-            "normal_backlash_min_mm": g["normal_backlash_min_mm"],
-            "normal_backlash_max_mm": g["normal_backlash_max_mm"],
+        rows[name] = {
             "tip_thickness_1_mm": g["tip_thickness_mm"][0], "tip_thickness_2_mm": g["tip_thickness_mm"][1],
             "bottom_clearance_1_mm": g["bottom_clearance_mm"][0],
             "bottom_clearance_2_mm": g["bottom_clearance_mm"][1],
             "sap_roll_1_deg": g["sap_roll_deg"][0], "sap_roll_2_deg": g["sap_roll_deg"][1],
             "check": verdict,
-        })
-    return pd.DataFrame(rows).set_index("mesh")
+        }
+    return train.mesh_table()[shared].join(pd.DataFrame.from_dict(rows, orient="index"))

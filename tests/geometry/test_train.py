@@ -3,7 +3,6 @@
 Shape checks against the thesis' Tables 3.1-3.3 (DESIGN.md section 6: shifts recovered from Table 3.4).
 """
 
-import math
 
 import casadi as ca
 import numpy as np
