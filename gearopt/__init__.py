@@ -8,4 +8,4 @@ from .geometry import (GearPair, GearSpec, GearTrain, MeshSpec, PairTolerances, 
 from .data import load_default_train, load_default_data
 
 __version__ = "0.1.0"
-from .contact import Microgeometry, iso6336_stiffness, ltca, min_tip_relief_um
+from .contact import LTCAModel, Microgeometry, harris_map, iso6336_stiffness, ltca, min_tip_relief_um

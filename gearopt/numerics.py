@@ -294,9 +294,116 @@ def inverse_involute(inv_value):
     return float(a) if a.ndim == 0 else a
 
 
+# ----------------------------------------------------------------------------------------------------------------
+# kernels: symbols, columns, reshapes and implicit (root-finding) functions for models wrapped as casadi.Function
+# ----------------------------------------------------------------------------------------------------------------
+
+def column(values, like=None):
+    """``values`` (any shape) flattened to a column: a CasADi ``DM`` column if ``like`` (or ``values``) is CasADi,
+    else a 1-D numpy array. Used to combine numeric grids with symbolic parameters elementwise."""
+    if isinstance(values, _CASADI_TYPES):
+        return ca.vec(values)
+    flat = np.asarray(values, dtype=float).reshape(-1)
+    return ca.DM(flat) if is_casadi(like) else flat
+
+
+def reshape(x, rows: int, cols: int):
+    """Column-major reshape (CasADi convention) for CasADi expressions and numpy arrays alike."""
+    if isinstance(x, _CASADI_TYPES):
+        return ca.reshape(x, rows, cols)
+    return np.reshape(np.asarray(x), (rows, cols), order="F")
+
+
+def symbol(name: str, rows: int = 1, cols: int = 1, kind: str = "SX"):
+    """A CasADi symbol (``SX`` by default, ``MX`` with ``kind="MX"``)."""
+    return (ca.MX if kind == "MX" else ca.SX).sym(name, rows, cols)
+
+
+def function(name: str, inputs: list, outputs: list, input_names=None, output_names=None, cse: bool = True):
+    """A ``casadi.Function`` of symbolic ``inputs`` -> ``outputs`` (common subexpressions eliminated for SX)."""
+    opts = {"cse": True} if cse and all(isinstance(x, ca.SX) for x in inputs) else {}
+    if input_names is not None:
+        return ca.Function(name, inputs, outputs, list(input_names), list(output_names), opts)
+    return ca.Function(name, inputs, outputs, opts)
+
+
+def implicit_scalar_root(name: str, residual, n_params: int, *, abstol: float = 1e-10, max_iter: int = 200):
+    """``casadi.Function`` ``(x0, p) -> x`` solving the scalar equation ``residual(x, p) = 0`` by Newton's method
+    from ``x0`` (CasADi ``rootfinder``), with exact derivatives of ``x`` with respect to ``p`` by the implicit
+    function theorem. ``residual`` is a Python callable built from these dual-typed helpers; it is traced once on
+    ``SX`` symbols. A failed solve raises a ``RuntimeError`` at evaluation (``error_on_fail``).
+
+    Newton converges monotonically when the residual is convex and increasing in ``x`` and ``x0`` lies right of
+    the root (the caller's job to guarantee where it matters).
+    """
+    x = ca.SX.sym("x")
+    p = ca.SX.sym("p", n_params)
+    g = ca.Function(f"{name}_residual", [x, p], [residual(x, p)])
+    return ca.rootfinder(name, "newton", g, {"abstol": abstol, "max_iter": max_iter, "error_on_fail": True})
+
+
+def column_max(x):
+    """Maximum of every column of a matrix: a row (1 x cols) for CasADi, a 1-D array for numpy. Non-smooth; use it
+    for initial guesses and bounds, not inside objectives."""
+    if isinstance(x, _CASADI_TYPES):
+        return ca.horzcat(*[ca.mmax(x[:, j]) for j in range(x.shape[1])])
+    return np.max(np.asarray(x), axis=0)
+
+
+def column_sum(x):
+    """Sum of every column of a matrix: a row (1 x cols) for CasADi, a 1-D array for numpy."""
+    if isinstance(x, _CASADI_TYPES):
+        return ca.sum1(x)
+    return np.sum(np.asarray(x), axis=0)
+
+
+def matrix(x, like=None):
+    """``x`` as a 2-D CasADi ``DM`` if ``like`` is CasADi (CasADi values pass through), else as a 2-D numpy array."""
+    if isinstance(x, _CASADI_TYPES):
+        return x
+    a = np.asarray(x, dtype=float)
+    a = a.reshape(-1, 1) if a.ndim < 2 else a
+    return ca.DM(a) if is_casadi(like) else a
+
+
+def hcat(blocks):
+    """Concatenate matrices side by side (CasADi if any block is CasADi)."""
+    if is_casadi(*blocks):
+        return ca.horzcat(*[matrix(b, True) for b in blocks])
+    return np.hstack([matrix(b) for b in blocks])
+
+
+def vcat(blocks):
+    """Stack matrices on top of each other (CasADi if any block is CasADi)."""
+    if is_casadi(*blocks):
+        return ca.vertcat(*[matrix(b, True) for b in blocks])
+    return np.vstack([matrix(b) for b in blocks])
+
+
+def matmul(a, b):
+    """Matrix product, CasADi if either factor is CasADi."""
+    if is_casadi(a, b):
+        return ca.mtimes(matrix(a, True), matrix(b, True))
+    return np.asarray(a) @ np.asarray(b)
+
+
+def row(x):
+    """``x`` (vector of any orientation) as a single row (1 x n)."""
+    if isinstance(x, _CASADI_TYPES):
+        return ca.reshape(x, 1, x.numel())
+    return np.asarray(x, dtype=float).reshape(1, -1)
+
+
+def repeat_rows(x_row, n: int):
+    """A row repeated ``n`` times downwards (n x cols)."""
+    if isinstance(x_row, _CASADI_TYPES):
+        return ca.repmat(x_row, n, 1)
+    return np.repeat(np.asarray(x_row).reshape(1, -1), n, axis=0)
+
+
 __all__ = [
     "is_casadi", "is_symbolic", "is_numeric", "to_float", "value", "sin", "cos", "tan", "asin", "acos", "atan",
     "atan2", "exp", "log", "log1p", "sqrt", "fabs", "sign", "floor", "fmax", "fmin", "clip", "where", "vertcat",
     "sum1", "softplus", "sigmoid", "smooth_max", "smooth_min", "smooth_abs", "sqrt_safe", "acos_safe", "involute",
-    "inverse_involute", "INVOLUTE_MAX",
+    "inverse_involute", "INVOLUTE_MAX", "column", "reshape", "symbol", "function", "implicit_scalar_root", "column_max", "column_sum", "matrix", "hcat", "vcat", "matmul", "row", "repeat_rows",
 ]

@@ -1,6 +1,9 @@
 """Tooth contact: microgeometry, mesh stiffness, tip-relief physics and loaded tooth contact analysis (LTCA)."""
 
+from .harris import harris_map
+from .layout import MeshLayout, mesh_layout
 from .ltca import LTCAResult, ltca
+from .ltca_smooth import LTCAModel, SmoothLTCAResult
 from .microgeometry import Microgeometry
 from .stiffness import (StiffnessValidityWarning, contact_line_length_mm, iso6336_stiffness, line_of_contact_stiffness,
                         mesh_damping, mesh_stiffness_table)

@@ -22,7 +22,6 @@ Lengths mm, deflections and modifications um, forces N, stresses MPa.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 from typing import Any, Callable
 
@@ -30,9 +29,8 @@ import numpy as np
 
 from ..errors import GearoptInputError, check_range
 from ..geometry.pair import GearPair
-from .microgeometry import Microgeometry, lead_deviation_um, misalignment_gap_um, profile_deviation_um
-
-RAD2DEG = 180.0 / math.pi
+from .layout import default_slices, hertz_stress_factor, mesh_layout, single_pair_stiffness_profile
+from .microgeometry import Microgeometry
 
 
 @dataclass
@@ -55,6 +53,7 @@ class LTCAResult:
     roll_length_1_mm: np.ndarray
     slice_y_mm: np.ndarray
     transverse_force_N: float
+    loaded_pairs: np.ndarray = None   # (positions,) loaded contact length / face width
     settings: dict = field(default_factory=dict)
 
     @property
@@ -72,33 +71,10 @@ class LTCAResult:
 
     @property
     def loaded_contact_ratio(self) -> float:
-        """Mean number of tooth pairs carrying load over the cycle (a loaded contact ratio)."""
-        return float(np.mean(np.sum(self.load_sharing > 1e-9, axis=1)))
-
-
-def single_pair_stiffness_profile(kind, pair: GearPair) -> Callable[[np.ndarray], np.ndarray]:
-    """Single-pair stiffness per unit face width c(s) [N/(mm*um)] as a function of the normalised path position
-    s in [0, 1] (A -> E).
-
-    - a number: constant c' (for analytic checks);
-    - ``"iso6336"``: a parabola c'(1 - kappa (2s - 1)^2), peak c' (ISO 6336-1's single stiffness) at the middle of the
-      path and kappa = 0.75 (1 - 1/eps_alpha) so that the mean mesh stiffness eps_alpha * mean(c) equals ISO's
-      c_gamma_alpha = c'(0.75 eps_alpha + 0.25). An approximation consistent with both ISO values, not a
-      position-resolved tooth model.
-    """
-    if isinstance(kind, (int, float)):
-        check_range("stiffness", kind, 0.0, None, low_inclusive=False, unit="N/(mm*um)")
-        c = float(kind)
-        return lambda s: np.full(np.shape(s), c)
-    if kind == "iso6336":
-        from .stiffness import iso6336_stiffness
-
-        iso = iso6336_stiffness(pair)
-        c_single = float(iso["single_stiffness"])
-        eps = float(pair.geometry()["transverse_contact_ratio"])
-        kappa = 0.75 * (1.0 - 1.0 / eps)
-        return lambda s: c_single * (1.0 - kappa * (2.0 * np.asarray(s) - 1.0) ** 2)
-    raise GearoptInputError(f"stiffness={kind!r} must be a number [N/(mm*um)] or 'iso6336'")
+        """Loaded transverse contact ratio: the mean over the cycle of the loaded contact length divided by the face
+        width (the number of tooth pairs carrying load for a spur pair; equals the geometric transverse contact
+        ratio for unmodified gears under load)."""
+        return float(np.mean(self.loaded_pairs))
 
 
 def ltca(pair: GearPair, torque_Nm: float, *, driving_gear: int = 1, microgeometry: Microgeometry | None = None,
@@ -111,62 +87,30 @@ def ltca(pair: GearPair, torque_Nm: float, *, driving_gear: int = 1, microgeomet
     """
     if pair.is_symbolic:
         raise GearoptInputError("ltca() is the numeric solver: give a numeric pair (the smooth CasADi form is "
-                                "ltca_symbolic)")
+                                "LTCAModel in gearopt.contact.ltca_smooth)")
     check_range("torque_Nm", torque_Nm, 0.0, None, unit="N*m")
-    if driving_gear not in (1, 2):
-        raise GearoptInputError(f"driving_gear={driving_gear!r} must be 1 or 2")
-    check_range("positions", positions, 2, 100000)
     mods = microgeometry or Microgeometry()
-    g = pair.geometry()
-    spur = float(g["helix_angle_deg"]) == 0.0
     if slices is None:
-        slices = 1 if spur and not mods.has_lead_modification else 11
-    check_range("slices", slices, 1, 10000)
-    b = min(g["face_width_mm"])
-    d_b = g["base_diameter_mm"]
-    p_bt = g["base_pitch_mm"]
-    A, E = g["sap_roll_length_mm"][0], g["eap_roll_length_mm"][0]
-    t1t2 = A + g["eap_roll_length_mm"][1]  # rho1 + rho2 = T1T2 at every contact point
-    tan_beta_b = math.tan(math.radians(g["base_helix_angle_deg"]))
-    y = (np.arange(slices) + 0.5) / slices * b - 0.5 * b
-    db = b / slices
-    eps_total = (E - A) / p_bt + b * abs(tan_beta_b) / p_bt
-    k = np.arange(-int(math.ceil(eps_total)) - 1, int(math.ceil(eps_total)) + 2)
-
-    # positions over one base pitch in time order; rho1 of the reference pair (k = 0) at slice y = -b/2
-    s = np.arange(positions) / positions
-    if driving_gear == 1:
-        rho_ref = A - 0.5 * b * abs(tan_beta_b) + s * p_bt
-        direction = 1.0
-    else:
-        rho_ref = E + 0.5 * b * abs(tan_beta_b) - s * p_bt
-        direction = -1.0
-    rho1 = (rho_ref[:, None, None] + direction * k[None, :, None] * p_bt
-            + direction * (y[None, None, :] + 0.5 * b) * abs(tan_beta_b))  # (P, K, J)
-    on_path = (rho1 >= A - 1e-12) & (rho1 <= E + 1e-12)
-    rho2 = t1t2 - rho1
-    roll1, roll2 = rho1 / (0.5 * d_b[0]) * RAD2DEG, rho2 / (0.5 * d_b[1]) * RAD2DEG
-    sap = g["sap_roll_deg"]
-    eap = g["eap_roll_deg"]
-    gap = (profile_deviation_um(mods, 0, roll1, sap_roll_deg=sap[0], eap_roll_deg=eap[0], base_diameter_mm=d_b[0])
-           + profile_deviation_um(mods, 1, roll2, sap_roll_deg=sap[1], eap_roll_deg=eap[1], base_diameter_mm=d_b[1])
-           + lead_deviation_um(mods, 0, y, b) + lead_deviation_um(mods, 1, y, b) + misalignment_gap_um(mods, y, b))
-    gap = np.broadcast_to(np.asarray(gap, dtype=float), rho1.shape)
-    c = single_pair_stiffness_profile(stiffness, pair)(np.clip((rho1 - A) / (E - A), 0.0, 1.0))
-    spring = np.where(on_path, c * db, 0.0)  # N/um per slice
-    force = torque_Nm * 1000.0 / (0.5 * d_b[driving_gear - 1])  # transverse force on the base circle [N]
-    delta = _solve_approach(np.where(on_path, gap, np.inf).reshape(positions, -1),
-                            spring.reshape(positions, -1), force)
-    w = spring * np.maximum(delta[:, None, None] - gap, 0.0) / db  # N/mm per slice
-    w = np.where(on_path, w, 0.0)
-    pair_load = w.sum(axis=2) * db
+        slices = default_slices(pair, mods)
+    lay = mesh_layout(pair, driving_gear=driving_gear, positions=positions, slices=slices, stiffness=stiffness,
+                      E_MPa=E_MPa, poisson=poisson)
+    P = positions
+    gap = lay.gaps_um(mods)
+    force = float(torque_Nm) * lay.force_per_torque_N_per_Nm
+    spring = lay.spring_N_per_um
+    delta = _solve_approach(np.where(lay.on_path, gap, np.inf).reshape(P, -1), spring.reshape(P, -1), force)
+    closure = delta[:, None, None] - gap
+    w = np.where(lay.on_path, spring * np.maximum(closure, 0.0) / lay.slice_width_mm, 0.0)  # N/mm per slice
+    pair_load = w.sum(axis=2) * lay.slice_width_mm
     sharing = pair_load / force if force > 0 else np.zeros_like(pair_load)
-    sigma = _hertz_stress(w, rho1, rho2, math.radians(g["base_helix_angle_deg"]), E_MPa, poisson)
-    return LTCAResult(position_roll_deg=rho_ref / (0.5 * d_b[0]) * RAD2DEG, transmission_error_um=delta,
+    sigma = np.sqrt(w * hertz_stress_factor(lay, E_MPa, poisson))
+    loaded = (lay.on_path & (closure > 0.0)).sum(axis=(1, 2)) / lay.slices
+    return LTCAResult(position_roll_deg=lay.position_roll_deg, transmission_error_um=delta,
                       load_sharing=sharing, load_intensity_N_per_mm=w, contact_stress_MPa=sigma,
-                      roll_length_1_mm=rho1[:, :, 0], slice_y_mm=y, transverse_force_N=force,
+                      roll_length_1_mm=lay.rho1_mm[:, :, 0], slice_y_mm=lay.slice_y_mm, transverse_force_N=force,
+                      loaded_pairs=loaded,
                       settings={"positions": positions, "slices": slices, "stiffness": stiffness,
-                                "driving_gear": driving_gear, "pair_index": k.tolist()})
+                                "driving_gear": driving_gear, "pair_index": lay.pair_index.tolist()})
 
 
 def _solve_approach(gaps: np.ndarray, springs: np.ndarray, force: float) -> np.ndarray:
@@ -191,17 +135,6 @@ def _solve_approach(gaps: np.ndarray, springs: np.ndarray, force: float) -> np.n
     rows = np.arange(e.shape[0])
     S_m, Q_m = S[rows, m], Q[rows, m]
     return (force + Q_m) / S_m
-
-
-def _hertz_stress(w, rho1, rho2, beta_b, E_MPa, poisson):
-    """Hertzian line-contact stress sqrt(w / (pi rho_red) * E_r/2) with w the load per unit contact length [N/mm]
-    (for a helical pair w_t per face width equals the normal load per unit contact-line length), radii of curvature
-    in the normal plane rho_i / cos(beta_b), E_r/2 = 1/((1-nu^2)/E * 2) for equal materials."""
-    r1 = np.maximum(rho1, 1e-9) / math.cos(beta_b)
-    r2 = np.maximum(rho2, 1e-9) / math.cos(beta_b)
-    rho_red = r1 * r2 / (r1 + r2)
-    e_term = 1.0 / (2.0 * (1.0 - poisson ** 2) / E_MPa)
-    return np.sqrt(np.maximum(w, 0.0) * e_term / (math.pi * rho_red))
 
 
 __all__ = ["ltca", "LTCAResult", "single_pair_stiffness_profile"]

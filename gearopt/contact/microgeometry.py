@@ -15,6 +15,10 @@ Modifications per gear (2-tuples, gear 1 then gear 2):
 - lead crown C_beta [um]: parabola over the face, zero at the middle, C_beta at both ends;
 - lead slope f_Hbeta [um]: linear over the face, +f/2 at y = +b/2 (a helix deviation).
 
+``relief_smoothing_deg`` > 0 rounds the kink at each relief start over about that roll angle (softplus; the
+relief is then over-estimated by at most width*ln2 relative to its ramp): an NLP modelling option that makes the gaps
+smooth in the start angles. Reports use the exact (0) form.
+
 Pair-level ``misalignment_um``: the gap grows linearly over the face, +m/2 at y = +b/2 (mesh misalignment f_ma);
 it may be negative.
 """
@@ -49,12 +53,14 @@ class Microgeometry:
     lead_crown_um: Any = (0.0, 0.0)
     lead_slope_um: Any = (0.0, 0.0)
     misalignment_um: Any = 0.0
+    relief_smoothing_deg: float = 0.0
 
     def __post_init__(self):
         for name in ("tip_relief_um", "tip_relief_start_roll_deg", "tip_relief_start_diameter_mm", "tip_relief_2_um",
                      "tip_relief_2_start_roll_deg", "root_relief_um", "root_relief_start_roll_deg",
                      "root_relief_start_diameter_mm", "profile_crown_um", "lead_crown_um", "lead_slope_um"):
             object.__setattr__(self, name, per_gear(getattr(self, name), name))
+        check_range("relief_smoothing_deg", self.relief_smoothing_deg, 0.0, 5.0, unit="deg")
         if self.relief_shape not in SHAPES:
             raise GearoptInputError(f"relief_shape={self.relief_shape!r} must be one of {SHAPES}")
         for name in ("tip_relief_um", "tip_relief_2_um", "root_relief_um", "profile_crown_um", "lead_crown_um"):
@@ -82,9 +88,10 @@ class Microgeometry:
         return any(not (nm.is_numeric(v) and nm.to_float(v) == 0.0) for v in vals)
 
 
-def _ramp(u, shape):
-    """0 for u <= 0, u (linear) or u^2 (parabolic) above; dual-typed, no NaN branch."""
-    up = nm.fmax(u, 0.0)
+def _ramp(u, shape, width=0.0):
+    """0 for u <= 0, u (linear) or u^2 (parabolic) above; dual-typed, no NaN branch. A positive ``width`` (in units
+    of u) rounds the kink at u = 0 with ``numerics.softplus`` (error at most width*ln2)."""
+    up = nm.fmax(u, 0.0) if nm.is_numeric(width) and nm.to_float(width) == 0.0 else nm.softplus(u, width)
     return up if shape == "linear" else up * up
 
 
@@ -103,16 +110,19 @@ def profile_deviation_um(mods: Microgeometry, gear: int, roll_deg, *, sap_roll_d
         return rho / (0.5 * base_diameter_mm) * (180.0 / 3.141592653589793)
 
     dev = 0.0
-    shape = mods.relief_shape
+    shape, w = mods.relief_shape, float(mods.relief_smoothing_deg)
     if not _is_zero(mods.tip_relief_um[gear]):
         s = start_roll(mods.tip_relief_start_roll_deg[gear], mods.tip_relief_start_diameter_mm[gear])
-        dev = dev + mods.tip_relief_um[gear] * _ramp((roll_deg - s) / (eap_roll_deg - s), shape)
+        dev = dev + mods.tip_relief_um[gear] * _ramp((roll_deg - s) / (eap_roll_deg - s), shape,
+                                                     w / (eap_roll_deg - s) if w else 0.0)
     if not _is_zero(mods.tip_relief_2_um[gear]):
         s = mods.tip_relief_2_start_roll_deg[gear]
-        dev = dev + mods.tip_relief_2_um[gear] * _ramp((roll_deg - s) / (eap_roll_deg - s), shape)
+        dev = dev + mods.tip_relief_2_um[gear] * _ramp((roll_deg - s) / (eap_roll_deg - s), shape,
+                                                       w / (eap_roll_deg - s) if w else 0.0)
     if not _is_zero(mods.root_relief_um[gear]):
         s = start_roll(mods.root_relief_start_roll_deg[gear], mods.root_relief_start_diameter_mm[gear])
-        dev = dev + mods.root_relief_um[gear] * _ramp((s - roll_deg) / (s - sap_roll_deg), shape)
+        dev = dev + mods.root_relief_um[gear] * _ramp((s - roll_deg) / (s - sap_roll_deg), shape,
+                                                      w / (s - sap_roll_deg) if w else 0.0)
     if not _is_zero(mods.profile_crown_um[gear]):
         mid, half = 0.5 * (sap_roll_deg + eap_roll_deg), 0.5 * (eap_roll_deg - sap_roll_deg)
         dev = dev + mods.profile_crown_um[gear] * ((roll_deg - mid) / half) ** 2

@@ -196,7 +196,7 @@ def iso6336_stiffness(pair: GearPair, *, solid_blanks: bool = True, rim_thicknes
     along the line of action):
 
     - ``q_prime`` [mm*um/N]: minimum flexibility of a tooth pair (method-B regression, REFERENCE-DATA 1.1);
-    - ``theoretical_single_stiffness`` c'_th = 1/q';
+    - ``theoretical_single_stiffness`` (alias ``single_stiffness_theoretical``) c'_th = 1/q';
     - ``single_stiffness`` c' = c'_th C_M C_R C_B cos(beta) (E/E_st) (light-load factor if asked for): the maximum
       stiffness of one tooth pair;
     - ``mesh_stiffness`` c_gamma_alpha = c'(0.75 eps_alpha + 0.25): mean stiffness of all pairs in mesh (used for
@@ -272,6 +272,7 @@ def iso6336_stiffness(pair: GearPair, *, solid_blanks: bool = True, rim_thicknes
     return {
         "q_prime": q,
         "theoretical_single_stiffness": c_th,
+        "single_stiffness_theoretical": c_th,
         "single_stiffness": c_single,
         "mesh_stiffness": c_gamma_alpha,
         "mesh_stiffness_beta": 0.85 * c_gamma_alpha,

@@ -1,0 +1,190 @@
+"""The discretised mesh of an LTCA: mesh positions over one base pitch, face slices, tooth pairs, their contact
+positions on the path, single-pair springs and initial gaps.
+
+Shared by the exact numeric solver (:mod:`gearopt.contact.ltca`) and the smooth CasADi form
+(:mod:`gearopt.contact.ltca_smooth`) so both see exactly the same discretisation.
+
+Geometry (transverse plane; lengths mm): the reference tooth pair (index k = 0) enters at the first position; pair k
+is k base pitches ahead. At position p, pair k and slice j the contact lies at roll length rho1 on gear 1 (rho1 +
+rho2 = T1T2). A helical pair's contact line crosses the slices with the base-helix phase (y + b/2) tan(beta_b).
+A spring exists where the contact lies on the active path A..E; elsewhere its stiffness is zero.
+
+The numeric macro geometry is required (tooth counts, shifts, diameters fixed); the microgeometry (the gaps) may be
+symbolic.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any, Callable
+
+import numpy as np
+
+from .. import numerics as nm
+from ..errors import GearoptInputError, check_range
+from ..geometry.pair import GearPair
+from .microgeometry import Microgeometry, lead_deviation_um, misalignment_gap_um, profile_deviation_um
+
+RAD2DEG = 180.0 / math.pi
+
+
+def single_pair_stiffness_profile(kind, pair: GearPair, *, E_MPa: float = 206000.0,
+                                  poisson: float = 0.3) -> Callable[[np.ndarray], np.ndarray]:
+    """Single-pair stiffness per unit face width c(s) [N/(mm*um)] as a function of the normalised path position
+    s in [0, 1] (A -> E).
+
+    - a number: constant c' (for analytic checks);
+    - ``"iso6336"``: a parabola c'(1 - kappa (2s - 1)^2), peak c' (ISO 6336-1's single stiffness) at the middle of the
+      path and kappa = 0.75 (1 - 1/eps_alpha) so that the mean mesh stiffness eps_alpha * mean(c) equals ISO's
+      c_gamma_alpha = c'(0.75 eps_alpha + 0.25). An approximation consistent with both ISO values, not a
+      position-resolved tooth model.
+    - ``"potential_energy"``: the position-resolved potential-energy tooth model
+      (:mod:`gearopt.contact.potential_energy`: Hertz, bending, shear, axial compression and fillet foundation).
+    """
+    if isinstance(kind, (int, float)) and not isinstance(kind, bool):
+        check_range("stiffness", kind, 0.0, None, low_inclusive=False, unit="N/(mm*um)")
+        c = float(kind)
+        return lambda s: np.full(np.shape(s), c)
+    if kind == "iso6336":
+        from .stiffness import iso6336_stiffness
+
+        iso = iso6336_stiffness(pair)
+        c_single = float(iso["single_stiffness"])
+        eps = float(pair.geometry()["transverse_contact_ratio"])
+        kappa = 0.75 * (1.0 - 1.0 / eps)
+        return lambda s: c_single * (1.0 - kappa * (2.0 * np.asarray(s) - 1.0) ** 2)
+    if kind == "potential_energy":
+        from .potential_energy import potential_energy_stiffness_profile
+
+        return potential_energy_stiffness_profile(pair, E_MPa=E_MPa, poisson=poisson)
+    raise GearoptInputError(f"stiffness={kind!r} must be a number [N/(mm*um)], 'iso6336' or 'potential_energy'")
+
+
+@dataclass(frozen=True)
+class MeshLayout:
+    """Discretised mesh of a numeric pair (arrays shaped (positions, pairs, slices) unless stated)."""
+
+    pair: GearPair
+    driving_gear: int
+    positions: int
+    slices: int
+    stiffness: Any
+    position_roll_deg: np.ndarray      # (P,) roll angle of gear 1 at the reference pair's first slice
+    pair_index: np.ndarray             # (K,) tooth-pair indices kept (those on the path somewhere)
+    slice_y_mm: np.ndarray             # (J,) slice centres, -b/2..b/2
+    slice_width_mm: float
+    face_width_mm: float
+    rho1_mm: np.ndarray
+    rho2_mm: np.ndarray
+    roll1_deg: np.ndarray
+    roll2_deg: np.ndarray
+    on_path: np.ndarray                # bool
+    spring_N_per_um: np.ndarray        # c(rho) * db on the path, 0 elsewhere
+    base_pitch_mm: float
+    base_helix_angle_rad: float
+    base_diameter_mm: tuple
+    sap_roll_deg: tuple
+    eap_roll_deg: tuple
+    force_per_torque_N_per_Nm: float   # transverse base-circle force per unit torque on the driving gear
+
+    @property
+    def shape(self) -> tuple:
+        return self.rho1_mm.shape
+
+    @property
+    def springs_per_position(self) -> int:
+        return int(np.prod(self.shape[1:]))
+
+    def gaps_um(self, mods: Microgeometry):
+        """Initial gap of every spring [um] from the microgeometry: (P, K, J) array for a numeric microgeometry,
+        a CasADi column of length P*K*J (row-major: position, pair, slice) when any amount is symbolic."""
+        sym = _is_symbolic_mods(mods)
+        like = nm.symbol("like") if sym else None
+        roll1 = nm.column(self.roll1_deg, like) if sym else self.roll1_deg
+        roll2 = nm.column(self.roll2_deg, like) if sym else self.roll2_deg
+        y = nm.column(np.broadcast_to(self.slice_y_mm, self.shape), like) if sym else self.slice_y_mm
+        b, d_b = self.face_width_mm, self.base_diameter_mm
+        gap = (profile_deviation_um(mods, 0, roll1, sap_roll_deg=self.sap_roll_deg[0],
+                                    eap_roll_deg=self.eap_roll_deg[0], base_diameter_mm=d_b[0])
+               + profile_deviation_um(mods, 1, roll2, sap_roll_deg=self.sap_roll_deg[1],
+                                      eap_roll_deg=self.eap_roll_deg[1], base_diameter_mm=d_b[1])
+               + lead_deviation_um(mods, 0, y, b) + lead_deviation_um(mods, 1, y, b) + misalignment_gap_um(mods, y, b))
+        if sym:
+            return gap if not isinstance(gap, (int, float)) else nm.column(np.full(self.rho1_mm.size, gap), like)
+        return np.broadcast_to(np.asarray(gap, dtype=float), self.shape)
+
+
+def _is_symbolic_mods(mods: Microgeometry) -> bool:
+    vals = []
+    for v in vars(mods).values():
+        vals.extend(v if isinstance(v, tuple) else (v,))
+    return nm.is_symbolic(*[v for v in vals if v is not None and not isinstance(v, str)])
+
+
+def default_slices(pair: GearPair, mods: Microgeometry) -> int:
+    """1 slice for a spur pair without lead modification or misalignment (uniform load over the face), else 11."""
+    spur = float(pair.geometry()["helix_angle_deg"]) == 0.0
+    return 1 if spur and not mods.has_lead_modification else 11
+
+
+def mesh_layout(pair: GearPair, *, driving_gear: int = 1, positions: int = 40, slices: int = 1,
+                stiffness: Any = "iso6336", E_MPa: float = 206000.0, poisson: float = 0.3) -> MeshLayout:
+    """Discretise ``pair``'s mesh: ``positions`` over one base pitch in time order, ``slices`` over the face."""
+    if pair.is_symbolic:
+        raise GearoptInputError("the LTCA needs a numeric pair (fixed macro geometry); the microgeometry and the "
+                                "torque may be symbolic")
+    if driving_gear not in (1, 2):
+        raise GearoptInputError(f"driving_gear={driving_gear!r} must be 1 or 2")
+    check_range("positions", positions, 2, 100000)
+    check_range("slices", slices, 1, 10000)
+    g = pair.geometry()
+    b = float(min(g["face_width_mm"]))
+    d_b = tuple(float(v) for v in g["base_diameter_mm"])
+    p_bt = float(g["base_pitch_mm"])
+    A, E = float(g["sap_roll_length_mm"][0]), float(g["eap_roll_length_mm"][0])
+    t1t2 = A + float(g["eap_roll_length_mm"][1])  # rho1 + rho2 = T1T2 at every contact point
+    beta_b = math.radians(float(g["base_helix_angle_deg"]))
+    tan_bb = abs(math.tan(beta_b))
+    y = (np.arange(slices) + 0.5) / slices * b - 0.5 * b
+    eps_total = (E - A) / p_bt + b * tan_bb / p_bt
+    k = np.arange(-int(math.ceil(eps_total)) - 1, int(math.ceil(eps_total)) + 2)
+
+    s = np.arange(positions) / positions
+    if driving_gear == 1:
+        rho_ref, direction = A - 0.5 * b * tan_bb + s * p_bt, 1.0
+    else:
+        rho_ref, direction = E + 0.5 * b * tan_bb - s * p_bt, -1.0
+    rho1 = (rho_ref[:, None, None] + direction * k[None, :, None] * p_bt
+            + direction * (y[None, None, :] + 0.5 * b) * tan_bb)
+    on_path = (rho1 >= A - 1e-12) & (rho1 <= E + 1e-12)
+    keep = on_path.any(axis=(0, 2))
+    rho1, on_path, k = rho1[:, keep, :], on_path[:, keep, :], k[keep]
+    rho2 = t1t2 - rho1
+    c = single_pair_stiffness_profile(stiffness, pair, E_MPa=E_MPa, poisson=poisson)(
+        np.clip((rho1 - A) / (E - A), 0.0, 1.0))
+    db = b / slices
+    return MeshLayout(
+        pair=pair, driving_gear=driving_gear, positions=positions, slices=slices, stiffness=stiffness,
+        position_roll_deg=rho_ref / (0.5 * d_b[0]) * RAD2DEG, pair_index=k, slice_y_mm=y, slice_width_mm=db,
+        face_width_mm=b, rho1_mm=rho1, rho2_mm=rho2, roll1_deg=rho1 / (0.5 * d_b[0]) * RAD2DEG,
+        roll2_deg=rho2 / (0.5 * d_b[1]) * RAD2DEG, on_path=on_path, spring_N_per_um=np.where(on_path, c * db, 0.0),
+        base_pitch_mm=p_bt, base_helix_angle_rad=beta_b, base_diameter_mm=d_b,
+        sap_roll_deg=tuple(float(v) for v in g["sap_roll_deg"]), eap_roll_deg=tuple(float(v) for v in g["eap_roll_deg"]),
+        force_per_torque_N_per_Nm=1000.0 / (0.5 * d_b[driving_gear - 1]))
+
+
+def hertz_stress_factor(layout: MeshLayout, E_MPa: float, poisson: float) -> np.ndarray:
+    """sigma_H^2 / w [MPa^2 mm/N] of every spring: Hertz line contact sigma_H = sqrt(w E_r' / (pi rho_red)) with
+    w the load per unit face width [N/mm] (for a helical pair equal to the normal load per unit contact-line length
+    in the transverse treatment), normal-plane radii rho_i / cos(beta_b), and 1/E_r' = 2 (1 - nu^2)/E (equal
+    materials). Shigley eq. 3-74 / ISO 6336-2 Z_E form."""
+    cb = math.cos(layout.base_helix_angle_rad)
+    r1 = np.maximum(layout.rho1_mm, 1e-9) / cb
+    r2 = np.maximum(layout.rho2_mm, 1e-9) / cb
+    rho_red = r1 * r2 / (r1 + r2)
+    e_term = 1.0 / (2.0 * (1.0 - poisson ** 2) / E_MPa)
+    return np.where(layout.on_path, e_term / (math.pi * rho_red), 0.0)
+
+
+__all__ = ["MeshLayout", "mesh_layout", "default_slices", "single_pair_stiffness_profile", "hertz_stress_factor"]
