@@ -23,13 +23,14 @@ Lengths mm, deflections and modifications um, forces N, stresses MPa.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any, Callable
+from functools import cached_property
+from typing import Any
 
 import numpy as np
 
 from ..errors import GearoptInputError, check_range
 from ..geometry.pair import GearPair
-from .layout import default_slices, hertz_stress_factor, mesh_layout, single_pair_stiffness_profile
+from .layout import MeshLayout, default_slices, hertz_stress_factor, mesh_layout, single_pair_stiffness_profile
 from .microgeometry import Microgeometry
 
 
@@ -43,6 +44,11 @@ class LTCAResult:
     ``load_intensity_N_per_mm`` (positions, pairs, slices): load per unit face width (the thesis' LID).
     ``contact_stress_MPa`` (positions, pairs, slices): Hertzian line-contact stress (the thesis' CSD).
     ``roll_length_1_mm`` (positions, pairs): contact position on the path, as roll length on gear 1.
+
+    Computed only when asked for (first access): ``root_stress_MPa`` / ``max_root_stress_MPa`` (ISO 6336-3 method B
+    generalised to the contact point, :func:`gearopt.rating.root_stress.root_stress_at_load_point`),
+    ``sliding_velocity_m_s``, ``flash_temperature_rise_K`` and ``max_flash_temperature_C`` (these need
+    ``speed_rpm`` of the driving gear).
     """
 
     position_roll_deg: np.ndarray
@@ -55,6 +61,64 @@ class LTCAResult:
     transverse_force_N: float
     loaded_pairs: np.ndarray = None   # (positions,) loaded contact length / face width
     settings: dict = field(default_factory=dict)
+    layout: MeshLayout | None = None
+    speed_rpm: float | None = None
+    bulk_temperature_C: float | None = None
+    friction_coefficient: float | None = None
+    materials: tuple | None = None
+
+    @property
+    def contact_roll_length_mm(self) -> tuple[np.ndarray, np.ndarray]:
+        """Contact position of every spring as roll length on gear 1 and on gear 2 [mm], (positions, pairs, slices)."""
+        return self.layout.rho1_mm, self.layout.rho2_mm
+
+    @cached_property
+    def root_stress_MPa(self) -> tuple[np.ndarray, np.ndarray]:
+        """Root stress of gear 1 and gear 2 for every loaded spring [MPa], (positions, pairs, slices): the local load
+        intensity at the contact point through ISO 6336-3 method B's Y_F Y_S generalised to that point (each slice
+        bends its own strip of tooth: no load spreading across the face, no K factors)."""
+        from ..rating.root_stress import root_stress_at_load_point
+
+        lay = self.layout
+        w = self.load_intensity_N_per_mm
+        out = []
+        for gear, rho in ((1, lay.rho1_mm), (2, lay.rho2_mm)):
+            r = np.where(lay.on_path, rho, np.nan)
+            sig = np.zeros_like(w)
+            m = lay.on_path
+            sig[m] = root_stress_at_load_point(lay.pair, gear, w[m], load_roll_length_mm=r[m])
+            out.append(sig)
+        return tuple(out)
+
+    @property
+    def max_root_stress_MPa(self) -> tuple[float, float]:
+        """Largest root stress over the mesh cycle of gear 1 and gear 2 [MPa]."""
+        return tuple(float(np.max(s)) for s in self.root_stress_MPa)
+
+    def _angular_speeds(self) -> tuple[float, float]:
+        if self.speed_rpm is None:
+            raise GearoptInputError("sliding velocities and flash temperatures need speed_rpm: call ltca(..., "
+                                    "speed_rpm=<speed of the driving gear>)")
+        teeth = self.layout.pair.teeth
+        drive = self.layout.driving_gear - 1
+        w_drive = self.speed_rpm * 2.0 * np.pi / 60.0
+        w = [0.0, 0.0]
+        w[drive] = w_drive
+        w[1 - drive] = w_drive * teeth[drive] / teeth[1 - drive]
+        return w[0], w[1]
+
+    @property
+    def rolling_velocity_m_s(self) -> tuple[np.ndarray, np.ndarray]:
+        """Tangential (rolling) velocity of each flank at every contact on the path, omega_i rho_i [m/s] (0 off it)."""
+        w1, w2 = self._angular_speeds()
+        on = self.layout.on_path
+        return (np.where(on, w1 * self.layout.rho1_mm * 1e-3, 0.0), np.where(on, w2 * self.layout.rho2_mm * 1e-3, 0.0))
+
+    @property
+    def sliding_velocity_m_s(self) -> np.ndarray:
+        """Sliding velocity |v1 - v2| at every contact [m/s] (zero at the pitch point)."""
+        v1, v2 = self.rolling_velocity_m_s
+        return np.abs(v1 - v2)
 
     @property
     def ppte_um(self) -> float:
@@ -79,12 +143,18 @@ class LTCAResult:
 
 def ltca(pair: GearPair, torque_Nm: float, *, driving_gear: int = 1, microgeometry: Microgeometry | None = None,
          stiffness: Any = "iso6336", positions: int = 40, slices: int | None = None, E_MPa: float = 206000.0,
-         poisson: float = 0.3) -> LTCAResult:
+         poisson: float = 0.3, speed_rpm: float | None = None, bulk_temperature_C: float = 100.0,
+         friction_coefficient: float = 0.06, materials: Any = "20MnCr5") -> LTCAResult:
     """Exact numeric LTCA of ``pair`` at ``torque_Nm`` on the driving gear over one base pitch.
 
     ``slices=None`` uses 1 slice for a spur pair without lead modification or misalignment (the load is uniform over
     the face) and 11 otherwise. ``E_MPa``/``poisson`` are those of both gears (Hertzian stress).
+    ``speed_rpm`` (of the driving gear), ``bulk_temperature_C``, ``friction_coefficient`` (mean, Blok) and
+    ``materials`` (name or 2-tuple of names in :mod:`gearopt.rating.materials`, for the thermal contact coefficient)
+    are used only by the flash-temperature outputs, computed when first accessed.
     """
+    if speed_rpm is not None:
+        check_range("speed_rpm", speed_rpm, 0.0, None, unit="rpm")
     if pair.is_symbolic:
         raise GearoptInputError("ltca() is the numeric solver: give a numeric pair (the smooth CasADi form is "
                                 "LTCAModel in gearopt.contact.ltca_smooth)")
@@ -110,7 +180,10 @@ def ltca(pair: GearPair, torque_Nm: float, *, driving_gear: int = 1, microgeomet
                       roll_length_1_mm=lay.rho1_mm[:, :, 0], slice_y_mm=lay.slice_y_mm, transverse_force_N=force,
                       loaded_pairs=loaded,
                       settings={"positions": positions, "slices": slices, "stiffness": stiffness,
-                                "driving_gear": driving_gear, "pair_index": lay.pair_index.tolist()})
+                                "driving_gear": driving_gear, "pair_index": lay.pair_index.tolist(),
+                                "E_MPa": E_MPa, "poisson": poisson},
+                      layout=lay, speed_rpm=speed_rpm, bulk_temperature_C=bulk_temperature_C,
+                      friction_coefficient=friction_coefficient, materials=materials)
 
 
 def _solve_approach(gaps: np.ndarray, springs: np.ndarray, force: float) -> np.ndarray:
