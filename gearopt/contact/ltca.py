@@ -114,6 +114,41 @@ class LTCAResult:
         on = self.layout.on_path
         return (np.where(on, w1 * self.layout.rho1_mm * 1e-3, 0.0), np.where(on, w2 * self.layout.rho2_mm * 1e-3, 0.0))
 
+    @cached_property
+    def flash_temperature_rise_K(self) -> np.ndarray:
+        """Blok flash temperature rise of every loaded contact [K], (positions, pairs, slices)
+        (:func:`gearopt.rating.flash_temperature.flash_temperature_blok_K` with the LTCA's own load intensity and a
+        Hertzian half-width from the normal-plane radii; helical pairs per slice in the transverse treatment)."""
+        from ..rating.flash_temperature import flash_temperature_blok_K
+        from ..rating.materials import material_pair
+        from .tip_relief import plane_strain_compliance_per_MPa
+
+        v1, v2 = self.rolling_velocity_m_s
+        lay = self.layout
+        w = self.load_intensity_N_per_mm
+        loaded = lay.on_path & (w > 0.0)
+        cb = np.cos(lay.base_helix_angle_rad)
+        # Hertz half-width (thesis Eq. 3.37, as tip_relief.hertz_half_width_mm, vectorised; both gears E, nu)
+        compliance = 2.0 * plane_strain_compliance_per_MPa(self.settings["E_MPa"], self.settings["poisson"])
+        curvature = 0.5 * cb / lay.rho1_mm[loaded] + 0.5 * cb / lay.rho2_mm[loaded]
+        b_h = np.sqrt(2.0 * w[loaded] / np.pi * compliance / curvature)
+        m1, m2 = material_pair(self.materials)
+        theta = np.zeros_like(w)
+        theta[loaded] = flash_temperature_blok_K(w[loaded], b_h, v1[loaded], v2[loaded], self.friction_coefficient,
+                                                 m1.thermal_contact_coefficient_N_per_mm_sqrt_s_K,
+                                                 m2.thermal_contact_coefficient_N_per_mm_sqrt_s_K)
+        return theta
+
+    @property
+    def contact_temperature_C(self) -> np.ndarray:
+        """Contact (flash) temperature: bulk temperature + flash rise [C], (positions, pairs, slices)."""
+        return self.bulk_temperature_C + self.flash_temperature_rise_K
+
+    @property
+    def max_flash_temperature_C(self) -> float:
+        """Largest contact temperature over the mesh cycle, bulk + Blok flash rise [C] (needs ``speed_rpm``)."""
+        return float(np.max(self.contact_temperature_C))
+
     @property
     def sliding_velocity_m_s(self) -> np.ndarray:
         """Sliding velocity |v1 - v2| at every contact [m/s] (zero at the pitch point)."""
