@@ -7,7 +7,11 @@ CSV tables, ``report.md`` and ``result.json`` (headline numbers with units). Sta
    distances (3.2), shift per gear propagated through the train (3.3), percentage changes (3.4), contact ratios,
    backlash and geometry checks of every mesh, for the spur redesign and the helical baseline;
 2. profile-shift split of the root mesh (crank-cam) optimised with Ipopt (maximum minimum tip thickness subject to
-   worst-case contact ratio, undercut and ISO/TR 4467 limits), against the ISO/TR 4467 split.
+   worst-case contact ratio, undercut and ISO/TR 4467 limits), against the ISO/TR 4467 split;
+3. contact: for crank-cam, cam-ac and cam-fp, the exact LTCA of the helical baseline and the unmodified spur pair at
+   the design torque, the spur microgeometry minimising the largest PPTE over the design-torque range (Ipopt on the
+   smooth LTCA; contact-stress and loaded-contact-ratio limits), and the comparison the thesis shows in Figs.
+   4.9-4.15/4.22: TE, load intensity, contact stress, flash temperature, root stress, Harris maps, percentage change.
 
 Usage: ``python problems/cam_gear_walkoff.py [--quick] [--out DIR]``.
 """
@@ -23,7 +27,10 @@ from pathlib import Path
 import gearopt as go
 from gearopt.data import load_default_data, load_thesis_tables, train_from_data
 from gearopt.design.shift_distribution import optimise_shift_split
+from gearopt.data import values as data_values
+from gearopt.report import ltca_figures as figs
 from gearopt.report import to_markdown, write_table
+from gearopt.studies import DESIGNS, mesh_contact_study
 from gearopt.report.macro_design import (change_table, conversion_table, mesh_check_table, shift_table,
                                          sum_shift_table)
 
@@ -58,7 +65,66 @@ def shift_split_study(spur: go.GearTrain, mesh: str = "crank-cam") -> dict:
     return optimise_shift_split(spur.pairs[mesh], min_contact_ratio=1.2, objective="max_min_tip_thickness")
 
 
-def write_outputs(out: Path, macro: dict, split: dict, timings: dict) -> None:
+CONTACT_MESHES = {"crank-cam": "crank_cam_torque_Nm", "cam-ac": "cam_ac_torque_Nm", "cam-fp": "cam_fp_torque_Nm"}
+
+
+def contact_stage(data: dict, trains: dict, quick: bool = False) -> dict:
+    """Stage 3: helical vs unmodified spur vs optimised spur for the three meshes of the thesis' chapter 4."""
+    loads = data_values(data)["design_loads"]
+    lub = data_values(data)["lubrication"]
+    options = dict(crank_speed_rpm=loads["speed_rpm"], torque_fractions=loads["torque_range_fractions"],
+                   bulk_temperature_C=lub["oil_temperature_C"], friction_coefficient=lub["mean_friction_coefficient"])
+    if quick:
+        options.update(positions=20, harris_points=4, helical_slices=5)
+    return {mesh: mesh_contact_study(trains, mesh, loads[key], **options) for mesh, key in CONTACT_MESHES.items()}
+
+
+def write_contact(out: Path, studies: dict) -> tuple[list[str], dict]:
+    """Contact tables and figures; returns the report lines and the result.json entries."""
+    lines, result = ["## Contact: helical baseline vs unmodified spur vs optimised spur", ""], {}
+    for mesh, st in studies.items():
+        tag = mesh.replace("-", "_")
+        write_table(st.summary, out, f"contact_{tag}")
+        opt = st.optimisation
+        margins = opt.solve.constraints
+        write_table(opt.table, out, f"microgeometry_{tag}_exact_ltca")
+        fig_te = figs.save(figs.plot_transmission_error(
+            {d: st.ltca[d] for d in DESIGNS}, title=f"{mesh}: static TE at {st.torque_Nm:g} N m"),
+            out / "figures" / f"te_{tag}.png")
+        fig_h = figs.save(figs.plot_harris_map(st.harris, title=f"{mesh}: Harris map"),
+                          out / "figures" / f"harris_{tag}.png")
+        fig_maps = figs.save(figs.plot_flank_grid({d: st.ltca[d] for d in DESIGNS},
+                                                  title=f"{mesh}: load intensity, contact stress, contact "
+                                                        f"temperature, root stress of gear 1 over its flank"),
+                             out / "figures" / f"flank_maps_{tag}.png")
+        change = st.summary.set_index("design").drop(columns=["loaded_contact_ratio"])
+        fig_c = figs.save(figs.plot_percentage_change(change, "helical", title=f"{mesh}: change against helical"),
+                          out / "figures" / f"change_{tag}.png")
+        lines += [f"### {mesh} at {st.torque_Nm:g} N m on the driving gear, {st.speed_rpm:g} rpm", "",
+                  to_markdown(st.summary), "",
+                  "Optimised microgeometry (linear tip relief blended over "
+                  f"{opt.microgeometry.relief_smoothing_deg:g} deg at its start): "
+                  + ", ".join(f"{k} {v:.3f}" for k, v in opt.values.items()), "",
+                  f"Ipopt: {opt.solve.status}, {opt.solve.iterations} iterations, {opt.solve.solve_time_s:.3f} s; "
+                  f"load cases {', '.join(f'{t:g}' for t in opt.torques_Nm)} N m. Exact-LTCA check of the designs:",
+                  "", to_markdown(opt.table), "",
+                  f"![TE]({fig_te.relative_to(out)}) ![Harris]({fig_h.relative_to(out)}) "
+                  f"![change]({fig_c.relative_to(out)})", "",
+                  f"![flank maps]({fig_maps.relative_to(out)})", ""]
+        entry = st.headline()
+        entry["optimised_microgeometry"] = {k: v for k, v in opt.values.items()}
+        entry["optimised_microgeometry"]["relief_shape"] = opt.microgeometry.relief_shape
+        entry["optimised_microgeometry"]["relief_smoothing_deg"] = opt.microgeometry.relief_smoothing_deg
+        entry["constraint_margins"] = {str(r["name"]): float(r["margin"]) for _, r in margins.iterrows()
+                                       if not str(r["name"]).startswith("te_")}
+        entry["design_torque_Nm"] = st.torque_Nm
+        entry["driving_gear_speed_rpm"] = st.speed_rpm
+        entry["stage_time_s"] = st.times_s
+        result[mesh] = entry
+    return lines, result
+
+
+def write_outputs(out: Path, macro: dict, split: dict, timings: dict, contact: dict | None = None) -> None:
     out.mkdir(parents=True, exist_ok=True)
     lines = ["# Cam gear walk-off: spur redesign of the timing train", "",
              "Generated by `problems/cam_gear_walkoff.py` on the packaged default data. Thesis columns are the "
@@ -80,11 +146,14 @@ def write_outputs(out: Path, macro: dict, split: dict, timings: dict) -> None:
     write_table(split_df, out, "shift_split_crank_cam")
     lines += ["## Profile-shift split of crank-cam: Ipopt vs ISO/TR 4467", "", to_markdown(split_df), "",
               f"Objective: {split['objective']}; Ipopt status {split['status']} in {split['iterations']} iterations.",
-              "", "## Run time per stage", ""]
+              ""]
+    contact_lines, contact_result = write_contact(out, contact) if contact else ([], {})
+    lines += contact_lines + ["## Run time per stage", ""]
     lines += [f"- {k}: {v:.3f} s" for k, v in timings.items()]
     (out / "report.md").write_text("\n".join(lines) + "\n")
     result = {
-        "units": {"centre_distance": "mm", "tip_thickness": "mm", "time": "s"},
+        "units": {"centre_distance": "mm", "tip_thickness": "mm", "time": "s", "ppte": "um", "stress": "MPa",
+                  "temperature": "C", "torque": "N m", "microgeometry": "um and deg as in the key names"},
         "meshes": {
             kind: {name: {"centre_distance_mm": float(p.geometry()["centre_distance_mm"]),
                           "profile_shifts": [float(x) for x in p.geometry()["profile_shifts"]],
@@ -98,6 +167,7 @@ def write_outputs(out: Path, macro: dict, split: dict, timings: dict) -> None:
         "profile_shifts": {kind: {g: float(x) for g, x in macro["trains"][kind].profile_shifts.items()}
                            for kind in ("spur", "helical")},
         "shift_split_crank_cam": {k: v for k, v in split.items() if k != "table"},
+        "pairs": contact_result,
         "stage_time_s": timings,
     }
     (out / "result.json").write_text(json.dumps(result, indent=2) + "\n")
@@ -120,7 +190,11 @@ def main(argv: list[str] | None = None) -> int:
     timings["shift_split_nlp"] = time.perf_counter() - t0
 
     t0 = time.perf_counter()
-    write_outputs(args.out, macro, split, timings)
+    contact = contact_stage(data, macro["trains"], quick=args.quick)
+    timings["contact_ltca_and_microgeometry_nlp"] = time.perf_counter() - t0
+
+    t0 = time.perf_counter()
+    write_outputs(args.out, macro, split, timings, contact)
     timings["write_outputs"] = time.perf_counter() - t0
 
     spur = macro["tables"]["table_3_3_profile_shift"]
@@ -134,6 +208,10 @@ def main(argv: list[str] | None = None) -> int:
     print(f"crank-cam split, Ipopt ({split['objective']}): x = {split['profile_shifts'][0]:.4f} / "
           f"{split['profile_shifts'][1]:.4f}; ISO/TR 4467: {split['iso_tr_4467_profile_shifts'][0]:.4f} / "
           f"{split['iso_tr_4467_profile_shifts'][1]:.4f}")
+    for mesh, st in contact.items():
+        h = st.summary.set_index("design")["ppte_um"]
+        print(f"  {mesh:10s} PPTE helical {h['helical']:.2f} um, spur unmodified {h['spur_unmodified']:.2f} um, "
+              f"spur optimised {h['spur_optimised']:.2f} um at {st.torque_Nm:g} N m")
     print("stage times:", ", ".join(f"{k} {v:.2f} s" for k, v in timings.items()))
     print(f"wrote {args.out}/report.md, result.json and CSV tables")
     return 0

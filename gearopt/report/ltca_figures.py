@@ -66,7 +66,7 @@ def flank_map(result, quantity: str = "load_intensity", gear: int = 1, points: i
     z = np.array(rows)
     b = lay.face_width_mm
     if lay.slices == 1:
-        return grid, np.array([-0.5 * b, 0.5 * b]), np.vstack([z, z])
+        return grid, np.array([-0.25 * b, 0.25 * b]), np.vstack([z, z])   # cell centres: cells span the face
     return grid, lay.slice_y_mm, z
 
 
@@ -80,6 +80,32 @@ def plot_flank_map(result, quantity: str = "load_intensity", *, gear: int = 1, t
     ax.set_ylabel("face position [mm]")
     ax.set_title(title)
     fig.tight_layout()
+    return fig
+
+
+def plot_flank_grid(results: dict, quantities=("load_intensity", "contact_stress", "flash_temperature",
+                                                "root_stress_1"), *, gear: int = 1, title: str = ""):
+    """One row per labelled result, one column per quantity: flank maps side by side with a shared colour scale per
+    quantity (so designs compare at a glance, as the thesis' Figs. 4.10-4.15)."""
+    rows, cols = len(results), len(quantities)
+    fig, axes = plt.subplots(rows, cols, figsize=(3.4 * cols, 2.1 * rows + 0.6), squeeze=False, layout="constrained")
+    data = {label: [flank_map(r, q, gear) for q in quantities] for label, r in results.items()}
+    for j, q in enumerate(quantities):
+        lo = min(float(np.min(d[j][2])) for d in data.values())
+        hi = max(float(np.max(d[j][2])) for d in data.values())
+        for i, (label, maps) in enumerate(data.items()):
+            x, y, z = maps[j]
+            mesh = axes[i, j].pcolormesh(x, y, z, shading="auto", cmap="viridis", vmin=lo, vmax=hi)
+            axes[i, j].set_title(f"{label}", fontsize=8)
+            axes[i, j].tick_params(labelsize=7)
+            if i == rows - 1:
+                axes[i, j].set_xlabel(f"roll angle, gear {gear} [deg]", fontsize=7)
+            if j == 0:
+                axes[i, j].set_ylabel("face [mm]", fontsize=7)
+        cb = fig.colorbar(mesh, ax=axes[:, j].tolist(), shrink=0.9)
+        cb.set_label(FLANK_QUANTITIES[q][0], fontsize=7)
+        cb.ax.tick_params(labelsize=7)
+    fig.suptitle(title, fontsize=9)
     return fig
 
 
@@ -138,5 +164,5 @@ def _axes(ax, size):
     return ax.figure, ax
 
 
-__all__ = ["plot_transmission_error", "flank_map", "plot_flank_map", "plot_harris_map", "plot_percentage_change",
+__all__ = ["plot_transmission_error", "flank_map", "plot_flank_map", "plot_flank_grid", "plot_harris_map", "plot_percentage_change",
            "save", "FLANK_QUANTITIES"]

@@ -49,3 +49,20 @@ def test_percentage_changes_close_to_thesis_table_3_4(run):
             df.loc[gear, "thesis_tooth_thickness_change_percent"], abs=0.1)
         assert df.loc[gear, "root_diameter_change_percent"] == pytest.approx(
             df.loc[gear, "thesis_root_diameter_change_percent"], abs=0.02)
+
+
+def test_contact_stage_compares_three_designs_per_pair(run):
+    # issue 6 acceptance shape: per optimised pair, ppte/stress/root stress/flash temperature for the three designs
+    result = json.loads((run / "result.json").read_text())
+    pairs = result["pairs"]
+    assert set(pairs) == {"crank-cam", "cam-ac", "cam-fp"}
+    for mesh, entry in pairs.items():
+        for key in ("ppte_um", "max_contact_stress_MPa", "max_root_stress_MPa", "max_flash_temperature_C"):
+            assert set(entry[key]) == {"helical", "spur_unmodified", "spur_optimised"}, (mesh, key)
+        # the optimised spur must beat the unmodified spur on PPTE at the design torque
+        assert entry["ppte_um"]["spur_optimised"] < 0.5 * entry["ppte_um"]["spur_unmodified"], mesh
+        assert entry["max_flash_temperature_C"]["helical"] > 100.0   # bulk 100 C + a positive flash rise
+        assert all(v >= -1e-6 for v in entry["constraint_margins"].values()), mesh
+        assert "tip_relief_1_um" in entry["optimised_microgeometry"]
+    for stem in ("te_crank_cam", "harris_cam_ac", "flank_maps_cam_fp", "change_crank_cam"):
+        assert (run / "figures" / f"{stem}.png").stat().st_size > 10_000
