@@ -29,6 +29,7 @@ Hertzian line contact, constant friction. Helical pairs are evaluated in the tra
 from __future__ import annotations
 
 import math
+from functools import lru_cache
 
 from .. import numerics as nm
 from ..contact.tip_relief import plane_strain_compliance_per_MPa
@@ -44,16 +45,19 @@ _UNIT_FACTOR = math.sqrt(1000.0)
 _SPEED_FLOOR_M_S = 1e-9
 
 
-def _default_friction() -> float:
+@lru_cache(maxsize=1)
+def _lubrication_defaults() -> dict:
     from ..data import load_default_data, values
 
-    return float(values(load_default_data())["lubrication"]["mean_friction_coefficient"])
+    return values(load_default_data())["lubrication"]
+
+
+def _default_friction() -> float:
+    return float(_lubrication_defaults()["mean_friction_coefficient"])
 
 
 def _default_oil_temperature_C() -> float:
-    from ..data import load_default_data, values
-
-    return float(values(load_default_data())["lubrication"]["oil_temperature_C"])
+    return float(_lubrication_defaults()["oil_temperature_C"])
 
 
 def flash_temperature_blok_K(load_N_per_mm, half_width_mm, v1_m_s, v2_m_s, friction, B_M1, B_M2=None, *,
