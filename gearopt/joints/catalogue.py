@@ -1,0 +1,112 @@
+"""The shaft-hub joints of a data set of the default schema (``[joints.*]``, ``[materials.*]``, ``[engine.*]``):
+capacities from :func:`~gearopt.joints.press_fit.press_fit` / :func:`~gearopt.joints.taper_fit.taper_fit`, and a
+quasi-static accessory load case for the margins.
+
+Press fits use the nominal (mean) ISO 286 interference by default and, like the thesis (plain Shigley formula), no
+smoothing loss; ``smoothing=True`` applies DIN 7190 to the data's Rz values. Taper joints use the data's nut torque
+and nut factor (thesis Table 3.11 range) and the thesis' uniform-pressure form (Eq. 3.48).
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from ..data import values
+from ..errors import GearoptInputError
+from .press_fit import press_fit
+from .taper_fit import taper_fit
+
+JOINT_TYPES = ("press_fit", "taper_nut")
+_INTERFERENCE_KEYS = {"nominal": "diametral_interference_um", "min": "diametral_interference_min_um",
+                      "max": "diametral_interference_max_um"}
+_NUT_FACTOR_KEYS = {"nominal": "nut_factor", "min": "nut_factor_min", "max": "nut_factor_max"}
+
+
+def _material(d: dict, name: str) -> dict:
+    try:
+        return d["materials"][name]
+    except KeyError:
+        raise GearoptInputError(f"material {name!r} is not in [materials] ({sorted(d.get('materials', {}))})") \
+            from None
+
+
+def joint_capacity(data: dict, joint: str, *, interference: str = "nominal", nut_factor: str = "nominal",
+                   smoothing: bool = False, theory: str = "uniform_pressure", speed_rpm: float = 0.0) -> dict:
+    """Capacity of one ``[joints.<joint>]`` entry as a flat dict.
+
+    ``interference``: ``"nominal"``/``"min"``/``"max"`` of the ISO 286 fit (press fits); ``nut_factor``:
+    ``"nominal"``/``"min"``/``"max"`` (taper joints; the *max* factor gives the *lowest* preload); ``smoothing``:
+    apply DIN 7190 (0.8 sum Rz) to press fits; ``theory`` of the taper; ``speed_rpm`` for the centrifugal loss.
+    Keys: ``joint``, ``gear``, ``type``, ``fit``, ``pressure_MPa``, ``torque_capacity_Nm``, ``axial_capacity_N``,
+    ``hub_hoop_stress_MPa``, ``hub_von_mises_MPa``, ``hub_yield_safety``, ``fit_diameter_mm`` and for tapers
+    ``bolt_preload_N`` and ``torque_capacity_engagement_friction_Nm``.
+    """
+    d = values(data)
+    if joint not in d.get("joints", {}):
+        raise GearoptInputError(f"joint={joint!r} is not in [joints] ({sorted(d.get('joints', {}))})")
+    j = d["joints"][joint]
+    hub = _material(d, j["hub_material"])
+    shaft = _material(d, j["shaft_material"])
+    row: dict[str, Any] = {"joint": joint, "gear": j["gear"], "type": j["joint_type"]}
+    if j["joint_type"] == "press_fit":
+        if interference not in _INTERFERENCE_KEYS:
+            raise GearoptInputError(f"interference={interference!r} must be one of {sorted(_INTERFERENCE_KEYS)}")
+        kw = {}
+        if smoothing:
+            kw["roughness_Rz_um"] = (j["shaft_roughness_Rz_um"], j["hub_roughness_Rz_um"])
+        r = press_fit(j["shaft_diameter_mm"], j["shaft_bore_diameter_mm"], j["hub_outer_diameter_mm"],
+                      j["fit_length_mm"], j[_INTERFERENCE_KEYS[interference]], shaft["E_MPa"], shaft["poisson_ratio"],
+                      hub["E_MPa"], hub["poisson_ratio"], j["friction_coefficient"], speed_rpm=speed_rpm,
+                      shaft_density_kg_m3=shaft["density_kg_m3"], hub_density_kg_m3=hub["density_kg_m3"],
+                      hub_yield_MPa=hub["yield_strength_MPa"], shaft_yield_MPa=shaft["yield_strength_MPa"], **kw)
+        row.update(fit=j["fit"], fit_diameter_mm=j["shaft_diameter_mm"], interference_um=r["effective_interference_um"],
+                   pressure_MPa=r["pressure_MPa"], torque_capacity_Nm=r["torque_capacity_Nm"],
+                   axial_capacity_N=r["axial_capacity_N"], hub_hoop_stress_MPa=r["hub_hoop_stress_MPa"],
+                   hub_von_mises_MPa=r["hub_von_mises_MPa"], hub_yield_safety=r["hub_yield_safety"])
+    elif j["joint_type"] == "taper_nut":
+        if nut_factor not in _NUT_FACTOR_KEYS:
+            raise GearoptInputError(f"nut_factor={nut_factor!r} must be one of {sorted(_NUT_FACTOR_KEYS)}")
+        r = taper_fit(j["taper_large_diameter_mm"], j["taper_small_diameter_mm"], j["taper_half_angle_deg"],
+                      j["friction_coefficient"], nut_torque_Nm=j["nut_torque_Nm"],
+                      nut_factor=j[_NUT_FACTOR_KEYS[nut_factor]], thread_diameter_mm=j["nut_thread_diameter_mm"],
+                      theory=theory, hub_outer_diameter_mm=j["hub_outer_diameter_mm"],
+                      hub_yield_MPa=hub["yield_strength_MPa"])
+        row.update(fit=j.get("taper", "taper"), fit_diameter_mm=0.5 * (j["taper_large_diameter_mm"]
+                                                                     + j["taper_small_diameter_mm"]),
+                   pressure_MPa=r["contact_pressure_MPa"], torque_capacity_Nm=r["torque_capacity_Nm"],
+                   axial_capacity_N=r["axial_capacity_N"], bolt_preload_N=r["bolt_preload_N"],
+                   torque_capacity_engagement_friction_Nm=r["torque_capacity_engagement_friction_Nm"],
+                   hub_hoop_stress_MPa=r["hub_hoop_stress_MPa"], hub_von_mises_MPa=r["hub_von_mises_MPa"],
+                   hub_yield_safety=r["hub_yield_safety"])
+    else:
+        raise GearoptInputError(f"[joints.{joint}] joint_type={j['joint_type']!r} must be one of {JOINT_TYPES}")
+    return {k: (float(v) if hasattr(v, "__float__") and not isinstance(v, (str, bool)) else v)
+            for k, v in row.items()}
+
+
+def joint_capacities(data: dict, **options) -> dict[str, dict]:
+    """:func:`joint_capacity` of every ``[joints.*]`` entry, keyed by joint name."""
+    return {name: joint_capacity(data, name, **options) for name in values(data).get("joints", {})}
+
+
+def accessory_load_torques_Nm(data: dict, case: str = "peak") -> dict[str, float]:
+    """Shaft load torques [N m] each gear delivers to its accessory, from ``[engine.*]`` (all [E] estimates):
+
+    ``"peak"``: camshaft valve train mean + amplitude, air compressor peak, fuel pump peak, lube pump mean;
+    ``"mean"``: the mean values (air compressor loaded mean). Combine with
+    :func:`~gearopt.joints.walk_off.quasi_static_mesh_torques_Nm` for a quasi-static load case; dynamic torques
+    (torsional vibration at overspeed, the cause of the thesis' failure) come from the dynamics models instead.
+    """
+    e = values(data)["engine"]
+    if case == "peak":
+        return {"cam": e["camshaft"]["valve_train_torque_mean_Nm"] + e["camshaft"]["valve_train_torque_amplitude_Nm"],
+                "ac": e["air_compressor"]["torque_peak_Nm"], "fp": e["fuel_pump"]["torque_peak_Nm"],
+                "lpg": e["lube_pump"]["torque_mean_Nm"]}
+    if case == "mean":
+        return {"cam": e["camshaft"]["valve_train_torque_mean_Nm"],
+                "ac": e["air_compressor"]["torque_mean_loaded_Nm"], "fp": e["fuel_pump"]["torque_mean_Nm"],
+                "lpg": e["lube_pump"]["torque_mean_Nm"]}
+    raise GearoptInputError(f"case={case!r} must be 'peak' or 'mean'")
+
+
+__all__ = ["joint_capacity", "joint_capacities", "accessory_load_torques_Nm", "JOINT_TYPES"]
