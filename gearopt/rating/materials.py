@@ -74,7 +74,8 @@ class Material:
     def source(self, field_name: str) -> str:
         """Provenance string of a numeric field ("[C] ..." for the computed B_M)."""
         if field_name == "thermal_contact_coefficient_N_per_mm_sqrt_s_K":
-            return "[C] sqrt(lambda rho c) from the fields thermal_conductivity_W_mK, density_kg_m3, specific_heat_J_kgK"
+            return ("[C] sqrt(lambda rho c) from the fields thermal_conductivity_W_mK, density_kg_m3, "
+                    "specific_heat_J_kgK")
         if field_name not in self.sources:
             raise GearoptInputError(f"material {self.name!r} has no source for {field_name!r}")
         return self.sources[field_name]

@@ -45,7 +45,7 @@ import numpy as np
 from .. import numerics as nm
 from ..errors import GearoptInputError, check_range, per_gear
 from ..units import DEG_PER_RAD, RAD_PER_DEG
-from .contact_stress import nominal_tangential_force_N
+from .contact_stress import _check_factors, nominal_tangential_force_N
 from .materials import material_pair
 
 #: The method string attached to ISO root-stress results.
@@ -108,7 +108,6 @@ def _load_point(section: dict, virtual_teeth, module_mm, profile_shift, pressure
                 base_radius_mm, roll_length_mm) -> dict:
     """Load angle alpha_F and moment arm h_F [mm] for a normal load at the flank point with roll length
     ``roll_length_mm`` on the (virtual) base circle of radius ``base_radius_mm``."""
-    m = module_mm
     alpha_n = pressure_angle_deg * RAD_PER_DEG
     tan_e = roll_length_mm / base_radius_mm
     alpha_e = nm.atan(tan_e)
@@ -149,6 +148,27 @@ def virtual_gear(pair, gear: int) -> dict:
             "outer_single_contact_diameter_mm": 2.0 * nm.sqrt(rho_en * rho_en + 0.25 * d_bn * d_bn)}
 
 
+def virtual_roll_length_mm(pair, gear: int, transverse_roll_length_mm):
+    """Map a transverse contact position of ``gear`` (roll length on its own transverse base circle [mm], e.g. an
+    LTCA slice's) to the virtual spur gear's base circle used by :func:`root_stress_at_load_point`. Dual-typed,
+    vectorised.
+
+    The map is affine in the distance from the tip along the path, rho_n = rho_an - k (rho_at - rho_t), with k
+    chosen so that the tip goes to the virtual tip and the transverse outer point of single contact
+    (rho_at - (eps_alpha - 1) p_bt) to ISO 6336-3's d_en: k = (eps_alpha / cos(beta_b) - cos(beta_b)) /
+    (eps_alpha - 1) (p_bn = p_bt cos(beta_b)). For spur gears k = 1 and the map is the identity. An
+    approximation of our own between and beyond those two points (ISO defines only d_en).
+    """
+    g = pair.geometry()
+    i = gear - 1
+    vg = virtual_gear(pair, gear)
+    cos_bb = nm.cos(g["base_helix_angle_deg"] * RAD_PER_DEG)
+    eps = g["transverse_contact_ratio"]
+    k = (eps / cos_bb - cos_bb) / (eps - 1.0)
+    rho_at = nm.sqrt(0.25 * g["tip_diameter_mm"][i] ** 2 - 0.25 * g["base_diameter_mm"][i] ** 2)
+    return vg["tip_roll_length_mm"] - k * (rho_at - transverse_roll_length_mm)
+
+
 def _section_of(pair, i: int) -> dict:
     g = pair.geometry()
     return critical_section_iso6336(g["virtual_teeth"][i], g["module_mm"], pair.profile_shifts[i],
@@ -178,7 +198,8 @@ def root_stress_at_load_point(pair, gear: int, load_N_per_mm, *, load_roll_lengt
             line: for a spur gear the normal tooth load per mm of face width (LTCA's load intensity); method B's
             F_t/(b cos(alpha_n)) reproduces sigma_F0 / (Y_beta Y_B Y_DT).
         load_roll_length_mm: where the load acts, as roll length on the gear's own (virtual) base circle [mm]
-            (for spur gears the pair's roll lengths: gear 1's rho, gear 2's T1T2 - rho); or
+            (for spur gears the pair's roll lengths: gear 1's rho, gear 2's T1T2 - rho; for helical gears map
+            transverse positions with :func:`virtual_roll_length_mm`); or
         load_diameter_mm: the same point as a diameter [mm] (give exactly one of the two).
         parts: return a dict with ``sigma_F_MPa``, ``Y_S``, ``h_F_mm``, ``alpha_F_deg``, ``s_Fn_mm``, ``rho_F_mm``,
             ``load_diameter_mm`` instead of the stress alone.
@@ -274,8 +295,6 @@ def root_stress_iso6336(pair, torque_Nm, *, driving_gear: int = 1, K_A=1.0, K_v=
     and ``method``.
     Validity: external gears, 1 <= q_s < 8 (Y_S fit), no undercut, eps_alpha > 1.
     """
-    from .contact_stress import _check_factors
-
     _check_factors(K_A=K_A, K_v=K_v, K_Fbeta=K_Fbeta, K_Falpha=K_Falpha, Y_ST=Y_ST, Y_deltarelT=Y_deltarelT,
                    Y_RrelT=Y_RrelT, Y_X=Y_X, S_Fmin=S_Fmin, life_factor=per_gear(life_factor, "life_factor"))
     y_nt = per_gear(life_factor, "life_factor")
@@ -321,5 +340,5 @@ def root_stress_iso6336(pair, torque_Nm, *, driving_gear: int = 1, K_A=1.0, K_v=
 
 
 __all__ = ["ISO_ROOT_METHOD", "NEWTON_STEPS", "critical_section_iso6336", "stress_correction_factor", "virtual_gear",
-           "root_stress_at_load_point", "helix_angle_factor_root", "rim_thickness_factor", "deep_tooth_factor",
+           "root_stress_at_load_point", "virtual_roll_length_mm", "helix_angle_factor_root", "rim_thickness_factor", "deep_tooth_factor",
            "root_stress_iso6336"]

@@ -62,7 +62,8 @@ def test_blok_constant_follows_from_transient_conduction():
 
 def test_blok_partition_gives_equal_surface_maxima():
     # Blok's postulate: the frictional heat Q = mu w |v1 - v2| splits so that both surfaces peak at the same
-    # temperature; with theta_i = f_i Q c / (B_i sqrt(v_i a)) that gives theta = Q c / (sqrt(a)(B1 sqrt v1 + B2 sqrt v2))
+    # temperature; with theta_i = f_i Q c / (B_i sqrt(v_i a)) that gives
+    # theta = Q c / (sqrt(a) (B1 sqrt v1 + B2 sqrt v2))
     res = minimize_scalar(lambda xi: -_semi_elliptic_integral(xi), bounds=(-1, 1), method="bounded")
     c = 2.0 * -res.fun / math.pi ** 1.5
     w, b_h, v1, v2, mu, B1, B2 = 150.0, 0.12, 9.0, 3.0, 0.05, 13.4, 10.1  # mixed materials

@@ -213,3 +213,20 @@ def test_symbolic_equals_numeric_and_derivatives_match_finite_differences():
         fd = (np.array(f(point + e)) - np.array(f(point - e))).ravel() / (2 * h)
         assert J[:, k] == pytest.approx(fd, rel=2e-6, abs=1e-8)
     assert np.all(np.isfinite(J))
+
+
+def test_virtual_roll_length_map():
+    spur_pair = spur(x=(0.3124, 0.1122))
+    rho = np.array([20.0, 25.0, 30.0])
+    assert rs.virtual_roll_length_mm(spur_pair, 1, rho) == pytest.approx(rho, rel=1e-13)  # identity for spur
+    pair = go.GearPair.from_profile_shifts(teeth=(24, 61), profile_shifts=(0.3, 0.1), module_mm=3.0,
+                                           helix_angle_deg=12.0, face_width_mm=30.0)
+    g = pair.geometry()
+    for gear in (1, 2):
+        i = gear - 1
+        vg = rs.virtual_gear(pair, gear)
+        rho_at = math.sqrt(g["tip_diameter_mm"][i] ** 2 - g["base_diameter_mm"][i] ** 2) / 2
+        outer_t = rho_at - (g["transverse_contact_ratio"] - 1) * g["base_pitch_mm"]
+        assert rs.virtual_roll_length_mm(pair, gear, rho_at) == pytest.approx(vg["tip_roll_length_mm"], rel=1e-13)
+        assert rs.virtual_roll_length_mm(pair, gear, outer_t) == pytest.approx(
+            vg["outer_single_contact_roll_length_mm"], rel=1e-12)
