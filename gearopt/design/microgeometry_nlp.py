@@ -31,7 +31,7 @@ from ..contact.ltca import LTCAResult, ltca
 from ..contact.ltca_smooth import DEFAULT_SMOOTHING_UM, LTCAModel
 from ..contact.microgeometry import Microgeometry
 from ..contact.tip_relief import min_tip_relief_um
-from ..errors import GearoptInputError, check_range
+from ..errors import GearoptInputError, SolveError, check_range
 from ..geometry.pair import GearPair
 from .problem import Problem
 from .result import ProblemResult
@@ -48,6 +48,7 @@ class MicrogeometryDesign:
     solve: ProblemResult
     exact: dict                   # "unmodified", "min_tip_relief", "optimised" -> {torque: LTCAResult}
     torques_Nm: tuple
+    starts: pd.DataFrame = field(default=None)
     table: pd.DataFrame = field(default=None)
 
     @property
@@ -82,7 +83,7 @@ def optimise_microgeometry(pair: GearPair, torque_Nm: float | Sequence[float], *
                            max_profile_crown_um: float = 10.0, start_margin_deg: float = 0.25,
                            stiffness: Any = "iso6336", positions: int = 40,
                            smoothing_um: float = DEFAULT_SMOOTHING_UM, relief_smoothing_deg: float = 0.1,
-                           polish: bool = False, initial: Microgeometry | None = None,
+                           polish: bool = False, starts: Any = "load_cases", seed: int = 0, initial: Microgeometry | None = None,
                            model: LTCAModel | None = None, verbose: bool = False, **ipopt) -> MicrogeometryDesign:
     """Minimise the PPTE of ``pair`` over tip relief (amounts and starts, both gears) and profile crown.
 
@@ -100,6 +101,9 @@ def optimise_microgeometry(pair: GearPair, torque_Nm: float | Sequence[float], *
             position crosses a start, and Ipopt needs hundreds of iterations. ``polish=True`` adds a second solve
             with sharp starts (relief_smoothing_deg = 0) from the blended optimum (slower, may stall).
         initial: starting microgeometry (default: the thesis minimum tip relief, :func:`min_tip_relief_design`).
+        starts: ``"load_cases"`` (default): one solve from ``initial`` and one from the minimum tip relief at each
+            further load case; an integer n: n starts in total, Latin-hypercube points (``seed``) after those. The
+            best optimum is returned; ``design.starts`` tables every start (status, objective, iterations).
         model: a prebuilt :class:`LTCAModel` of the pair (reused, not rebuilt); else one is built.
         ipopt: extra Ipopt options (``max_iter`` ...).
     Raises a :class:`~gearopt.errors.SolveError` subclass naming the violated constraints if Ipopt fails.
@@ -129,19 +133,69 @@ def optimise_microgeometry(pair: GearPair, torque_Nm: float | Sequence[float], *
                 aggregate=aggregate, max_contact_stress_MPa=float(max_contact_stress_MPa),
                 min_loaded_contact_ratio=min_loaded_contact_ratio, max_tip_relief_um=max_tip_relief_um,
                 max_profile_crown_um=max_profile_crown_um, start_margin_deg=start_margin_deg, exact_opts=exact_opts)
+    candidates = _starting_points(pair, torques, driving_gear, start, starts, spec, seed)
+    records, best = [], None
+    for origin, guess in candidates:
+        try:
+            numbers, solved, current = _solve_from(spec, guess, relief_smoothing_deg, polish, relief_shape,
+                                                   verbose, ipopt)
+        except SolveError as exc:
+            records.append({"start": origin, "status": exc.status, "objective_um": np.nan, "iterations": np.nan,
+                            "success": False})
+            best = best or (None, exc)
+            continue
+        records.append({"start": origin, "status": solved.status, "objective_um": solved.objective,
+                        "iterations": solved.iterations, "success": True})
+        if best is None or best[0] is None or solved.objective < best[0][1].objective:
+            best = ((numbers, solved, current), None)
+    if best[0] is None:
+        raise best[1]
+    numbers, solved, current = best[0]
+    exact = {"unmodified": unmodified,
+             "min_tip_relief": {t: ltca(pair, t, microgeometry=minimum, **exact_opts) for t in torques},
+             "optimised": {t: ltca(pair, t, microgeometry=current, **exact_opts) for t in torques}}
+    design = MicrogeometryDesign(microgeometry=current, values=numbers, solve=solved, exact=exact, torques_Nm=torques,
+                                 starts=pd.DataFrame(records))
+    design.table = comparison_table(exact, torques)
+    return design
+
+
+def _solve_from(spec, guess, relief_smoothing_deg, polish, relief_shape, verbose, ipopt):
     stages = [relief_smoothing_deg, 0.0] if (polish and relief_smoothing_deg > 0) else [relief_smoothing_deg]
-    numbers, solved, current = None, None, start
+    numbers, solved, current = None, None, guess
     for width in stages:
         p, values = _build_problem(spec, current, width)
         solved = p.solve(verbose=verbose, **ipopt)
         numbers = _clipped_values(p, solved, values)
         current = _numeric_mods(numbers, relief_shape, width)
-    exact = {"unmodified": unmodified,
-             "min_tip_relief": {t: ltca(pair, t, microgeometry=minimum, **exact_opts) for t in torques},
-             "optimised": {t: ltca(pair, t, microgeometry=current, **exact_opts) for t in torques}}
-    design = MicrogeometryDesign(microgeometry=current, values=numbers, solve=solved, exact=exact, torques_Nm=torques)
-    design.table = comparison_table(exact, torques)
-    return design
+    return numbers, solved, current
+
+
+def _starting_points(pair, torques, driving_gear, first, starts, spec, seed) -> list[tuple[str, Microgeometry]]:
+    """The first guess, then the minimum tip relief at each other load case ("load_cases"), then Latin-hypercube
+    points inside the variable bounds up to ``starts`` in total (an int)."""
+    points = [("initial", first)]
+    for t in torques[1:]:
+        points.append((f"min_tip_relief@{t:g}Nm", min_tip_relief_design(pair, t, driving_gear=driving_gear)))
+    if starts == "load_cases":
+        return points
+    if not isinstance(starts, int) or starts < 1:
+        raise GearoptInputError(f"starts={starts!r} must be 'load_cases' or an integer >= 1")
+    if starts <= len(points):
+        return points[:starts]
+    g = pair.geometry()
+    bounds = [_start_bounds(g, i, spec["start_margin_deg"]) for i in range(2)]
+    lo = np.array([0.0, 0.0, bounds[0][0], bounds[1][0], 0.0])
+    hi = np.array([spec["max_tip_relief_um"], spec["max_tip_relief_um"], bounds[0][1], bounds[1][1],
+                   spec["max_profile_crown_um"]])
+    n = starts - len(points)
+    rng = np.random.default_rng(seed)
+    u = (np.argsort(rng.random((n, 5)), axis=0) + rng.random((n, 5))) / n     # Latin hypercube in [0, 1)^5
+    for k, x in enumerate(lo + u * (hi - lo)):
+        points.append((f"latin_hypercube_{k}", Microgeometry(
+            tip_relief_um=(x[0], x[1]), tip_relief_start_roll_deg=(x[2], x[3]), profile_crown_um=(x[4], x[4]),
+            relief_shape=spec["relief_shape"])))
+    return points
 
 
 def _build_problem(spec: dict, start: Microgeometry, relief_smoothing_deg: float) -> tuple[Problem, dict]:

@@ -90,3 +90,11 @@ def test_min_tip_relief_design_starts_at_single_contact_boundary(crank_cam):
     for i in range(2):
         assert g["pitch_point_roll_deg"][i] < m.tip_relief_start_roll_deg[i] < g["eap_roll_deg"][i]
         assert m.tip_relief_um[i] > 0
+
+
+def test_multistart_returns_the_best_start_and_tables_every_start(crank_cam):
+    d = optimise_microgeometry(crank_cam, [150.0, 300.0, 450.0], starts=4, seed=1)
+    assert len(d.starts) == 4 and d.starts.success.any()
+    assert d.solve.objective == pytest.approx(d.starts.objective_um.min())
+    with pytest.raises(GearoptInputError, match="starts"):
+        optimise_microgeometry(crank_cam, [150.0, 300.0, 450.0], starts=0)
