@@ -9,7 +9,7 @@ firing TDC at 360 deg; positive crank torque drives the crankshaft; accessory to
 """
 
 from .accessories import (AccessoryTorque, air_compressor_torque_Nm, camshaft_torque_Nm, fuel_pump_torque_Nm,
-                          lube_pump_torque_Nm)
+                          ideal_compressor_cycle, lube_pump_torque_Nm)
 from .excitation import EngineExcitation, crank_torque
 from .fourier import FourierSeries, harmonic_basis
 from .kinematics import reciprocating_inertia_kgm2, slider_crank, slider_crank_from_sincos
@@ -18,7 +18,8 @@ from .pressure import (CYCLE_DEG, FIRING_TDC_DEG, CylinderPressure, double_wiebe
 
 __all__ = [
     "AccessoryTorque", "air_compressor_torque_Nm", "camshaft_torque_Nm", "fuel_pump_torque_Nm", "lube_pump_torque_Nm",
-    "EngineExcitation", "crank_torque", "FourierSeries", "harmonic_basis", "reciprocating_inertia_kgm2",
-    "slider_crank", "slider_crank_from_sincos", "CYCLE_DEG", "FIRING_TDC_DEG", "CylinderPressure",
-    "double_wiebe_cycle", "imep_bar", "indicated_work_J", "motored_peak_pressure_bar", "peak_pressure_bar",
+    "ideal_compressor_cycle", "EngineExcitation", "crank_torque", "FourierSeries", "harmonic_basis",
+    "reciprocating_inertia_kgm2", "slider_crank", "slider_crank_from_sincos", "CYCLE_DEG", "FIRING_TDC_DEG",
+    "CylinderPressure", "double_wiebe_cycle", "imep_bar", "indicated_work_J", "motored_peak_pressure_bar",
+    "peak_pressure_bar",
 ]

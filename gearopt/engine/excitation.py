@@ -22,14 +22,23 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
-import numpy as np
-
 from .. import numerics as nm
 from ..errors import GearoptInputError
 from .fourier import harmonic_basis
-from .kinematics import check_crank_geometry, check_values, slider_crank, slider_crank_from_sincos
-from .pressure import CYCLE_DEG, DEFAULT_HARMONICS, FIRING_TDC_DEG, CylinderPressure, indicated_work_J, \
-    peak_pressure_bar
+from .kinematics import (
+    check_crank_geometry,
+    check_values,
+    slider_crank,
+    slider_crank_from_sincos,
+)
+from .pressure import (
+    CYCLE_DEG,
+    DEFAULT_HARMONICS,
+    FIRING_TDC_DEG,
+    CylinderPressure,
+    indicated_work_J,
+    peak_pressure_bar,
+)
 
 _RPM_TO_RAD_S = 2.0 * math.pi / 60.0
 _BAR_TO_MPA = 0.1
@@ -121,7 +130,7 @@ class EngineExcitation:
     @classmethod
     def from_data(cls, data: dict | None = None, speed_rpm: float | None = None, load: float = 1.0,
                   pressure: str = "table", harmonics: int = DEFAULT_HARMONICS, scale_to_map: bool = True,
-                  crankcase_pressure_bar: float = 1.0) -> "EngineExcitation":
+                  crankcase_pressure_bar: float = 1.0) -> EngineExcitation:
         """The default engine (``engine`` table of ``data``, default the packaged data) at ``speed_rpm`` (default
         rated) and ``load`` (0..1).
 
@@ -174,52 +183,82 @@ class EngineExcitation:
         cs, ss = harmonic_basis(0.5 * crank_angle_rad, self.pressure.harmonics)
         return self._cylinder_pressures[cylinder - 1].pressure_from_basis(cs, ss)
 
+    def cylinder_pressures_bar(self, crank_angle_rad) -> list:
+        """Absolute pressures [bar] of all cylinders (index i for cylinder i + 1) at one engine crank angle [rad]:
+        one shared harmonic basis, so six pressures cost little more than one (dual-typed)."""
+        cs, ss = harmonic_basis(0.5 * crank_angle_rad, self.pressure.harmonics)
+        return [p.pressure_from_basis(cs, ss) for p in self._cylinder_pressures]
+
     # ------------------------------------------------------------------------------------------------------------
-    def cylinder_torque_parts_Nm(self, crank_angle_rad, speed_rad_s, crank_accel_rad_s2=0.0):
+    def cylinder_torque_parts_Nm(self, crank_angle_rad, speed_rad_s, crank_accel_rad_s2=0.0, *,
+                                 pressure_angle_rad=None, pressure_scale=1.0):
         """``(gas_torques, inertia_torques)``: two lists [N m], index i for cylinder i + 1.
 
         ``crank_angle_rad`` [rad, engine angle, 0 = cylinder 1 firing TDC], ``speed_rad_s`` [rad/s] and
         ``crank_accel_rad_s2`` [rad/s^2] are each either one value for a rigid crankshaft or a sequence with one
         value per cylinder (the angle, speed and acceleration of each throw in a torsional model). Dual-typed.
+
+        ``pressure_angle_rad`` (optional, one engine angle [rad]): evaluate the cylinder pressures there instead of
+        at the throw angles, e.g. along the nominal constant-speed motion (one shared basis for all cylinders);
+        ``pressure_scale`` multiplies the absolute pressure (``(f p - p_cc) A s'``), e.g. a symbolic integrator
+        parameter that sets the peak pressure per speed.
         """
         n = self.cylinders
         angles = _per_cylinder(crank_angle_rad, n, "crank_angle_rad")
         speeds = _per_cylinder(speed_rad_s, n, "speed_rad_s")
         accels = _per_cylinder(crank_accel_rad_s2, n, "crank_accel_rad_s2")
-        for name, vals in (("speed_rad_s", speeds),):
-            for v in vals:
-                check_values(name, v, 0.0, unit="rad/s")
+        for v in speeds:
+            check_values("speed_rad_s", v, 0.0, unit="rad/s")
+        check_values("pressure_scale", pressure_scale, 0.0)
         shared = not isinstance(crank_angle_rad, (list, tuple))
         r, lrod, area, m = self.crank_radius_mm, self.rod_length_mm, self.piston_area_mm2, self.reciprocating_mass_kg
+        if pressure_angle_rad is not None:
+            pressures = self.cylinder_pressures_bar(pressure_angle_rad)
+        elif shared:
+            pressures = self.cylinder_pressures_bar(crank_angle_rad)
+        else:
+            pressures = [self.cylinder_pressure_bar(i + 1, angles[i]) for i in range(n)]
         if shared:
             s0, c0 = nm.sin(crank_angle_rad), nm.cos(crank_angle_rad)
-            basis = harmonic_basis(0.5 * crank_angle_rad, self.pressure.harmonics)
         gas, inertia = [], []
         for i in range(n):
             tdc = math.radians(self.firing_tdc_deg(i + 1))
-            if shared:   # sin/cos of (theta - tdc) by rotation; one pressure basis for all cylinders
+            if shared:   # sin/cos of (theta - tdc) by rotation of one sin/cos pair
                 st = s0 * math.cos(tdc) - c0 * math.sin(tdc)
                 ct = c0 * math.cos(tdc) + s0 * math.sin(tdc)
-                p = self._cylinder_pressures[i].pressure_from_basis(*basis)
             else:
                 st, ct = nm.sin(angles[i] - tdc), nm.cos(angles[i] - tdc)
-                p = self._cylinder_pressures[i].pressure_from_basis(
-                    *harmonic_basis(0.5 * angles[i], self.pressure.harmonics))
             k = slider_crank_from_sincos(st, ct, r, lrod)
-            g, t = _torques_from_kinematics(k, speeds[i], accels[i], p - self.crankcase_pressure_bar, area, m)
+            g, t = _torques_from_kinematics(k, speeds[i], accels[i],
+                                            pressure_scale * pressures[i] - self.crankcase_pressure_bar, area, m)
             gas.append(g)
             inertia.append(t)
         return gas, inertia
 
-    def cylinder_torques_Nm(self, crank_angle_rad, speed_rad_s, crank_accel_rad_s2=0.0) -> list:
+    def cylinder_torque_Nm(self, cylinder: int, crank_angle_rad, speed_rad_s, crank_accel_rad_s2=0.0, *,
+                           pressure_angle_rad=None, pressure_scale=1.0):
+        """Gas + inertia torque [N m] of one ``cylinder`` (1-based) on its throw: ``crank_angle_rad`` is the
+        throw's engine angle [rad] (0 = cylinder 1 firing TDC), ``speed_rad_s``/``crank_accel_rad_s2`` the throw's
+        speed and acceleration; ``pressure_angle_rad``/``pressure_scale`` as in :meth:`cylinder_torque_parts_Nm`.
+        Dual-typed."""
+        tdc = math.radians(self.firing_tdc_deg(cylinder))
+        check_values("speed_rad_s", speed_rad_s, 0.0, unit="rad/s")
+        check_values("pressure_scale", pressure_scale, 0.0)
+        p = self.cylinder_pressure_bar(cylinder, crank_angle_rad if pressure_angle_rad is None else pressure_angle_rad)
+        k = slider_crank(crank_angle_rad - tdc, self.crank_radius_mm, self.rod_length_mm)
+        g, t = _torques_from_kinematics(k, speed_rad_s, crank_accel_rad_s2, pressure_scale * p - self.crankcase_pressure_bar,
+                                        self.piston_area_mm2, self.reciprocating_mass_kg)
+        return g + t
+
+    def cylinder_torques_Nm(self, crank_angle_rad, speed_rad_s, crank_accel_rad_s2=0.0, **pressure) -> list:
         """Gas + inertia torque [N m] of each cylinder (list, index i for cylinder i + 1); arguments as
         :meth:`cylinder_torque_parts_Nm`. Dual-typed, C-infinity in angle and speed."""
-        gas, inertia = self.cylinder_torque_parts_Nm(crank_angle_rad, speed_rad_s, crank_accel_rad_s2)
+        gas, inertia = self.cylinder_torque_parts_Nm(crank_angle_rad, speed_rad_s, crank_accel_rad_s2, **pressure)
         return [g + t for g, t in zip(gas, inertia)]
 
-    def total_torque_Nm(self, crank_angle_rad, speed_rad_s, crank_accel_rad_s2=0.0):
+    def total_torque_Nm(self, crank_angle_rad, speed_rad_s, crank_accel_rad_s2=0.0, **pressure):
         """Sum of all cylinders' torques [N m] (rigid-crank resultant); arguments as above."""
-        return nm.sum1(self.cylinder_torques_Nm(crank_angle_rad, speed_rad_s, crank_accel_rad_s2))
+        return nm.sum1(self.cylinder_torques_Nm(crank_angle_rad, speed_rad_s, crank_accel_rad_s2, **pressure))
 
     def reciprocating_inertia_kgm2(self, cylinder: int, crank_angle_rad):
         """``m s'^2`` [kg m^2] of ``cylinder`` at the engine crank angle [rad]: the angle-dependent inertia a
@@ -253,4 +292,4 @@ def _per_cylinder(value, n, name):
     return [value] * n
 
 
-__all__ = ["crank_torque", "EngineExcitation"]
+__all__ = ["EngineExcitation", "crank_torque"]

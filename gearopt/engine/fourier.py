@@ -52,7 +52,7 @@ class FourierSeries:
         return len(self.cos_coefficients)
 
     @classmethod
-    def fit_samples(cls, values, period: float, harmonics: int) -> "FourierSeries":
+    def fit_samples(cls, values, period: float, harmonics: int) -> FourierSeries:
         """Keep the first ``harmonics`` FFT coefficients of ``values`` sampled at ``x_j = j period / N``."""
         v = np.asarray(values, dtype=float).reshape(-1)
         n = v.size
@@ -64,7 +64,7 @@ class FourierSeries:
                    sin_coefficients=tuple(float(x) for x in -2.0 * c[1:harmonics + 1].imag))
 
     @classmethod
-    def fit_function(cls, fun, period: float, harmonics: int, samples: int = 4096) -> "FourierSeries":
+    def fit_function(cls, fun, period: float, harmonics: int, samples: int = 4096) -> FourierSeries:
         """Fit a vectorised numeric function of ``x`` over one period (``samples`` uniform points)."""
         x = np.arange(samples) * (period / samples)
         return cls.fit_samples(fun(x), period, harmonics)
@@ -93,7 +93,7 @@ class FourierSeries:
             total = total + k * w * (b * c - a * s)
         return total
 
-    def shifted(self, shift: float) -> "FourierSeries":
+    def shifted(self, shift: float) -> FourierSeries:
         """The series of ``g(x) = f(x + shift)`` (coefficients rotated; same cost to evaluate)."""
         w = 2.0 * math.pi / self.period
         a_new, b_new = [], []
@@ -103,7 +103,7 @@ class FourierSeries:
             b_new.append(b * ck - a * sk)
         return FourierSeries(self.period, self.mean, tuple(a_new), tuple(b_new))
 
-    def scaled(self, factor: float, offset: float = 0.0) -> "FourierSeries":
+    def scaled(self, factor: float, offset: float = 0.0) -> FourierSeries:
         """The series of ``factor * f(x) + offset``."""
         return FourierSeries(self.period, self.mean * factor + offset,
                              tuple(factor * a for a in self.cos_coefficients),

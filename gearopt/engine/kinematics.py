@@ -108,4 +108,4 @@ def reciprocating_inertia_kgm2(crank_angle_rad, crank_radius_mm, rod_length_mm, 
     return reciprocating_mass_kg * ds_m * ds_m
 
 
-__all__ = ["slider_crank", "slider_crank_from_sincos", "reciprocating_inertia_kgm2", "check_crank_geometry", "check_values"]
+__all__ = ["check_crank_geometry", "check_values", "reciprocating_inertia_kgm2", "slider_crank", "slider_crank_from_sincos"]

@@ -43,3 +43,24 @@ def test_accessory_maps_symbolic_equals_numeric():
         f = ca.Function("f", [x], [fun(x)])
         assert float(f(1.234)) == pytest.approx(float(fun(1.234)), rel=1e-12, abs=1e-12)
         assert float(fun(1.234 + 2 * math.pi)) == pytest.approx(float(fun(1.234)), rel=1e-10, abs=1e-10)
+
+
+def test_single_cylinder_api_and_pressure_options(excitation):
+    th, w, a = 1.7, 240.0, 300.0
+    per = excitation.cylinder_torques_Nm(th, w, a)
+    for c in range(1, 7):
+        assert excitation.cylinder_torque_Nm(c, th, w, a) == pytest.approx(per[c - 1], rel=1e-12, abs=1e-9)
+    # pressures evaluated at a separate (nominal) angle, and scaled: gas torque scales as (f p - p_cc)
+    gas1, _ = excitation.cylinder_torque_parts_Nm(th, w, pressure_angle_rad=th + 0.01)
+    gas2, inertia2 = excitation.cylinder_torque_parts_Nm(th, w, pressure_angle_rad=th + 0.01, pressure_scale=0.5)
+    p = excitation.cylinder_pressures_bar(th + 0.01)
+    for i in range(6):
+        ratio = (0.5 * p[i] - excitation.crankcase_pressure_bar) / (p[i] - excitation.crankcase_pressure_bar)
+        assert gas2[i] == pytest.approx(ratio * gas1[i], rel=1e-12, abs=1e-9)
+        assert excitation.cylinder_torque_Nm(i + 1, th, w, pressure_angle_rad=th + 0.01, pressure_scale=0.5) == \
+            pytest.approx(gas2[i] + inertia2[i], rel=1e-12, abs=1e-9)
+        assert p[i] == pytest.approx(excitation.cylinder_pressure_bar(i + 1, th + 0.01), rel=1e-12)
+    # a symbolic pressure scale (an integrator parameter) gives the same numbers
+    f = ca.SX.sym("f")
+    g = ca.Function("g", [f], [excitation.total_torque_Nm(th, w, pressure_scale=f)])
+    assert float(g(0.5)) == pytest.approx(excitation.total_torque_Nm(th, w, pressure_scale=0.5), rel=1e-12)
