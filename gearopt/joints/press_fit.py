@@ -136,8 +136,8 @@ def press_fit(shaft_diameter_mm, shaft_bore_mm, hub_outer_diameter_mm, length_mm
     Options: ``smoothing_loss_um`` (explicit diametral loss) or ``roughness_Rz_um=(Rz_shaft, Rz_hub)`` with
     ``smoothing_rule`` (:func:`roughness_smoothing_loss_um`); operating ``shaft_temperature_C`` and
     ``hub_temperature_C`` against ``reference_temperature_C`` with expansion coefficients [1/K]; ``speed_rpm`` with
-    densities [kg/m^3] for the centrifugal loss; ``axial_force_N`` for the torque still held under an axial load; yield strengths [MPa] for
-    safety factors (von Mises).
+    densities [kg/m^3] for the centrifugal loss; ``axial_force_N`` for the torque still held under an axial load;
+    yield strengths [MPa] for safety factors (von Mises).
 
     Returns a dict: ``effective_interference_um`` (and its parts ``smoothing_loss_um``,
     ``thermal_interference_change_um``, ``centrifugal_interference_loss_um``), ``fit_lost`` (numeric only: the
@@ -146,9 +146,9 @@ def press_fit(shaft_diameter_mm, shaft_bore_mm, hub_outer_diameter_mm, length_mm
     friction-force resultant of combined torque and axial load), ``release_speed_rpm`` (speed at which the
     centrifugal loss eats the interference), stresses ``hub_hoop_stress_MPa`` (at the bore, including the
     centrifugal hoop stress), ``hub_radial_stress_MPa`` (-p), ``hub_von_mises_MPa`` (bore),
-    ``hub_outer_hoop_stress_MPa``, ``shaft_hoop_stress_MPa`` (at the fit surface), ``shaft_radial_stress_MPa``, ``shaft_von_mises_MPa`` (largest:
-    at the bore of a hollow shaft, uniform p in a solid one), and ``hub_yield_safety``/``shaft_yield_safety`` when
-    the yield strengths are given.
+    ``hub_outer_hoop_stress_MPa``, ``shaft_hoop_stress_MPa`` (at the fit surface), ``shaft_radial_stress_MPa``,
+    ``shaft_von_mises_MPa`` (largest: at the bore of a hollow shaft, uniform p in a solid one), and
+    ``hub_yield_safety``/``shaft_yield_safety`` when the yield strengths are given.
 
     Validity: elastic members (check the yield safeties), equal lengths, plane stress; 0 < nu < 0.5.
     """

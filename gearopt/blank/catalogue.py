@@ -1,0 +1,67 @@
+"""Gear blanks of a data set of the default schema (``[gears.*]``, ``[joints.*]``) on the geometry of a train.
+
+Bore and hub come from the gear's joint: press fits -- bore = shaft diameter, hub = the joint's hub outer diameter
+over the fit length; taper joints -- bore = large taper diameter, hub over the taper length. Webbed/recessed gears
+(``blank = "webbed"|"recessed"``) use ``web_thickness_mm``, ``rim_thickness_mm`` and ``web_pocket_area_fraction``
+when the data give them; a missing web thickness defaults to 12 mm and a missing rim thickness to 3.5 m_n (the
+values the default data's [C] inertia notes use for the AC gear), reported in ``assumed``.
+"""
+
+from __future__ import annotations
+
+from ..data import values
+from ..errors import GearoptInputError
+from ..geometry.train import GearTrain
+from .blank import GearBlank
+
+DEFAULT_WEB_THICKNESS_MM = 12.0
+DEFAULT_RIM_THICKNESS_MODULES = 3.5
+
+
+def _joint_of(d: dict, gear: str) -> dict | None:
+    for j in d.get("joints", {}).values():
+        if j.get("gear") == gear:
+            return j
+    return None
+
+
+def blank_from_data(data: dict, train: GearTrain, gear: str) -> tuple[GearBlank, list[str]]:
+    """The :class:`GearBlank` of one gear (tip/root diameters from ``train``) and the list of assumed inputs."""
+    d = values(data)
+    if gear not in d.get("gears", {}):
+        raise GearoptInputError(f"gear={gear!r} is not in [gears] ({sorted(d.get('gears', {}))})")
+    if gear not in train.gears:
+        raise GearoptInputError(f"gear={gear!r} is not a gear of the train ({list(train.gears)})")
+    g = d["gears"][gear]
+    table = train.gear_table()
+    d_a, d_f = float(table.loc[gear, "tip_diameter_mm"]), float(table.loc[gear, "root_diameter_mm"])
+    rho = d["materials"][g["material"]]["density_kg_m3"] if g.get("material") in d.get("materials", {}) else 7850.0
+    j = _joint_of(d, gear)
+    assumed = []
+    if j is None:
+        raise GearoptInputError(f"gear {gear!r} has no [joints.*] entry: its bore and hub are unknown")
+    if j["joint_type"] == "press_fit":
+        bore, hub_d, hub_l = j["shaft_diameter_mm"], j["hub_outer_diameter_mm"], j["fit_length_mm"]
+    else:
+        bore, hub_d, hub_l = j["taper_large_diameter_mm"], j["hub_outer_diameter_mm"], j["taper_length_mm"]
+    b = g["face_width_mm"]
+    kind = g.get("blank", "solid")
+    if kind == "solid":
+        return GearBlank(d_a, d_f, b, bore, density_kg_m3=rho), assumed
+    if kind not in ("webbed", "recessed"):
+        raise GearoptInputError(f"[gears.{gear}] blank={kind!r} must be 'solid', 'webbed' or 'recessed'")
+    t = g.get("web_thickness_mm")
+    if t is None:
+        t = DEFAULT_WEB_THICKNESS_MM
+        assumed.append(f"web_thickness_mm={t:g}")
+    t_r = g.get("rim_thickness_mm")
+    if t_r is None:
+        t_r = DEFAULT_RIM_THICKNESS_MODULES * d["rack"]["module_mm"]
+        assumed.append(f"rim_thickness_mm={t_r:g} (3.5 m_n)")
+    blank = GearBlank(d_a, d_f, b, bore, hub_outer_diameter_mm=hub_d, hub_length_mm=max(hub_l, t),
+                      web_thickness_mm=t, rim_thickness_mm=t_r,
+                      pocket_area_fraction=g.get("web_pocket_area_fraction", 0.0), density_kg_m3=rho)
+    return blank, assumed
+
+
+__all__ = ["blank_from_data", "DEFAULT_WEB_THICKNESS_MM", "DEFAULT_RIM_THICKNESS_MODULES"]

@@ -1,0 +1,150 @@
+"""Joint capacity / walk-off margin table and gear blank table of a timing train (thesis Tables 3.10-3.11, sec. 3.10).
+
+:func:`joint_table` evaluates every ``[joints.*]`` entry of the data for a train (helical baseline or spur redesign)
+under given per-mesh torques -- a single load case or a torque history -- and :func:`blank_table` gives mass and
+inertia of every gear blank. Columns carry their units; margins are capacity/demand (``inf`` where the demand is
+exactly zero, explained in the ``note`` column -- never a large finite stand-in).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from typing import Any
+
+import numpy as np
+import pandas as pd
+
+from ..blank.blank import rim_thickness_factor
+from ..blank.catalogue import blank_from_data
+from ..data import load_default_data, train_from_data, values
+from ..errors import GearoptInputError
+from ..geometry.train import GearTrain
+from ..joints.catalogue import accessory_load_torques_Nm, joint_capacity
+from ..joints.walk_off import joint_margins, quasi_static_mesh_torques_Nm, walk_off
+
+QUASI_STATIC_CASE = ("quasi-static accessory peaks (valve train mean + amplitude, AC and FP peaks, lube pump mean; "
+                     "[E] engine data, summed as if simultaneous, no torsional vibration)")
+
+
+def design_load_torques_Nm(data: dict) -> dict[str, float]:
+    """Per-mesh torques of the data's ``[design_loads]`` table (``<gear1>_<gear2>_torque_Nm`` -> mesh
+    ``"<gear1>-<gear2>"``, torque on the driving gear): the static design case of the main job."""
+    d = values(data)
+    if "design_loads" not in d:
+        raise GearoptInputError("the data have no [design_loads] table")
+    suffix = "_torque_Nm"
+    return {k[:-len(suffix)].replace("_", "-"): float(v) for k, v in d["design_loads"].items()
+            if k.endswith(suffix)}
+
+
+def _train(data: dict, train) -> GearTrain:
+    if isinstance(train, GearTrain):
+        return train
+    return train_from_data(data, train)
+
+
+def _worst(x) -> tuple[float, float]:
+    """(largest magnitude, signed value there) of a scalar or a history."""
+    a = np.atleast_1d(np.asarray(x, dtype=float))
+    i = int(np.argmax(np.abs(a)))
+    return float(abs(a[i])), float(a[i])
+
+
+def _min(x) -> float:
+    return float(np.min(np.atleast_1d(np.asarray(x, dtype=float))))
+
+
+def joint_table(data: dict | None = None, train: str | GearTrain = "spur",
+                torques_Nm: Mapping[str, Any] | str | None = None, *, root_rotation: str = "cw",
+                inertia_torques_Nm: Mapping[str, Any] | None = None, interference: str = "nominal",
+                nut_factor: str = "nominal", smoothing: bool = False, speed_rpm: float = 0.0) -> pd.DataFrame:
+    """One row per joint (crank, cam, lpi, lpg, ac, fp): capacity, demand and margins.
+
+    ``train``: ``"spur"``/``"helical"`` (built from ``data``) or a :class:`GearTrain`. ``torques_Nm``: {mesh: torque
+    on the mesh's first gear [N m], + when it drives}, floats or arrays of one torque history (meshes left out
+    carry none); ``None`` uses the quasi-static accessory peak case (:data:`QUASI_STATIC_CASE`); ``"design"`` the
+    data's ``[design_loads]`` (:func:`design_load_torques_Nm`). ``inertia_torques_Nm``: {gear: J alpha} in each
+    gear's sense of rotation. ``interference``/``nut_factor``/``smoothing``/``speed_rpm``: capacity options of
+    :func:`~gearopt.joints.catalogue.joint_capacity` (e.g. ``interference="min"``, ``nut_factor="max"`` for the
+    weakest joints of the tolerance and nut-factor ranges).
+
+    Columns: ``gear``, ``type``, ``fit``, ``pressure_MPa``, ``torque_capacity_Nm``, ``axial_capacity_N``,
+    ``torque_Nm`` and ``axial_force_N`` (largest magnitude over the history, signed: + torque = gear drives its
+    shaft, + axial = off the shaft nose), ``torque_margin``, ``axial_margin``, ``combined_margin`` (minimum over the
+    history of the slip margin under torque and axial load together), ``hub_von_mises_MPa``, ``hub_yield_safety``,
+    ``note``. ``df.attrs`` holds the load case and conventions.
+    """
+    data = load_default_data() if data is None else data
+    tr = _train(data, train)
+    case = "given per-mesh torques"
+    if isinstance(torques_Nm, str):
+        if torques_Nm != "design":
+            raise GearoptInputError(f"torques_Nm={torques_Nm!r}: give a dict of per-mesh torques, None or 'design'")
+        torques_Nm = design_load_torques_Nm(data)
+        case = "[design_loads] of the data (static design torques on the driving gears)"
+    elif torques_Nm is None:
+        torques_Nm = quasi_static_mesh_torques_Nm(tr, accessory_load_torques_Nm(data, "peak"))
+        case = QUASI_STATIC_CASE
+    result = walk_off(tr, torques_Nm, root_rotation=root_rotation, inertia_torques_Nm=inertia_torques_Nm)
+    helical = float(tr.helix_angle_deg) != 0.0
+    rows = []
+    for name in values(data).get("joints", {}):
+        cap = joint_capacity(data, name, interference=interference, nut_factor=nut_factor, smoothing=smoothing,
+                             speed_rpm=speed_rpm)
+        gear = cap["gear"]
+        if gear not in tr.gears:
+            raise GearoptInputError(f"[joints.{name}] gear={gear!r} is not a gear of the train")
+        T, F = result.joint_torque_Nm[gear], result.axial_force_N[gear]
+        m = joint_margins(cap["type"], T, F, cap["torque_capacity_Nm"], cap["axial_capacity_N"])
+        t_abs, t_signed = _worst(T)
+        f_abs, f_signed = _worst(F)
+        notes = []
+        if not helical:
+            notes.append("spur: no axial tooth force, axial margin inf")
+        elif f_abs == 0.0:
+            notes.append("no net axial force in this load case, axial margin inf")
+        if t_abs == 0.0:
+            notes.append("no net torque through the joint in this load case (an idler passes its torque through), "
+                         "torque margin inf")
+        if cap["type"] == "taper_nut":
+            notes.append(f"thesis Eq. 3.48 (upper bound; hub stress at its pressure); with engagement friction "
+                         f"{cap['torque_capacity_engagement_friction_Nm']:.0f} N m; axial load taken as pulling off "
+                         f"the taper")
+        rows.append({
+            "joint": name, "gear": gear, "type": cap["type"], "fit": cap["fit"],
+            "pressure_MPa": cap["pressure_MPa"], "torque_capacity_Nm": cap["torque_capacity_Nm"],
+            "axial_capacity_N": cap["axial_capacity_N"], "torque_Nm": t_signed, "axial_force_N": f_signed,
+            "torque_margin": _min(m["torque_margin"]), "axial_margin": _min(m["axial_margin"]),
+            "combined_margin": _min(m["combined_margin"]), "hub_von_mises_MPa": cap["hub_von_mises_MPa"],
+            "hub_yield_safety": cap["hub_yield_safety"], "note": "; ".join(notes)})
+    df = pd.DataFrame(rows).set_index("joint")
+    df.attrs.update(train=tr.name, helix_angle_deg=float(tr.helix_angle_deg), load_case=case,
+                    root_rotation=root_rotation, interference=interference, nut_factor=nut_factor,
+                    conventions="torque + = gear drives its shaft; axial + = off the shaft nose (towards the front)")
+    return df
+
+
+def blank_table(data: dict | None = None, train: str | GearTrain = "spur") -> pd.DataFrame:
+    """One row per gear: blank kind, ``mass_kg``, ``inertia_kgm2``, ``solid_inertia_kgm2`` (same teeth and bore,
+    no web), ``inertia_reduction_percent``, ``data_inertia_kgm2`` (the data file's value, for comparison),
+    ``backup_ratio``, ``rim_thickness_factor`` (AGMA K_B) and ``assumed`` inputs."""
+    data = load_default_data() if data is None else data
+    tr = _train(data, train)
+    gears = values(data)["gears"]
+    rows = []
+    for gear in tr.gears:
+        blank, assumed = blank_from_data(data, tr, gear)
+        j = float(blank.inertia_kgm2())
+        j_solid = float(blank.solid_equivalent().inertia_kgm2())
+        m_b = float(blank.backup_ratio)
+        g = gears.get(gear, {})
+        rows.append({"gear": gear, "blank": blank.kind, "mass_kg": float(blank.mass_kg()), "inertia_kgm2": j,
+                     "solid_inertia_kgm2": j_solid, "inertia_reduction_percent": 100.0 * (1.0 - j / j_solid),
+                     "data_inertia_kgm2": g.get("inertia_kgm2", g.get("solid_disc_inertia_kgm2", float("nan"))),
+                     "backup_ratio": m_b,
+                     "rim_thickness_factor": float(rim_thickness_factor(m_b)) if m_b >= 0.5 else float("nan"),
+                     "assumed": ", ".join(assumed)})
+    return pd.DataFrame(rows).set_index("gear")
+
+
+__all__ = ["joint_table", "blank_table", "design_load_torques_Nm", "QUASI_STATIC_CASE"]

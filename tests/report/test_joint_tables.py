@@ -1,0 +1,89 @@
+"""Joint and blank tables for the default train (helical baseline and spur redesign): the data's [C] capacities,
+inf axial margins of the spur train with their note, torque histories, design loads, blank inertias."""
+
+import math
+
+import numpy as np
+import pytest
+
+import gearopt as go
+from gearopt.data import load_default_data
+from gearopt.errors import GearoptInputError
+from gearopt.joints.walk_off import joint_margins, walk_off
+from gearopt.report.joint_tables import blank_table, design_load_torques_Nm, joint_table
+
+COLUMNS = ["gear", "type", "pressure_MPa", "torque_capacity_Nm", "axial_capacity_N", "torque_Nm", "axial_force_N",
+           "torque_margin", "axial_margin", "combined_margin"]
+
+
+def test_helical_table_columns_and_data_capacities():
+    df = joint_table(train="helical")
+    assert list(df.index) == ["crank", "cam", "lpi", "lpg", "ac", "fp"]
+    assert all(c in df.columns for c in COLUMNS)
+    # default_train.toml [C] values: pressures 32.61 / 103.24 / 40.00 / 111.0 MPa; capacities 779.2 / 858.2 /
+    # 217.8 / 202.6 / 2117 / 811 N m; axial holding 23974 / 40868 N; taper preloads 62500 / 47619 N
+    expected = {"crank": (32.61, 779.2, 23974.0), "cam": (103.24, 858.2, 40868.0), "lpi": (40.00, 217.8, None),
+                "lpg": (111.0, 202.6, None), "ac": (None, 2117.0, 62500.0), "fp": (None, 811.0, 47619.0)}
+    for j, (p, T, F) in expected.items():
+        if p is not None:
+            assert df.loc[j, "pressure_MPa"] == pytest.approx(p, abs=0.06)
+        assert df.loc[j, "torque_capacity_Nm"] == pytest.approx(T, abs=0.5)
+        if F is not None:
+            assert df.loc[j, "axial_capacity_N"] == pytest.approx(F, abs=1.0)
+    # quasi-static case: the cam joint carries the valve-train peak (10 + 40 N m) and its thrust follows it
+    assert df.loc["cam", "torque_Nm"] == pytest.approx(50.0)
+    d_cam = go.load_default_train("helical").pairs["crank-cam"].geometry()["pitch_diameter_mm"][1]
+    assert abs(df.loc["cam", "axial_force_N"]) == pytest.approx(2000 * 50.0 * math.tan(math.radians(6.0)) / d_cam)
+    assert np.all(np.isfinite(df.loc[["crank", "cam", "ac", "fp"], "axial_margin"]))
+    assert "quasi-static" in df.attrs["load_case"]
+
+
+def test_spur_table_axial_margins_inf_with_note():
+    df = joint_table(train="spur")
+    assert (df["axial_force_N"] == 0.0).all()
+    assert (df["axial_margin"] == math.inf).all()
+    assert df["note"].str.contains("spur: no axial tooth force").all()
+    # with no axial load the combined margin is the torque margin, finite where torque flows
+    loaded = df.index != "lpi"
+    assert np.allclose(df.loc[loaded, "combined_margin"], df.loc[loaded, "torque_margin"])
+    assert df.loc["lpi", "torque_margin"] == math.inf and "idler" in df.loc["lpi", "note"]
+
+
+def test_history_gives_the_minimum_margin_over_time():
+    t = np.linspace(0, 2 * np.pi, 40)
+    torques = {"crank-cam": 190 + 150 * np.sin(3 * t), "cam-ac": 240 * np.cos(t), "cam-fp": 90 + 60 * np.sin(6 * t)}
+    df = joint_table(train="helical", torques_Nm=torques)
+    r = walk_off(go.load_default_train("helical"), torques)
+    T, F = r.joint_torque_Nm["cam"], r.axial_force_N["cam"]
+    worst = min(joint_margins("press_fit", T[i], F[i], df.loc["cam", "torque_capacity_Nm"],
+                              df.loc["cam", "axial_capacity_N"])["combined_margin"] for i in range(t.size))
+    assert df.loc["cam", "combined_margin"] == pytest.approx(worst)
+    assert abs(df.loc["cam", "torque_Nm"]) == pytest.approx(np.max(np.abs(T)))
+
+
+def test_design_loads_and_weakest_tolerances():
+    data = load_default_data()
+    loads = design_load_torques_Nm(data)
+    assert {k: loads[k] for k in ("crank-cam", "cam-ac", "cam-fp")} == {"crank-cam": 300.0, "cam-ac": 240.0,
+                                                                        "cam-fp": 150.0}
+    assert set(loads) <= set(go.load_default_train("helical").meshes)
+    df = joint_table(data, "helical", "design")
+    assert df.loc["cam", "torque_Nm"] == pytest.approx(2 * 300.0 - 240.0 - 150.0)  # camshaft share of the design
+    weak = joint_table(data, "helical", "design", interference="min", nut_factor="max")
+    assert (weak["torque_capacity_Nm"] < df["torque_capacity_Nm"]).all()
+    # data notes: cam 590 N m at the minimum interference, AC 1984 N m at k = 0.16
+    assert weak.loc["cam", "torque_capacity_Nm"] == pytest.approx(590.0, abs=1.0)
+    assert weak.loc["ac", "torque_capacity_Nm"] == pytest.approx(1984.0, abs=1.0)
+    with pytest.raises(GearoptInputError, match="'design'"):
+        joint_table(data, "helical", "peak")
+
+
+def test_blank_table():
+    df = blank_table(train="spur")
+    assert list(df.index) == ["crank", "cam", "ac", "fp", "lpi", "lpg"]
+    assert df.loc["cam", "blank"] == "pocketed" and df.loc["crank", "blank"] == "solid"
+    assert df.loc["cam", "inertia_kgm2"] == pytest.approx(0.0305, rel=0.01)
+    assert 35.0 < df.loc["cam", "inertia_reduction_percent"] < 50.0
+    assert df.loc["crank", "inertia_reduction_percent"] == pytest.approx(0.0)
+    assert "web_thickness_mm" in df.loc["ac", "assumed"]
+    assert (df["backup_ratio"] > 1.2).all() and (df["rim_thickness_factor"] == 1.0).all()
