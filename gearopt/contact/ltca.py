@@ -76,8 +76,9 @@ class LTCAResult:
     def root_stress_MPa(self) -> tuple[np.ndarray, np.ndarray]:
         """Root stress of gear 1 and gear 2 for every loaded spring [MPa], (positions, pairs, slices): the local load
         intensity at the contact point through ISO 6336-3 method B's Y_F Y_S generalised to that point (each slice
-        bends its own strip of tooth: no load spreading across the face, no K factors)."""
-        from ..rating.root_stress import root_stress_at_load_point
+        bends its own strip of tooth: no load spreading across the face, no K factors; a helical pair's transverse
+        contact positions are mapped onto its virtual spur gear, :func:`~gearopt.rating.root_stress.virtual_roll_length_mm`)."""
+        from ..rating.root_stress import root_stress_at_load_point, virtual_roll_length_mm
 
         lay = self.layout
         w = self.load_intensity_N_per_mm
@@ -86,7 +87,8 @@ class LTCAResult:
             r = np.where(lay.on_path, rho, np.nan)
             sig = np.zeros_like(w)
             m = lay.on_path
-            sig[m] = root_stress_at_load_point(lay.pair, gear, w[m], load_roll_length_mm=r[m])
+            sig[m] = root_stress_at_load_point(lay.pair, gear, w[m],
+                                               load_roll_length_mm=virtual_roll_length_mm(lay.pair, gear, r[m]))
             out.append(sig)
         return tuple(out)
 

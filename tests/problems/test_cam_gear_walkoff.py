@@ -66,3 +66,12 @@ def test_contact_stage_compares_three_designs_per_pair(run):
         assert "tip_relief_1_um" in entry["optimised_microgeometry"]
     for stem in ("te_crank_cam", "harris_cam_ac", "flank_maps_cam_fp", "change_crank_cam"):
         assert (run / "figures" / f"{stem}.png").stat().st_size > 10_000
+
+
+def test_rating_tables_for_both_trains(run):
+    result = json.loads((run / "result.json").read_text())
+    for kind in ("helical", "spur"):
+        rated = result["rating"][kind]
+        assert set(rated) == {"crank-cam", "cam-ac", "cam-fp", "crank-lpi", "lpi-lpg"}
+        assert all(r["S_H"] > 1.0 and r["S_F_1"] > 1.0 and r["S_F_2"] > 1.0 for r in rated.values())
+    assert (run / "rating_spur.csv").stat().st_size > 200
