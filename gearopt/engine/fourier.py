@@ -59,9 +59,18 @@ class FourierSeries:
         if harmonics < 1 or 2 * harmonics >= n:
             raise GearoptInputError(f"harmonics={harmonics} must be >= 1 and < samples/2 = {n / 2:g}")
         c = np.fft.rfft(v) / n
+        a = 2.0 * c[1:harmonics + 1].real
+        b = -2.0 * c[1:harmonics + 1].imag
+        # coefficients at rounding level (below 1e-13 of the largest) are exact zeros: skipped when evaluating, and
+        # trailing ones are dropped (a valve train with only 6th-order multiples costs only those terms)
+        tiny = 1e-13 * max(float(np.max(np.abs(np.concatenate([a, b])))), abs(float(c[0].real)), 1e-300)
+        a[np.abs(a) < tiny] = 0.0
+        b[np.abs(b) < tiny] = 0.0
+        nz = np.nonzero((a != 0.0) | (b != 0.0))[0]
+        last = int(nz[-1]) + 1 if nz.size else 1
         return cls(period=float(period), mean=float(c[0].real),
-                   cos_coefficients=tuple(float(x) for x in 2.0 * c[1:harmonics + 1].real),
-                   sin_coefficients=tuple(float(x) for x in -2.0 * c[1:harmonics + 1].imag))
+                   cos_coefficients=tuple(float(x) for x in a[:last]),
+                   sin_coefficients=tuple(float(x) for x in b[:last]))
 
     @classmethod
     def fit_function(cls, fun, period: float, harmonics: int, samples: int = 4096) -> FourierSeries:
@@ -81,14 +90,17 @@ class FourierSeries:
         """Series value from a precomputed :func:`harmonic_basis` (share one basis between shifted series)."""
         total = self.mean
         for a, b, c, s in zip(self.cos_coefficients, self.sin_coefficients, cs, ss):
-            total = total + a * c + b * s
+            if a != 0.0:
+                total = total + a * c
+            if b != 0.0:
+                total = total + b * s
         return total
 
     def derivative(self, x):
         """d f / d x at ``x`` (dual-typed)."""
         cs, ss = harmonic_basis(self.phase_rad(x), self.harmonics)
         w = 2.0 * math.pi / self.period
-        total = 0.0
+        total = 0.0 * x
         for k, (a, b, c, s) in enumerate(zip(self.cos_coefficients, self.sin_coefficients, cs, ss), start=1):
             total = total + k * w * (b * c - a * s)
         return total
