@@ -11,7 +11,7 @@ fitted to a dense uniform sampling of
 * the single-zone double-Wiebe model (closed cycle solved by its integrating factor and a fine quadrature).
 
 Fit error of the default 64 harmonics (order 32 of crank speed; tested in ``tests/engine/test_pressure.py``): on the
-Mendes 2008 trace 2.9 bar maximum at the 72 table points (1.9 % of the 152 bar peak, at 337.8 deg where two digitised
+Mendes 2008 trace 2.8 bar maximum at the 72 table points (1.9 % of the 152 bar peak, at 337.8 deg where two digitised
 points 1.2 deg apart differ by 8.7 bar), RMS 0.8 bar, peak 0.5 % low; on the Wiebe model 4.4 bar maximum (2.4 %
 of the 180 bar peak, at the premixed-burn pressure rise 2 deg BTDC), RMS 0.4 bar. More harmonics reduce both
 (Wiebe: 1.7 bar at 96, 0.6 bar at 128) at a linear cost.
