@@ -1,13 +1,14 @@
-"""Joint capacity / walk-off margin table and gear blank table of a timing train (thesis Tables 3.10-3.11, sec. 3.10).
+"""Joint capacity / walk-off margin, gear blank and web fatigue tables of a timing train (thesis sec. 3.10-3.11).
 
 :func:`joint_table` evaluates every ``[joints.*]`` entry of the data for a train (helical baseline or spur redesign)
-under given per-mesh torques -- a single load case or a torque history -- and :func:`blank_table` gives mass and
-inertia of every gear blank. Columns carry their units; margins are capacity/demand (``inf`` where the demand is
+under given per-mesh torques -- a single load case or a torque history -- :func:`blank_table` gives mass and
+inertia of every gear blank and :func:`web_table` the web stress and Goodman/EFR margins of the webbed gears. Columns carry their units; margins are capacity/demand (``inf`` where the demand is
 exactly zero, explained in the ``note`` column -- never a large finite stand-in).
 """
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping
 from typing import Any
 
@@ -16,6 +17,7 @@ import pandas as pd
 
 from ..blank.blank import rim_thickness_factor
 from ..blank.catalogue import blank_from_data
+from ..blank.web import web_fatigue, web_stress
 from ..data import load_default_data, train_from_data, values
 from ..errors import GearoptInputError
 from ..geometry.train import GearTrain
@@ -76,15 +78,7 @@ def joint_table(data: dict | None = None, train: str | GearTrain = "spur",
     """
     data = load_default_data() if data is None else data
     tr = _train(data, train)
-    case = "given per-mesh torques"
-    if isinstance(torques_Nm, str):
-        if torques_Nm != "design":
-            raise GearoptInputError(f"torques_Nm={torques_Nm!r}: give a dict of per-mesh torques, None or 'design'")
-        torques_Nm = design_load_torques_Nm(data)
-        case = "[design_loads] of the data (static design torques on the driving gears)"
-    elif torques_Nm is None:
-        torques_Nm = quasi_static_mesh_torques_Nm(tr, accessory_load_torques_Nm(data, "peak"))
-        case = QUASI_STATIC_CASE
+    torques_Nm, case = _load_case(data, tr, torques_Nm)
     result = walk_off(tr, torques_Nm, root_rotation=root_rotation, inertia_torques_Nm=inertia_torques_Nm)
     helical = float(tr.helix_angle_deg) != 0.0
     rows = []
@@ -147,4 +141,74 @@ def blank_table(data: dict | None = None, train: str | GearTrain = "spur") -> pd
     return pd.DataFrame(rows).set_index("gear")
 
 
-__all__ = ["joint_table", "blank_table", "design_load_torques_Nm", "QUASI_STATIC_CASE"]
+def _load_case(data: dict, tr: GearTrain, torques_Nm):
+    if isinstance(torques_Nm, str):
+        if torques_Nm != "design":
+            raise GearoptInputError(f"torques_Nm={torques_Nm!r}: give a dict of per-mesh torques, None or 'design'")
+        return design_load_torques_Nm(data), "[design_loads] of the data (static design torques on the driving gears)"
+    if torques_Nm is None:
+        return quasi_static_mesh_torques_Nm(tr, accessory_load_torques_Nm(data, "peak")), QUASI_STATIC_CASE
+    return torques_Nm, "given per-mesh torques"
+
+
+def web_table(data: dict | None = None, train: str | GearTrain = "spur",
+              torques_Nm: Mapping[str, Any] | str | None = None, *, root_rotation: str = "cw",
+              inertia_torques_Nm: Mapping[str, Any] | None = None, stress_concentration: float = 1.0) -> pd.DataFrame:
+    """Web stress and Goodman/EFR fatigue margins of every webbed gear (thesis sec. 3.10 / 4.6, closed-form model of
+    :mod:`gearopt.blank.web`).
+
+    Loads per instant: the joint torque through the web (rim to hub), the in-plane tooth-force resultant bounded by
+    the sum of the transverse mesh-force magnitudes F_t/cos(alpha_wt) (the mesh layout is not in the train), and the
+    net axial force. The equivalent stress carries the sign of the joint torque; the forward stress is its largest
+    positive value, the reverse stress the largest negative magnitude. A single load case is also applied reversed
+    (thesis: every tooth force forward, then reverse), so its forward-reverse case is fully reversed. Material: the
+    gear's ``[materials.*]`` endurance, ultimate and yield strengths. ``stress_concentration`` K_t at the pockets.
+    Columns: loads, ``forward_stress_MPa``, ``reverse_stress_MPa`` and per case ``<case>_efr_MPa``,
+    ``<case>_fatigue_margin`` (S_e/EFR), and ``yield_margin``.
+    """
+    data = load_default_data() if data is None else data
+    tr = _train(data, train)
+    torques, case = _load_case(data, tr, torques_Nm)
+    result = walk_off(tr, torques, root_rotation=root_rotation, inertia_torques_Nm=inertia_torques_Nm)
+    d = values(data)
+    rows = []
+    for gear in tr.gears:
+        blank, assumed = blank_from_data(data, tr, gear)
+        if blank.web_thickness_mm is None:
+            continue
+        force = 0.0
+        for row in result.contributions:
+            if row["gear"] == gear:
+                alpha = tr.pairs[row["mesh"]].geometry()["working_pressure_angle_deg"]
+                force = force + np.abs(row["tangential_force_N"]) / math.cos(math.radians(alpha))
+        T = result.joint_torque_Nm[gear]
+        f_pocket = float(blank.pocket_area_fraction) if not blank.hole_count else 0.0
+        s = web_stress(T, hub_outer_diameter_mm=blank.hub_outer_diameter_mm,
+                       rim_inner_diameter_mm=blank.rim_inner_diameter_mm, web_thickness_mm=blank.web_thickness_mm,
+                       in_plane_force_N=force, axial_force_N=result.axial_force_N[gear], pocket_area_fraction=f_pocket,
+                       stress_concentration=stress_concentration)
+        signed = np.atleast_1d(np.where(np.asarray(T) >= 0.0, 1.0, -1.0) * np.asarray(s["von_mises_MPa"]))
+        single = signed.size == 1
+        fwd = float(np.max(np.abs(signed))) if single else float(max(np.max(signed), 0.0))
+        rev = fwd if single else float(max(-np.min(signed), 0.0))
+        mat = d["materials"][d["gears"][gear]["material"]]
+        fat = web_fatigue(fwd, rev, endurance_limit_MPa=mat["endurance_limit_MPa"],
+                          ultimate_strength_MPa=mat["tensile_strength_MPa"],
+                          yield_strength_MPa=mat["yield_strength_MPa"])
+        row = {"gear": gear, "blank": blank.kind, "web_thickness_mm": float(blank.web_thickness_mm),
+               "torque_Nm": _worst(T)[1], "in_plane_force_N": _worst(force)[0],
+               "axial_force_N": _worst(result.axial_force_N[gear])[1], "forward_stress_MPa": fwd,
+               "reverse_stress_MPa": rev}
+        for name, r in fat.items():
+            row[f"{name}_efr_MPa"] = float(r["efr_MPa"])
+            row[f"{name}_fatigue_margin"] = float(r["fatigue_margin"])
+        row["yield_margin"] = float(fat["forward_reverse"]["yield_margin"])
+        row["assumed"] = ", ".join(assumed)
+        rows.append(row)
+    df = pd.DataFrame(rows).set_index("gear")
+    df.attrs.update(load_case=case, model="gearopt.blank.web: web shear (torque + in-plane force bound), annular "
+                                          "plate bending under the net axial force, von Mises, modified Goodman")
+    return df
+
+
+__all__ = ["joint_table", "blank_table", "web_table", "design_load_torques_Nm", "QUASI_STATIC_CASE"]

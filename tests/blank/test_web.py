@@ -131,3 +131,21 @@ def test_web_stress_derivatives():
         e = np.zeros(3)
         e[k] = h
         assert J[k] == pytest.approx((float(vm(x0 + e)) - float(vm(x0 - e))) / (2 * h), rel=1e-6)
+
+
+def test_fatigue_margin_derivatives():
+    x = ca.SX.sym("x", 2)  # forward and reverse equivalent stresses
+
+    def margins(v):
+        r = web_fatigue(v[0], v[1], endurance_limit_MPa=500.0, ultimate_strength_MPa=1000.0)
+        return [r[c]["fatigue_margin"] for c in ("forward", "reverse", "forward_reverse")]
+
+    f = ca.Function("f", [x], [ca.vertcat(*margins(x))])
+    J = np.array(ca.Function("J", [x], [ca.jacobian(f(x), x)])([200.0, 80.0]))
+    x0 = np.array([200.0, 80.0])
+    assert np.allclose(np.array(f(x0)).ravel(), [float(m) for m in margins(x0)], rtol=1e-12)
+    for k in range(2):
+        e = np.zeros(2)
+        e[k] = 1e-4
+        fd = (np.array([float(m) for m in margins(x0 + e)]) - np.array([float(m) for m in margins(x0 - e)])) / 2e-4
+        assert np.allclose(J[:, k], fd, rtol=1e-6, atol=1e-10), k

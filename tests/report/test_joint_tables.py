@@ -7,10 +7,11 @@ import numpy as np
 import pytest
 
 import gearopt as go
+from gearopt.blank.web import web_stress
 from gearopt.data import load_default_data
 from gearopt.errors import GearoptInputError
 from gearopt.joints.walk_off import joint_margins, walk_off
-from gearopt.report.joint_tables import blank_table, design_load_torques_Nm, joint_table
+from gearopt.report.joint_tables import blank_table, design_load_torques_Nm, joint_table, web_table
 
 COLUMNS = ["gear", "type", "pressure_MPa", "torque_capacity_Nm", "axial_capacity_N", "torque_Nm", "axial_force_N",
            "torque_margin", "axial_margin", "combined_margin"]
@@ -87,3 +88,32 @@ def test_blank_table():
     assert df.loc["crank", "inertia_reduction_percent"] == pytest.approx(0.0)
     assert "web_thickness_mm" in df.loc["ac", "assumed"]
     assert (df["backup_ratio"] > 1.2).all() and (df["rim_thickness_factor"] == 1.0).all()
+
+
+def test_web_table_single_case_and_history():
+    df = web_table(train="helical", torques_Nm="design")
+    assert list(df.index) == ["cam", "ac", "fp"]  # the webbed gears
+    # a single load case is applied forward and reversed: the forward-reverse case is fully reversed
+    assert np.allclose(df["forward_stress_MPa"], df["reverse_stress_MPa"])
+    assert np.allclose(df["forward_reverse_efr_MPa"], df["forward_stress_MPa"])
+    assert np.allclose(df["forward_fatigue_margin"], df["reverse_fatigue_margin"])
+    assert (df["forward_reverse_fatigue_margin"] < df["forward_fatigue_margin"]).all()
+    # the cam row is web_stress of its loads: joint torque 210 N m, net thrust, force bound from the three meshes
+    train = go.load_default_train("helical")
+    r = walk_off(train, design_load_torques_Nm(load_default_data()))
+    alpha = {m: math.radians(p.geometry()["working_pressure_angle_deg"]) for m, p in train.pairs.items()}
+    force = sum(abs(c["tangential_force_N"]) / math.cos(alpha[c["mesh"]]) for c in r.contributions
+                if c["gear"] == "cam")
+    rim_inner = train.gear_table().loc["cam", "root_diameter_mm"] - 21.0
+    s = web_stress(210.0, hub_outer_diameter_mm=70.0, rim_inner_diameter_mm=rim_inner, web_thickness_mm=12.0,
+                   in_plane_force_N=force,
+                   axial_force_N=r.axial_force_N["cam"], pocket_area_fraction=0.4)
+    assert df.loc["cam", "forward_stress_MPa"] == pytest.approx(s["von_mises_MPa"], rel=1e-12)
+    assert df.loc["cam", "forward_fatigue_margin"] == pytest.approx(
+        500.0 / (0.5 * s["von_mises_MPa"] / (1 - 0.5 * s["von_mises_MPa"] / 1000.0)), rel=1e-12)
+    # a history that only drives forward has no reverse stress: reverse margin inf, forward-reverse = forward
+    t = np.linspace(0.0, 1.0, 20)
+    h = web_table(train="helical", torques_Nm={"crank-cam": 250 + 100 * t, "cam-ac": 240 + 0 * t,
+                                                "cam-fp": 150 + 0 * t})
+    assert h.loc["cam", "reverse_stress_MPa"] == 0.0 and h.loc["cam", "reverse_fatigue_margin"] == math.inf
+    assert h.loc["cam", "forward_reverse_fatigue_margin"] == pytest.approx(h.loc["cam", "forward_fatigue_margin"])
