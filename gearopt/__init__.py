@@ -11,3 +11,4 @@ __version__ = "0.1.0"
 from .contact import LTCAModel, Microgeometry, harris_map, iso6336_stiffness, ltca, min_tip_relief_um
 from .rating import (contact_stress_iso6336, flash_temperature_blok_K, lewis_bending_stress_MPa, lewis_form_factor,
                      material, root_stress_at_load_point, root_stress_iso6336)
+from .engine import AccessoryTorque, CylinderPressure, EngineExcitation, crank_torque, peak_pressure_bar, slider_crank

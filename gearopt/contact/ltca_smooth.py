@@ -55,6 +55,21 @@ class SmoothLTCAResult:
     loaded_pairs: Any
     layout: MeshLayout
     torque_Nm: Any
+    root_stress_MPa: Any = None            # (gear 1, gear 2), each (N, P[*L]), when the model was built for it
+    flash_temperature_rise_K: Any = None   # (N, P[*L]) when the model has a speed
+    bulk_temperature_C: Any = None
+
+    @property
+    def max_root_stress_MPa(self) -> tuple[float, float]:
+        if self.root_stress_MPa is None:
+            raise GearoptInputError("root stress not computed: build the LTCAModel with root_stress=True")
+        return tuple(float(np.max(np.asarray(r, dtype=float))) for r in self.root_stress_MPa)
+
+    @property
+    def max_flash_temperature_C(self) -> float:
+        if self.flash_temperature_rise_K is None:
+            raise GearoptInputError("flash temperature not computed: build the LTCAModel with speed_rpm")
+        return self.bulk_temperature_C + float(np.max(np.asarray(self.flash_temperature_rise_K, dtype=float)))
 
     @property
     def contact_stress_MPa(self):
@@ -101,7 +116,10 @@ class LTCAModel:
     def __init__(self, pair: GearPair, *, driving_gear: int = 1, stiffness: Any = "iso6336", positions: int = 40,
                  slices: int | None = None, lead_modification: bool = False,
                  smoothing_um: float = DEFAULT_SMOOTHING_UM, count_width_um: float = DEFAULT_COUNT_WIDTH_UM,
-                 E_MPa: float = 206000.0, poisson: float = 0.3) -> None:
+                 E_MPa: float = 206000.0, poisson: float = 0.3, root_stress: bool = False,
+                 speed_rpm: float | None = None, bulk_temperature_C: float = 100.0,
+                 friction_coefficient: float = 0.06, materials: Any = "20MnCr5",
+                 sliding_smoothing_m_s: float = 0.01) -> None:
         check_range("smoothing_um", smoothing_um, 0.0, None, low_inclusive=False, unit="um")
         check_range("count_width_um", count_width_um, 0.0, None, low_inclusive=False, unit="um")
         if slices is None:
@@ -126,6 +144,39 @@ class LTCAModel:
             return nm.column_sum(s * nm.softplus(x - e, w)) - force
 
         self.approach_kernel = nm.implicit_scalar_root("ltca_approach", residual, 2 * N + 1)
+        self.root_stress = bool(root_stress)
+        self.speed_rpm = speed_rpm
+        self._thermal = None
+        on = lay.on_path
+        if self.root_stress:
+            from ..rating.root_stress import virtual_roll_length_mm
+
+            mid = 0.5 * (lay.rho1_mm[on].min() + lay.rho1_mm[on].max())
+            rho1 = np.where(on, lay.rho1_mm, mid)
+            rho2 = np.where(on, lay.rho2_mm, lay.rho1_mm[on].min() + lay.rho2_mm[on].max() - mid)
+            self._virtual_roll = tuple(virtual_roll_length_mm(lay.pair, g, r).reshape(P, N).T
+                                       for g, r in ((1, rho1), (2, rho2)))
+        if speed_rpm is not None:
+            from ..rating.materials import material_pair
+            from .tip_relief import plane_strain_compliance_per_MPa
+
+            check_range("speed_rpm", speed_rpm, 0.0, None, unit="rpm")
+            drive = driving_gear - 1
+            teeth = pair.teeth
+            omega = [0.0, 0.0]
+            omega[drive] = speed_rpm * 2.0 * np.pi / 60.0
+            omega[1 - drive] = omega[drive] * teeth[drive] / teeth[1 - drive]
+            cb = np.cos(lay.base_helix_angle_rad)
+            v1 = np.where(on, omega[0] * lay.rho1_mm * 1e-3, 0.0).reshape(P, N).T
+            v2 = np.where(on, omega[1] * lay.rho2_mm * 1e-3, 0.0).reshape(P, N).T
+            curvature = np.where(on, 0.5 * cb / np.maximum(lay.rho1_mm, 1e-9) + 0.5 * cb
+                                 / np.maximum(lay.rho2_mm, 1e-9), 1.0).reshape(P, N).T
+            m1, m2 = material_pair(materials)
+            self._thermal = dict(v1=v1, v2=v2, curvature=curvature, bulk=float(bulk_temperature_C),
+                                 friction=float(friction_coefficient), sliding=float(sliding_smoothing_m_s),
+                                 compliance=2.0 * plane_strain_compliance_per_MPa(E_MPa, poisson),
+                                 B=(m1.thermal_contact_coefficient_N_per_mm_sqrt_s_K,
+                                    m2.thermal_contact_coefficient_N_per_mm_sqrt_s_K))
         self._maps: dict[int, Any] = {}
         self.builds = {"approach_kernel": 1, "maps": 0}
 
@@ -180,10 +231,33 @@ class LTCAModel:
         te = delta if (L == 1 and not symbolic) else nm.reshape(delta, P, L)
         if not symbolic:
             loaded = np.asarray(loaded, dtype=float).reshape(-1)
+        root = flash = None
+        if self.root_stress:
+            from ..rating.root_stress import root_stress_at_load_point
+
+            root = tuple(root_stress_at_load_point(lay.pair, g, load, load_roll_length_mm=nm.matrix(
+                np.tile(self._virtual_roll[g - 1], (1, L)), True if symbolic else None)) for g in (1, 2))
+        if self._thermal is not None:
+            flash = self._flash_temperature_K(load, L, symbolic)
         return SmoothLTCAResult(transmission_error_um=te, closure_um=closure, load_intensity_N_per_mm=load,
                                 contact_stress_squared_MPa2=stress_sq, load_sharing=sharing,
-                                loaded_pairs=loaded,
-                                layout=lay, torque_Nm=torque_Nm)
+                                loaded_pairs=loaded, layout=lay, torque_Nm=torque_Nm, root_stress_MPa=root,
+                                flash_temperature_rise_K=flash,
+                                bulk_temperature_C=self._thermal["bulk"] if self._thermal else None)
+
+    def _flash_temperature_K(self, load, L: int, symbolic: bool):
+        """Blok flash temperature of every spring (:func:`gearopt.rating.flash_temperature.flash_temperature_blok_K`,
+        smooth |v1 - v2| of width ``sliding_smoothing_m_s``; Hertz half-width from the smooth load with a floor)."""
+        from ..rating.flash_temperature import flash_temperature_blok_K
+
+        th = self._thermal
+        like = True if symbolic else None
+        v1 = nm.matrix(np.tile(th["v1"], (1, L)), like)
+        v2 = nm.matrix(np.tile(th["v2"], (1, L)), like)
+        curv = np.tile(th["curvature"], (1, L))
+        b_h = nm.sqrt_safe(2.0 * load / np.pi * th["compliance"] / curv, 1e-12)
+        return flash_temperature_blok_K(load, b_h, v1, v2, th["friction"], th["B"][0], th["B"][1],
+                                        sliding_smoothing_m_s=th["sliding"])
 
 
 def _load_cases(torque_Nm):

@@ -149,3 +149,22 @@ def test_bad_input_is_named(crank_cam):
         LTCAModel(crank_cam).evaluate(None, -5.0)
     with pytest.raises(GearoptInputError, match="method"):
         harris_map(crank_cam, None, [100.0], method="fast")
+
+
+def test_smooth_root_stress_and_flash_temperature_converge_to_exact_and_are_differentiable(crank_cam):
+    exact = ltca(crank_cam, 300.0, microgeometry=MODS, speed_rpm=2500.0)
+    m = LTCAModel(crank_cam, root_stress=True, speed_rpm=2500.0, smoothing_um=0.01)
+    smooth = m.evaluate(MODS, 300.0)
+    np.testing.assert_allclose(smooth.max_root_stress_MPa, exact.max_root_stress_MPa, rtol=1e-3)
+    assert smooth.max_flash_temperature_C == pytest.approx(exact.max_flash_temperature_C, abs=0.1)
+    a = ca.MX.sym("a")
+    sym = m.evaluate(Microgeometry(tip_relief_um=(a, 8.0), tip_relief_start_roll_deg=(26.0, 24.0),
+                                   profile_crown_um=(1.0, 0.5)), 300.0)
+    out = ca.vertcat(ca.vec(sym.root_stress_MPa[0]), ca.vec(sym.flash_temperature_rise_K))
+    f = ca.Function("f", [a], [out, ca.jacobian(out, a)])
+    value, jac = (np.asarray(v).ravel() for v in f(10.0))
+    fd = (np.asarray(f(10.0 + 1e-5)[0]).ravel() - np.asarray(f(10.0 - 1e-5)[0]).ravel()) / 2e-5
+    assert np.all(np.isfinite(jac))
+    assert np.max(np.abs(jac - fd)) < 1e-4 * max(1.0, np.max(np.abs(fd)))
+    with pytest.raises(GearoptInputError, match="root_stress=True"):
+        LTCAModel(crank_cam).evaluate(MODS, 300.0).max_root_stress_MPa
