@@ -86,8 +86,12 @@ def contact_stage(data: dict, trains: dict, quick: bool = False) -> dict:
     """Stage 3: helical vs unmodified spur vs optimised spur for the three meshes of the thesis' chapter 4."""
     loads = data_values(data)["design_loads"]
     lub = data_values(data)["lubrication"]
+    limits = data_values(data)["design_limits"]
     options = dict(crank_speed_rpm=loads["speed_rpm"], torque_fractions=loads["torque_range_fractions"],
-                   bulk_temperature_C=lub["oil_temperature_C"], friction_coefficient=lub["mean_friction_coefficient"])
+                   bulk_temperature_C=lub["oil_temperature_C"], friction_coefficient=lub["mean_friction_coefficient"],
+                   max_root_stress_MPa=limits["max_root_stress_MPa"],
+                   max_flash_temperature_C=limits["max_contact_temperature_C"],
+                   min_loaded_contact_ratio=limits["min_loaded_contact_ratio"])
     if quick:
         options.update(positions=20, harris_points=4, helical_slices=5)
     return {mesh: mesh_contact_study(trains, mesh, loads[key], **options) for mesh, key in CONTACT_MESHES.items()}

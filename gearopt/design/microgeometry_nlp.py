@@ -84,7 +84,9 @@ def optimise_microgeometry(pair: GearPair, torque_Nm: float | Sequence[float], *
                            stiffness: Any = "iso6336", positions: int = 40,
                            smoothing_um: float = DEFAULT_SMOOTHING_UM, relief_smoothing_deg: float = 0.1,
                            polish: bool = False, starts: Any = "load_cases", seed: int = 0, initial: Microgeometry | None = None,
-                           model: LTCAModel | None = None, verbose: bool = False, **ipopt) -> MicrogeometryDesign:
+                           max_root_stress_MPa: float | None = None, max_flash_temperature_C: float | None = None,
+                           speed_rpm: float | None = None, bulk_temperature_C: float = 100.0,
+                           friction_coefficient: float = 0.06, model: LTCAModel | None = None, verbose: bool = False, **ipopt) -> MicrogeometryDesign:
     """Minimise the PPTE of ``pair`` over tip relief (amounts and starts, both gears) and profile crown.
 
     Args:
@@ -101,6 +103,10 @@ def optimise_microgeometry(pair: GearPair, torque_Nm: float | Sequence[float], *
             position crosses a start, and Ipopt needs hundreds of iterations. ``polish=True`` adds a second solve
             with sharp starts (relief_smoothing_deg = 0) from the blended optimum (slower, may stall).
         initial: starting microgeometry (default: the thesis minimum tip relief, :func:`min_tip_relief_design`).
+        max_root_stress_MPa: optional limit of the root stress of both gears at every loaded contact (the LTCA's
+            ISO 6336-3 method B at the load point).
+        max_flash_temperature_C: optional limit of the contact temperature (bulk + Blok flash); needs
+            ``speed_rpm`` (of the driving gear), ``bulk_temperature_C`` and ``friction_coefficient``.
         starts: ``"load_cases"`` (default): one solve from ``initial`` and one from the minimum tip relief at each
             further load case; an integer n: n starts in total, Latin-hypercube points (``seed``) after those. The
             best optimum is returned; ``design.starts`` tables every start (status, objective, iterations).
@@ -118,8 +124,14 @@ def optimise_microgeometry(pair: GearPair, torque_Nm: float | Sequence[float], *
         raise GearoptInputError(f"aggregate={aggregate!r} must be 'max' or 'mean'")
     check_range("min_loaded_contact_ratio", min_loaded_contact_ratio, 0.0, 3.0)
     g = pair.geometry()
+    if max_flash_temperature_C is not None and speed_rpm is None:
+        raise GearoptInputError("max_flash_temperature_C needs speed_rpm (of the driving gear)")
     model = model or LTCAModel(pair, driving_gear=driving_gear, stiffness=stiffness, positions=positions,
-                               smoothing_um=smoothing_um)
+                               smoothing_um=smoothing_um, root_stress=max_root_stress_MPa is not None,
+                               speed_rpm=speed_rpm if max_flash_temperature_C is not None else None,
+                               bulk_temperature_C=bulk_temperature_C, friction_coefficient=friction_coefficient)
+    if max_root_stress_MPa is not None and not model.root_stress:
+        raise GearoptInputError("max_root_stress_MPa needs a model built with root_stress=True")
     exact_opts = dict(driving_gear=driving_gear, stiffness=model.layout.stiffness, positions=model.layout.positions,
                       slices=model.layout.slices)
     unmodified = {t: ltca(pair, t, **exact_opts) for t in torques}
@@ -132,7 +144,8 @@ def optimise_microgeometry(pair: GearPair, torque_Nm: float | Sequence[float], *
     spec = dict(pair=pair, model=model, torques=torques, groups=tuple(groups), relief_shape=relief_shape,
                 aggregate=aggregate, max_contact_stress_MPa=float(max_contact_stress_MPa),
                 min_loaded_contact_ratio=min_loaded_contact_ratio, max_tip_relief_um=max_tip_relief_um,
-                max_profile_crown_um=max_profile_crown_um, start_margin_deg=start_margin_deg, exact_opts=exact_opts)
+                max_profile_crown_um=max_profile_crown_um, start_margin_deg=start_margin_deg, exact_opts=exact_opts,
+                max_root_stress_MPa=max_root_stress_MPa, max_flash_temperature_C=max_flash_temperature_C)
     candidates = _starting_points(pair, torques, driving_gear, start, starts, spec, seed)
     records, best = [], None
     for origin, guess in candidates:
@@ -244,6 +257,18 @@ def _build_problem(spec: dict, start: Microgeometry, relief_smoothing_deg: float
                  scale=limit ** 2 / 100.0, unit="MPa^2")
     p.subject_to("loaded_contact_ratio", res.loaded_contact_ratio, lower=spec["min_loaded_contact_ratio"],
                  scale=0.1)
+    if spec.get("max_root_stress_MPa") is not None:
+        lim = spec["max_root_stress_MPa"]
+        for g in (0, 1):
+            p.subject_to(f"root_stress_{g + 1}", _select(res.root_stress_MPa[g], on_path), upper=lim,
+                         scale=lim / 100.0, unit="MPa")
+    if spec.get("max_flash_temperature_C") is not None:
+        lim = spec["max_flash_temperature_C"] - res.bulk_temperature_C
+        if lim <= 0:
+            raise GearoptInputError(f"max_flash_temperature_C={spec['max_flash_temperature_C']:g} C is not above "
+                                    f"the bulk temperature {res.bulk_temperature_C:g} C")
+        p.subject_to("flash_temperature_rise", _select(res.flash_temperature_rise_K, on_path), upper=lim,
+                     scale=max(lim / 10.0, 1.0), unit="K")
     return p, values
 
 

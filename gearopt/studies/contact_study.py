@@ -86,7 +86,9 @@ def mesh_contact_study(trains: dict[str, GearTrain], mesh: str, torque_Nm: float
     t0 = time.perf_counter()
     torques = [torque_Nm * f for f in torque_fractions]
     torques = [torque_Nm] + [t for t in torques if t != torque_Nm]   # the design torque first
-    opt = optimise_microgeometry(spur, torques, driving_gear=driving_gear, positions=positions, **nlp_options)
+    opt = optimise_microgeometry(spur, torques, driving_gear=driving_gear, positions=positions, speed_rpm=speed,
+                                 bulk_temperature_C=bulk_temperature_C, friction_coefficient=friction_coefficient,
+                                 **nlp_options)
     times["microgeometry_nlp_s"] = time.perf_counter() - t0
     results["spur_optimised"] = ltca(spur, torque_Nm, microgeometry=opt.microgeometry, **common)
     t0 = time.perf_counter()

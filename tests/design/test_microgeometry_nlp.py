@@ -98,3 +98,19 @@ def test_multistart_returns_the_best_start_and_tables_every_start(crank_cam):
     assert d.solve.objective == pytest.approx(d.starts.objective_um.min())
     with pytest.raises(GearoptInputError, match="starts"):
         optimise_microgeometry(crank_cam, [150.0, 300.0, 450.0], starts=0)
+
+
+def test_root_stress_and_temperature_limits_are_constraints_and_infeasibility_is_named(crank_cam):
+    d = optimise_microgeometry(crank_cam, [300.0, 450.0], max_root_stress_MPa=300.0, max_flash_temperature_C=135.0,
+                               speed_rpm=2500.0)
+    names = set(d.solve.constraints["base"])
+    assert {"root_stress_1", "root_stress_2", "flash_temperature_rise"} <= names
+    for t in (300.0, 450.0):
+        r = ltca(crank_cam, t, microgeometry=d.microgeometry, speed_rpm=2500.0)
+        assert max(r.max_root_stress_MPa) <= 300.0 * 1.01 and r.max_flash_temperature_C <= 135.5
+    # at 450 N m the unmodified root stress of gear 2 is ~284 MPa: a 260 MPa limit cannot be met
+    with pytest.raises(SolveError) as info:
+        optimise_microgeometry(crank_cam, [300.0, 450.0], max_root_stress_MPa=260.0, starts=1)
+    assert "root_stress" in str(info.value)
+    with pytest.raises(GearoptInputError, match="speed_rpm"):
+        optimise_microgeometry(crank_cam, 300.0, max_flash_temperature_C=130.0)
