@@ -12,3 +12,6 @@ from .contact import LTCAModel, Microgeometry, harris_map, iso6336_stiffness, lt
 from .rating import (contact_stress_iso6336, flash_temperature_blok_K, lewis_bending_stress_MPa, lewis_form_factor,
                      material, root_stress_at_load_point, root_stress_iso6336)
 from .engine import AccessoryTorque, CylinderPressure, EngineExcitation, crank_torque, peak_pressure_bar, slider_crank
+from .joints import (bolt_preload_N, fit_interference_um, joint_margins, press_fit, quasi_static_mesh_torques_Nm,
+                     taper_fit, walk_off)
+from .blank import GearBlank, web_fatigue, web_stress

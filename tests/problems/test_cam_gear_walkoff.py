@@ -75,3 +75,18 @@ def test_rating_tables_for_both_trains(run):
         assert set(rated) == {"crank-cam", "cam-ac", "cam-fp", "crank-lpi", "lpi-lpg"}
         assert all(r["S_H"] > 1.0 and r["S_F_1"] > 1.0 and r["S_F_2"] > 1.0 for r in rated.values())
     assert (run / "rating_spur.csv").stat().st_size > 200
+
+
+def test_joint_margins_for_both_trains(run):
+    joints = json.loads((run / "result.json").read_text())["joints"]
+    assert {"crank", "cam", "ac", "fp"} <= set(joints)
+    for gear in ("crank", "cam", "ac", "fp"):
+        for kind in ("helical", "spur"):
+            for case in ("nominal", "weakest"):
+                assert joints[gear][kind][case]["torque_capacity_Nm"] > 0
+        # a spur gear has no thrust (margin inf); the helical cam gear has a finite axial margin
+        assert joints[gear]["spur"]["nominal"]["axial_margin"] == "inf"
+    assert isinstance(joints["cam"]["helical"]["nominal"]["axial_margin"], float)
+    # the weakest fit holds less than the nominal one
+    assert joints["crank"]["helical"]["weakest"]["torque_capacity_Nm"] < \
+        joints["crank"]["helical"]["nominal"]["torque_capacity_Nm"]
