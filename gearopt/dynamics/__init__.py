@@ -1,0 +1,22 @@
+"""Torsional dynamics of gear trains: network builder, gear-mesh force with time-varying stiffness and backlash,
+CasADi time integration with periodic steady state, linear analysis (modes, Campbell, forced response), the
+packaged default timing-system model, speed sweeps and sensitivities through the integrator.
+
+Modules: :mod:`~gearopt.dynamics.mesh` (mesh force, stiffness shape, axial force), :mod:`~gearopt.dynamics.network`
+(:class:`TorsionalNetwork`), :mod:`~gearopt.dynamics.simulate` (:class:`Simulator`, :class:`Simulation`),
+:mod:`~gearopt.dynamics.modes` (linear analysis), :mod:`~gearopt.dynamics.default_model`
+(:func:`default_timing_model`).
+"""
+
+from .default_model import TimingModel, default_timing_model
+from .mesh import MeshStiffnessShape, axial_force_N, contact_line_length_ratio, mesh_force, restitution_coefficient
+from .modes import campbell_diagram, damped_modes, forced_response, linear_matrices, mode_shapes, natural_frequencies_Hz
+from .network import TorsionalNetwork
+from .simulate import INTEGRATORS, Simulation, Simulator, simulate
+
+__all__ = [
+    "TorsionalNetwork", "MeshStiffnessShape", "mesh_force", "axial_force_N", "contact_line_length_ratio",
+    "restitution_coefficient", "Simulator", "Simulation", "simulate", "INTEGRATORS", "linear_matrices",
+    "natural_frequencies_Hz", "mode_shapes", "damped_modes", "campbell_diagram", "forced_response",
+    "default_timing_model", "TimingModel",
+]

@@ -1,0 +1,362 @@
+"""Time integration of a torsional network with a CasADi integrator, built once per network structure.
+
+:class:`Simulator` wraps one CasADi integrator over one excitation cycle (``network.cycle_deg`` of the reference
+node, e.g. 720 deg of crank angle) with every numeric property of the network as an integrator *parameter*
+(:meth:`TorsionalNetwork.parameters`: speed, angle offset, mesh stiffness/damping/backlash, shaft stiffness/damping,
+torque parameters). A simulation chains cycle integrations (each starts where the last ended, with the angle
+offset as a parameter), so any number of cycles, any speed and any parameter values re-use the same integrator.
+
+Integrators: ``"cvodes"`` (default; SUNDIALS BDF with error control, ``rtol``/``atol``), ``"idas"`` (SUNDIALS DAE
+solver on the same ODE), and the fixed-step ``"collocation"`` and ``"rk"``, whose ``number_of_finite_elements``
+counts steps over the whole cycle horizon (at least one per output interval): the step is set here in degrees
+(``fixed_step_deg``). Each option is checked against CVODES in the tests.
+
+Impacts: the lash model is smooth (dead zone of width ``w``, :mod:`gearopt.dynamics.mesh`), so the integrator's
+error control sees every contact change it steps into. To make sure it cannot step *over* a whole contact, the
+step of the lash model is limited to ``1/omega_c`` (a third of the contact duration ``pi/omega_c``),
+``omega_c = sqrt(k_max/m_eq)`` the fastest mesh mode of two gears, at the lowest speed the simulator is built for
+(``min_speed_rpm``; at higher speeds the limit is stricter in time than needed, since the independent variable is
+the crank angle): every contact then contains step ends, where the error test applies. (Steps of about one
+contact duration were also seen to let CVODES' corrector diverge on entering a stiff contact.) Contact
+changes are counted twice: from the sampled outputs (``*_sampled``) and from integrated total variations of the
+smooth contact indicators (quadratures, independent of the output grid); the two agree when the output grid
+resolves the contacts (reported in :meth:`Simulation.contact_summary`).
+
+Periodic steady state: run-in cycles until the cycle-to-cycle change of the mesh forces and shaft torques (maximum
+difference between consecutive cycles divided by the peak magnitude) falls below ``steady_state_tol``; the changes
+of every cycle are reported.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+
+import casadi as ca
+import numpy as np
+import pandas as pd
+
+from ..errors import GearoptInputError, check_range
+from .network import ANGLE_UNIT_RAD, OFFSET_PARAMETER, TorsionalNetwork
+
+INTEGRATORS = ("cvodes", "idas", "collocation", "rk")
+#: Quantities of the output DataFrames (one column per element).
+_QUANTITIES = ("mesh_force_N", "drive_force_N", "back_force_N", "transmission_error_um", "mesh_stiffness_N_per_m",
+               "drive_contact", "back_contact", "axial_force_N", "shaft_torque_Nm", "external_torque_Nm",
+               "boundary_torque_Nm")
+
+
+@dataclass
+class Simulation:
+    """Result of :meth:`Simulator.run`: time series as DataFrames (index ``time_s``, one column per element).
+
+    ``mesh_force_N`` signed force along the line of action (drive flanks positive), ``drive_force_N`` /
+    ``back_force_N`` flank forces, ``transmission_error_um`` dynamic transmission error delta along the line of
+    action, ``mesh_stiffness_N_per_m`` k(psi), ``drive_contact``/``back_contact`` smooth contact indicators,
+    ``axial_force_N`` F_bt tan(beta_b) (helical meshes), ``shaft_torque_Nm`` in each shaft's sense of rotation,
+    ``external_torque_Nm`` in each node's own sense, ``boundary_torque_Nm`` reaction torques of the speed boundary,
+    ``node_angle_mrad`` angle deviations, ``node_speed_rpm`` absolute speeds. ``time_s`` and ``crank_angle_deg``
+    (reference-node angle) arrays; ``cycle_change`` per simulated cycle (run-in first); ``contact_variation``
+    integrated contact-indicator variations per mesh; ``stats`` run time and integrator counters.
+    """
+
+    speed_rpm: float
+    backlash: bool
+    time_s: np.ndarray
+    crank_angle_deg: np.ndarray
+    frames: dict
+    contact_variation: pd.DataFrame
+    cycle_change: list
+    run_in_cycles: int
+    steady_state_tol: float | None
+    final_state: np.ndarray
+    stats: dict = field(default_factory=dict)
+    parameters: dict = field(default_factory=dict)
+
+    def __getattr__(self, name):
+        frames = self.__dict__.get("frames", {})
+        if name in frames:
+            return frames[name]
+        raise AttributeError(name)
+
+    @property
+    def converged(self) -> bool:
+        """True if a steady-state tolerance was given and the last cycle change is below it."""
+        return self.steady_state_tol is not None and bool(self.cycle_change) and \
+            self.cycle_change[-1] < self.steady_state_tol
+
+    def contact_summary(self) -> pd.DataFrame:
+        """Per mesh: contact changes counted on the output samples and from the integrated indicator variation.
+
+        ``drive_separations_sampled`` (drive-contact indicator falling through 0.5), ``back_impacts_sampled``
+        (back-contact indicator rising through 0.5), and the integrated equivalents ``drive_separations_integrated``
+        = total variation of the drive indicator / 2 and ``back_impacts_integrated`` = that of the back indicator / 2
+        (over the recorded cycles; fractional when a contact starts or ends mid-way). ``integrated - sampled`` well
+        above 0.5 means the output grid is too coarse to show every contact change (the integration itself is not
+        affected)."""
+        rows = []
+        for mesh in self.frames["mesh_force_N"].columns:
+            d = self.frames["drive_contact"][mesh].to_numpy()
+            b = self.frames["back_contact"][mesh].to_numpy()
+            row = {"mesh": mesh,
+                   "drive_separations_sampled": int(np.sum((d[:-1] >= 0.5) & (d[1:] < 0.5))),
+                   "back_impacts_sampled": int(np.sum((b[:-1] < 0.5) & (b[1:] >= 0.5)))}
+            if mesh in self.contact_variation.index:
+                row["drive_separations_integrated"] = float(self.contact_variation.loc[mesh, "drive"] / 2.0)
+                row["back_impacts_integrated"] = float(self.contact_variation.loc[mesh, "back"] / 2.0)
+            rows.append(row)
+        return pd.DataFrame(rows).set_index("mesh")
+
+    def summary(self) -> pd.DataFrame:
+        """Per mesh over the recorded cycles: peak drive/back flank force [N], mean, RMS and minimum of the signed
+        force [N], peak |axial force| [N], peak-to-peak TE [um], and the contact counts of :meth:`contact_summary`."""
+        f = self.frames
+        out = pd.DataFrame({
+            "peak_drive_force_N": f["drive_force_N"].max(),
+            "peak_back_force_N": f["back_force_N"].max(),
+            "mean_force_N": f["mesh_force_N"].mean(),
+            "rms_force_N": np.sqrt((f["mesh_force_N"] ** 2).mean()),
+            "min_force_N": f["mesh_force_N"].min(),
+            "peak_axial_force_N": f["axial_force_N"].abs().max(),
+            "te_peak_to_peak_um": f["transmission_error_um"].max() - f["transmission_error_um"].min(),
+        })
+        out.index.name = "mesh"
+        return out.join(self.contact_summary())
+
+
+class Simulator:
+    """One CasADi integrator for a network structure (module docstring), re-used for any speed and parameters.
+
+    Arguments: ``lash`` (smooth dead-zone meshes; False: linear meshes), ``method`` (one of ``INTEGRATORS``),
+    ``rtol``/``atol`` (CVODES/IDAS tolerances; states are angle deviations in mrad and speed deviations in rad/s;
+    default ``atol = 0.1 rtol``), ``output_step_deg`` (output grid in reference-node degrees; must divide the cycle),
+    ``max_step_deg`` (step limit of CVODES/IDAS; default for the lash model from the contact half-periods at
+    ``min_speed_rpm``, see the module docstring; none for linear meshes), ``fixed_step_deg`` (collocation/rk step),
+    ``options`` (extra CasADi integrator options), ``jit`` (compile the
+    equations and outputs with the system C compiler: about 1-3 s to build, 3-5x faster to run),
+    ``external_torques`` (also record the external torques, which re-evaluates the excitation at every output).
+    """
+
+    def __init__(self, network: TorsionalNetwork, *, lash: bool = True, method: str = "cvodes", rtol: float = 1e-6,
+                 atol: float | None = None, output_step_deg: float = 0.25, max_step_deg: float | None = None,
+                 min_speed_rpm: float = 700.0, fixed_step_deg: float = 0.02, options: dict | None = None,
+                 jit: bool = False, external_torques: bool = False):
+        if method not in INTEGRATORS:
+            raise GearoptInputError(f"method={method!r} must be one of {INTEGRATORS}")
+        check_range("rtol", rtol, 0.0, 1e-2, low_inclusive=False)
+        atol = 0.1 * rtol if atol is None else atol
+        check_range("atol", atol, 0.0, None, low_inclusive=False)
+        check_range("output_step_deg", output_step_deg, 0.0, None, low_inclusive=False, unit="deg")
+        check_range("min_speed_rpm", min_speed_rpm, 0.0, None, low_inclusive=False, unit="rpm")
+        check_range("fixed_step_deg", fixed_step_deg, 0.0, None, low_inclusive=False, unit="deg")
+        n_out = network.cycle_deg / output_step_deg
+        if abs(n_out - round(n_out)) > 1e-9 * n_out:
+            raise GearoptInputError(f"output_step_deg={output_step_deg} must divide cycle_deg={network.cycle_deg}")
+        self.network = network
+        self.lash = bool(lash)
+        self.method = method
+        self.rtol, self.atol = float(rtol), float(atol)
+        self.min_speed_rpm = float(min_speed_rpm)
+        self.output_step_deg = float(output_step_deg)
+        self.n_out = int(round(n_out))
+        self.eq = network.equations(lash=self.lash)
+        self.max_step_deg = self._default_max_step_deg() if max_step_deg is None else float(max_step_deg)
+        if self.max_step_deg is not None:
+            check_range("max_step_deg", self.max_step_deg, 0.0, None, low_inclusive=False, unit="deg")
+        self.grid_rad = np.radians(self.output_step_deg * np.arange(1, self.n_out + 1))
+        cycle_rad = math.radians(network.cycle_deg)
+        ode = ca.Function("ode", [self.eq.tau, self.eq.x, self.eq.p], [self.eq.rhs, self.eq.quad], {"cse": True})
+        rhs, quad = ode(self.eq.tau, self.eq.x, self.eq.p)  # common subexpressions eliminated once
+        dae = {"x": self.eq.x, "p": self.eq.p, "t": self.eq.tau, "ode": rhs}
+        if self.eq.quad.numel():
+            dae["quad"] = quad
+        opts = {}
+        if method in ("cvodes", "idas"):
+            opts.update({"reltol": self.rtol, "abstol": self.atol, "max_num_steps": 10 ** 7})
+            if self.max_step_deg is not None:
+                opts["max_step_size"] = math.radians(self.max_step_deg)
+        else:
+            opts["number_of_finite_elements"] = max(self.n_out, int(math.ceil(network.cycle_deg / fixed_step_deg)))
+        jit_opts = {"jit": True, "compiler": "shell", "jit_options": {"flags": ["-O2"], "verbose": False}}
+        if jit:
+            opts.update(jit_opts)
+        opts.update(options or {})
+        self.options = opts
+        t0 = time.perf_counter()
+        self.integrator = ca.integrator("torsional_cycle", method, dae, 0.0, self.grid_rad, opts)
+        names = self.eq.output_names
+        keep = [i for i, (q, _) in enumerate(names) if external_torques or q != "external_torque_Nm"]
+        self.output_names = [names[i] for i in keep]
+        fopts = dict({"cse": True}, **(jit_opts if jit else {}))
+        self.output_function = ca.Function("outputs", [self.eq.tau, self.eq.x, self.eq.p],
+                                           [self.eq.outputs[keep]], fopts).map(self.n_out)
+        check = [i for i, (q, _) in enumerate(names) if q in ("mesh_force_N", "shaft_torque_Nm")]
+        self.check_function = ca.Function("check", [self.eq.tau, self.eq.x, self.eq.p],
+                                          [self.eq.outputs[check]], {"cse": True}).map(self.n_out)
+        self.build_time_s = time.perf_counter() - t0
+        self.cycle_rad = cycle_rad
+
+    # ------------------------------------------------------------------------------------------------------------
+
+    def _default_max_step_deg(self) -> float | None:
+        """``1/omega_c`` of the fastest mesh contact at ``min_speed_rpm``, in reference degrees (lash model only;
+        ``None`` = no limit for linear meshes)."""
+        net = self.network
+        if not net.meshes or not self.lash:
+            return None
+        f_max = 0.0
+        for m in net.meshes.values():
+            j1, j2 = net.inertias[m.gear_1].inertia_kgm2, net.inertias[m.gear_2].inertia_kgm2
+            r1, r2 = (r * 1e-3 for r in m.base_radii_mm)
+            m_eq = 1.0 / (r1 * r1 / j1 + r2 * r2 / j2)
+            k_max = m.stiffness_N_per_m * (1.0 + abs(m.stiffness_variation) * _shape_peak(m.stiffness_shape))
+            f_max = max(f_max, math.sqrt(k_max / m_eq) / (2.0 * math.pi))
+        omega_min = self.min_speed_rpm * math.pi / 30.0
+        return math.degrees(omega_min / (2.0 * math.pi * f_max))
+
+    def parameter_vector(self, speed_rpm: float, parameters: dict | None = None) -> np.ndarray:
+        return self.network.parameter_vector(speed_rpm, parameters)
+
+    def static_state(self, speed_rpm: float, parameters: dict | None = None) -> np.ndarray:
+        """Initial state: the linear static deflection under the cycle-mean external torques (speed boundary held),
+        zero speed deviations. Zero for a network without speed boundary (its static problem is singular)."""
+        n = len(self.eq.free_nodes)
+        x0 = np.zeros(2 * n)
+        if not self.network.boundary_nodes:
+            return x0
+        pvec = self.parameter_vector(speed_rpm, parameters)
+        samples = 720
+        tau = np.linspace(0.0, self.cycle_rad, samples, endpoint=False)
+        torques = np.array(self.eq.nominal_torques.map(samples)(tau[None, :], np.repeat(pvec[:, None], samples, 1)))
+        mats = self.network.linear_matrices(parameters=parameters, speed_rpm=speed_rpm)
+        # least squares: a node coupled only viscously (damper ring) has no static stiffness; it starts at zero
+        x0[:n] = np.linalg.lstsq(mats["K"], torques.mean(axis=1), rcond=None)[0] / ANGLE_UNIT_RAD
+        return x0
+
+    def run(self, speed_rpm: float, cycles: int = 10, *, parameters: dict | None = None, x0=None,
+            run_in_cycles: int = 0, steady_state_tol: float | None = None, max_run_in_cycles: int = 60) -> Simulation:
+        """Simulate ``cycles`` recorded cycles at ``speed_rpm`` [rpm] of the reference node.
+
+        ``parameters``: overrides of the network parameters; ``x0``: initial state (default :meth:`static_state`);
+        ``run_in_cycles``: cycles integrated before recording; with ``steady_state_tol`` the run-in continues until
+        the cycle-to-cycle change (module docstring) is below it (at most ``max_run_in_cycles``). Raises
+        ``GearoptInputError`` below ``min_speed_rpm`` (the impact step limit would not hold).
+        """
+        check_range("speed_rpm", speed_rpm, self.min_speed_rpm, None, unit="rpm")
+        check_range("cycles", cycles, 1, None)
+        check_range("run_in_cycles", run_in_cycles, 0, None)
+        if steady_state_tol is not None:
+            check_range("steady_state_tol", steady_state_tol, 0.0, None, low_inclusive=False)
+        t_start = time.perf_counter()
+        pvec = self.parameter_vector(speed_rpm, parameters)
+        i_off = self.eq.parameter_names.index(OFFSET_PARAMETER)
+        x = self.static_state(speed_rpm, parameters) if x0 is None else np.asarray(x0, dtype=float).reshape(-1)
+        if x.size != self.eq.x.numel():
+            raise GearoptInputError(f"x0 has {x.size} entries, the network has {self.eq.x.numel()} states")
+        changes, recorded, quads, previous = [], [], [], None
+        cycle, run_in_done = 0, 0
+        nsteps, t_loop = [], time.perf_counter()
+        recording = False
+        while True:
+            recording = recording or (run_in_done >= run_in_cycles and (
+                steady_state_tol is None or (bool(changes) and changes[-1] < steady_state_tol)
+                or run_in_done >= max_run_in_cycles))
+            if recording and len(recorded) >= cycles:
+                break
+            p = pvec.copy()
+            p[i_off] = cycle * self.cycle_rad
+            res = self.integrator(x0=x, p=p)
+            xs = np.array(res["xf"])
+            stats = self.integrator.stats()
+            nsteps.append(stats.get("nsteps", stats.get("n_step", 0)))
+            check = np.array(self.check_function(self.grid_rad[None, :], xs, np.repeat(p[:, None], self.n_out, 1)))
+            if previous is not None and check.size:
+                scale = max(float(np.max(np.abs(check))), 1e-9)
+                changes.append(float(np.max(np.abs(check - previous)) / scale))
+            elif check.size:
+                changes.append(float("nan"))
+            previous = check
+            if recording:
+                recorded.append((cycle, xs, p))
+                if self.eq.quad.numel():
+                    quads.append(np.array(res["qf"])[:, -1])
+            else:
+                run_in_done += 1
+            x = xs[:, -1]
+            cycle += 1
+            if not math.isfinite(float(np.max(np.abs(x)))):
+                raise GearoptInputError(f"simulation diverged at cycle {cycle} (speed {speed_rpm} rpm): check the "
+                                        f"parameters (negative stiffness? unbounded free system?)")
+        stats = {"integration_time_s": time.perf_counter() - t_loop, "cycles_integrated": cycle,
+                 "steps_per_cycle": nsteps, "build_time_s": self.build_time_s, "method": self.method,
+                 "rtol": self.rtol, "atol": self.atol, "max_step_deg": self.max_step_deg}
+        result = self._result(speed_rpm, pvec, recorded, quads, changes, run_in_done, steady_state_tol, x, stats)
+        stats["run_time_s"] = time.perf_counter() - t_start  # static state + integration + outputs
+        return result
+
+    def _result(self, speed_rpm, pvec, recorded, quads, changes, run_in, tol, x_final, stats) -> Simulation:
+        omega = speed_rpm * math.pi / 30.0
+        tau = np.concatenate([c * self.cycle_rad + self.grid_rad for c, _, _ in recorded])
+        tau = tau - recorded[0][0] * self.cycle_rad  # recorded time starts at 0
+        xs = np.concatenate([x for _, x, _ in recorded], axis=1)
+        outs = np.concatenate([np.array(self.output_function(self.grid_rad[None, :], x, np.repeat(p[:, None],
+                                                                                              self.n_out, 1)))
+                               for _, x, p in recorded], axis=1)
+        time_s = tau / omega
+        index = pd.Index(time_s, name="time_s")
+        frames = {q: {} for q in _QUANTITIES}
+        for i, (q, element) in enumerate(self.output_names):
+            frames[q][element] = outs[i]
+        frames = {q: pd.DataFrame(cols, index=index) for q, cols in frames.items()}
+        free = self.eq.free_nodes
+        n = len(free)
+        ratios = self.network.speed_ratios()
+        frames["node_angle_mrad"] = pd.DataFrame({nd: xs[i] for i, nd in enumerate(free)}, index=index)
+        frames["node_speed_rpm"] = pd.DataFrame(
+            {nd: (ratios[nd] * omega + xs[n + i]) * 30.0 / math.pi for i, nd in enumerate(free)}, index=index)
+        if quads:
+            total = np.sum(quads, axis=0)
+            tv = {}
+            for value, (kind, mesh) in zip(total, self.eq.quad_names):
+                tv.setdefault(mesh, {})[kind.split("_")[0]] = float(value)
+            variation = pd.DataFrame.from_dict(tv, orient="index")
+        else:
+            variation = pd.DataFrame(columns=["drive", "back"])
+        names = self.eq.parameter_names
+        return Simulation(speed_rpm=float(speed_rpm), backlash=self.lash, time_s=time_s,
+                          crank_angle_deg=np.degrees(tau), frames=frames, contact_variation=variation,
+                          cycle_change=changes, run_in_cycles=run_in, steady_state_tol=tol, final_state=x_final,
+                          stats=stats, parameters=dict(zip(names, pvec.tolist())))
+
+
+def _shape_peak(shape) -> float:
+    """Largest |v(psi)| of a stiffness shape (1 for a user callable, whose factor is used as given)."""
+    from .mesh import MeshStiffnessShape
+    if isinstance(shape, MeshStiffnessShape):
+        psi = np.linspace(0.0, 2.0 * np.pi, 1024, endpoint=False)
+        return float(np.max(np.abs(shape.variation(psi)))) if shape.harmonics else 0.0
+    psi = np.linspace(0.0, 2.0 * np.pi, 1024, endpoint=False)
+    return float(np.max(np.abs(np.array([float(shape(v)) for v in psi]) - 1.0)))
+
+
+def simulator(network: TorsionalNetwork, **options) -> Simulator:
+    """The network's cached :class:`Simulator` for these options (built on first use)."""
+    key = ("simulator",) + tuple(sorted((k, repr(v)) for k, v in options.items()))
+    cache = network._cache
+    if key not in cache:
+        cache[key] = Simulator(network, **options)
+    return cache[key]
+
+
+def simulate(network: TorsionalNetwork, speed_rpm: float, cycles: int = 10, *, backlash: bool = True,
+             rtol: float = 1e-6, parameters: dict | None = None, run_in_cycles: int = 0,
+             steady_state_tol: float | None = None, x0=None, **options) -> Simulation:
+    """Simulate a network (cached :class:`Simulator` with ``lash=backlash``, ``rtol`` and ``options``; see
+    :meth:`Simulator.run` for the rest)."""
+    sim = simulator(network, lash=backlash, rtol=rtol, **options)
+    return sim.run(speed_rpm, cycles, parameters=parameters, x0=x0, run_in_cycles=run_in_cycles,
+                   steady_state_tol=steady_state_tol)
+
+
+__all__ = ["INTEGRATORS", "Simulation", "Simulator", "simulator", "simulate"]
