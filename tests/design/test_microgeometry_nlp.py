@@ -36,9 +36,12 @@ def test_limits_hold_on_the_exact_ltca(design):
         assert v >= 0.0, k
 
 
-def test_nlp_objective_equals_exact_ppte_of_the_optimum(design):
-    # the blended relief is part of the design, so only the contact smoothing (0.05 um) separates the two
-    assert design.solve.objective == pytest.approx(design.ppte_um, abs=2 * 0.05 * np.log(2) + 1e-3)
+def test_nlp_objective_equals_exact_ppte_of_the_optimum(crank_cam, design):
+    # the blended relief is part of the design, so at the NLP's own 40 positions only the contact smoothing
+    # (0.05 um) separates the two; the converged check (640 positions) sees the TE between the samples too
+    sampled = ltca(crank_cam, 300.0, microgeometry=design.microgeometry, positions=40).ppte_um
+    assert design.solve.objective == pytest.approx(sampled, abs=2 * 0.05 * np.log(2) + 1e-3)
+    assert sampled <= design.ppte_um < sampled + 0.5
 
 
 def test_no_better_point_on_a_local_grid(crank_cam, design):
