@@ -69,13 +69,14 @@ def _summary_row(design: str, r: LTCAResult) -> dict[str, Any]:
 
 def mesh_contact_study(trains: dict[str, GearTrain], mesh: str, torque_Nm: float, *, crank_speed_rpm: float,
                        torque_fractions: Sequence[float] = (0.5, 1.0, 1.5), driving_gear: int = 1,
-                       positions: int = 640, nlp_positions: int = 40, helical_slices: int = 11,
+                       positions: int | None = None, nlp_positions: int = 40, helical_slices: int | None = None,
                        harris_points: int = 9,
                        bulk_temperature_C: float = 100.0, friction_coefficient: float = 0.06,
                        **nlp_options: Any) -> MeshContactStudy:
     """The three-design comparison of ``mesh`` (a key of both trains' ``pairs``) at ``torque_Nm`` on its driving
-    gear; ``crank_speed_rpm`` sets every gear's speed through the train's speed ratios. ``positions``: mesh
-    positions of every exact LTCA (converged resolution); ``nlp_positions``: those the microgeometry NLP samples."""
+    gear; ``crank_speed_rpm`` sets every gear's speed through the train's speed ratios. ``positions`` and
+    ``helical_slices``: resolution of every exact LTCA (None: the converged defaults of :func:`ltca`);
+    ``nlp_positions``: the positions the microgeometry NLP samples."""
     times: dict[str, float] = {}
     spur, helical = trains["spur"].pairs[mesh], trains["helical"].pairs[mesh]
     speed = _driver_speed_rpm(trains["spur"], mesh, crank_speed_rpm, driving_gear)
@@ -89,7 +90,7 @@ def mesh_contact_study(trains: dict[str, GearTrain], mesh: str, torque_Nm: float
     torques = [torque_Nm * f for f in torque_fractions]
     torques = [torque_Nm] + [t for t in torques if t != torque_Nm]   # the design torque first
     opt = optimise_microgeometry(spur, torques, driving_gear=driving_gear, positions=nlp_positions,
-                                 check_positions=positions, speed_rpm=speed,
+                                 check_positions=positions or 1280, speed_rpm=speed,
                                  bulk_temperature_C=bulk_temperature_C, friction_coefficient=friction_coefficient,
                                  **nlp_options)
     times["microgeometry_nlp_s"] = time.perf_counter() - t0

@@ -53,7 +53,7 @@ def test_smooth_te_converges_to_exact_within_w_ln2(spur, width):
 
 
 def test_smooth_error_shrinks_with_width(crank_cam):
-    exact = ltca(crank_cam, 300.0, microgeometry=MODS)
+    exact = ltca(crank_cam, 300.0, microgeometry=MODS, positions=40)
     errs = [abs(LTCAModel(crank_cam, smoothing_um=w).evaluate(MODS, 300.0).ppte_um - exact.ppte_um)
             for w in (1.0, 0.3, 0.1)]
     assert errs[0] > errs[1] > errs[2] or errs[2] < 1e-6
@@ -125,8 +125,8 @@ def test_numeric_evaluation_of_symbolic_model_equals_numeric_call(crank_cam):
 
 def test_harris_map_exact_and_smooth_agree(crank_cam):
     torques = np.linspace(100.0, 500.0, 5)
-    exact = harris_map(crank_cam, MODS, torques)
-    smooth = harris_map(crank_cam, MODS, torques, method="smooth", smoothing_um=0.01)
+    exact = harris_map(crank_cam, MODS, torques, positions=40)
+    smooth = harris_map(crank_cam, MODS, torques, method="smooth", smoothing_um=0.01, positions=40)
     np.testing.assert_allclose(smooth["ppte_um"], exact["ppte_um"], atol=2 * 0.01 * math.log(2))
     np.testing.assert_allclose(smooth["max_contact_stress_MPa"], exact["max_contact_stress_MPa"], rtol=1e-3)
 
@@ -152,7 +152,7 @@ def test_bad_input_is_named(crank_cam):
 
 
 def test_smooth_root_stress_and_flash_temperature_converge_to_exact_and_are_differentiable(crank_cam):
-    exact = ltca(crank_cam, 300.0, microgeometry=MODS, speed_rpm=2500.0)
+    exact = ltca(crank_cam, 300.0, microgeometry=MODS, speed_rpm=2500.0, positions=40)
     m = LTCAModel(crank_cam, root_stress=True, speed_rpm=2500.0, smoothing_um=0.01)
     smooth = m.evaluate(MODS, 300.0)
     np.testing.assert_allclose(smooth.max_root_stress_MPa, exact.max_root_stress_MPa, rtol=1e-3)
