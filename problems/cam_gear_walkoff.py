@@ -153,6 +153,9 @@ def write_contact(out: Path, studies: dict) -> tuple[list[str], dict]:
         fig_te = figs.save(figs.plot_transmission_error(
             {d: st.ltca[d] for d in DESIGNS}, title=f"{mesh}: static TE at {st.torque_Nm:g} N m"),
             out / "figures" / f"te_{tag}.png")
+        fig_tt = figs.save(figs.plot_transmission_error(
+            {f"{t:g} N m": r for t, r in sorted(opt.exact["optimised"].items())},
+            title=f"{mesh}: optimised spur, static TE at the load cases"), out / "figures" / f"te_torques_{tag}.png")
         fig_h = figs.save(figs.plot_harris_map(st.harris, title=f"{mesh}: Harris map"),
                           out / "figures" / f"harris_{tag}.png")
         fig_maps = figs.save(figs.plot_flank_grid({d: st.ltca[d] for d in DESIGNS},
@@ -170,7 +173,8 @@ def write_contact(out: Path, studies: dict) -> tuple[list[str], dict]:
                   f"Ipopt: {opt.solve.status}, {opt.solve.iterations} iterations, {opt.solve.solve_time_s:.3f} s; "
                   f"load cases {', '.join(f'{t:g}' for t in opt.torques_Nm)} N m. Exact-LTCA check of the designs:",
                   "", to_markdown(opt.table), "",
-                  f"![TE]({fig_te.relative_to(out)}) ![Harris]({fig_h.relative_to(out)}) "
+                  f"![TE]({fig_te.relative_to(out)}) ![TE over torque]({fig_tt.relative_to(out)}) "
+                  f"![Harris]({fig_h.relative_to(out)}) "
                   f"![change]({fig_c.relative_to(out)})", "",
                   f"![flank maps]({fig_maps.relative_to(out)})", ""]
         entry = st.headline()
