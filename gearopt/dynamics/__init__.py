@@ -9,8 +9,21 @@ Modules: :mod:`~gearopt.dynamics.mesh` (mesh force, stiffness shape, axial force
 """
 
 from .default_model import TimingModel, default_timing_model
-from .mesh import MeshStiffnessShape, axial_force_N, contact_line_length_ratio, mesh_force, restitution_coefficient
-from .modes import campbell_diagram, damped_modes, forced_response, linear_matrices, mode_shapes, natural_frequencies_Hz
+from .mesh import (
+    MeshStiffnessShape,
+    axial_force_N,
+    contact_line_length_ratio,
+    mesh_force,
+    restitution_coefficient,
+)
+from .modes import (
+    campbell_diagram,
+    damped_modes,
+    forced_response,
+    linear_matrices,
+    mode_shapes,
+    natural_frequencies_Hz,
+)
 from .network import TorsionalNetwork
 from .simulate import INTEGRATORS, Simulation, Simulator, simulate
 

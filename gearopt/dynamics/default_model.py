@@ -47,7 +47,12 @@ import pandas as pd
 from ..contact.stiffness import mesh_stiffness_table
 from ..data import load_default_data, train_from_data, values
 from ..errors import GearoptInputError, check_range
-from .mesh import DEFAULT_CONTACT_WIDTH_M, DEFAULT_DAMPING_WIDTH_M, DEFAULT_HARMONICS, MeshStiffnessShape
+from .mesh import (
+    DEFAULT_CONTACT_WIDTH_M,
+    DEFAULT_DAMPING_WIDTH_M,
+    DEFAULT_HARMONICS,
+    MeshStiffnessShape,
+)
 from .network import TorsionalNetwork
 from .simulate import Simulation, simulate, simulator
 

@@ -102,13 +102,13 @@ class MeshStiffnessShape:
         return len(self.cos_coefficients)
 
     @classmethod
-    def constant(cls) -> "MeshStiffnessShape":
+    def constant(cls) -> MeshStiffnessShape:
         """No variation: the mean stiffness throughout the cycle."""
         return cls()
 
     @classmethod
     def from_samples(cls, mesh_angle_rad, stiffness, harmonics: int = DEFAULT_HARMONICS, smoothing: str = "lanczos",
-                     description: str = "fitted to samples") -> "MeshStiffnessShape":
+                     description: str = "fitted to samples") -> MeshStiffnessShape:
         """Fit the shape to samples of stiffness over one mesh cycle (any units; normalised by their mean).
 
         ``mesh_angle_rad``: equally spaced angles covering one period ``[0, 2 pi)`` (endpoint excluded);
@@ -142,7 +142,7 @@ class MeshStiffnessShape:
 
     @classmethod
     def from_contact_ratios(cls, transverse_contact_ratio: float, overlap_contact_ratio: float = 0.0,
-                            harmonics: int = DEFAULT_HARMONICS) -> "MeshStiffnessShape":
+                            harmonics: int = DEFAULT_HARMONICS) -> MeshStiffnessShape:
         """Stiffness proportional to the total contact-line length (:func:`contact_line_length_ratio`), i.e. the
         thesis' line-of-contact stiffness (sec. 3.6, Eqs. 3.22-3.23) over the mesh cycle, normalised to mean 1 and
         smoothed to ``harmonics`` Lanczos-weighted Fourier orders. Mesh angle 0: a new pair enters contact."""

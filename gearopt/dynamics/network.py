@@ -38,14 +38,20 @@ import inspect
 import math
 from collections import deque
 from dataclasses import dataclass, field
-from typing import Callable
+from collections.abc import Callable
 
 import casadi as ca
 import numpy as np
 
 from .. import numerics as nm
 from ..errors import GearoptInputError, check_range
-from .mesh import DEFAULT_CONTACT_WIDTH_M, DEFAULT_DAMPING_WIDTH_M, MeshStiffnessShape, axial_force_N, mesh_force
+from .mesh import (
+    DEFAULT_CONTACT_WIDTH_M,
+    DEFAULT_DAMPING_WIDTH_M,
+    MeshStiffnessShape,
+    axial_force_N,
+    mesh_force,
+)
 
 #: State unit of the angle deviations [rad] (states are in mrad so angles and speeds have similar magnitudes).
 ANGLE_UNIT_RAD = 1e-3
@@ -497,6 +503,7 @@ def _build_equations(net: TorsionalNetwork, lash: bool) -> NetworkEquations:
     accel_coeff = {node: 0.0 for node in net.inertias}
     ext_nominal = {node: 0.0 for node in net.inertias}
     ext = {node: 0.0 for node in net.inertias}
+    ext_outputs = []
     for t in net.torques.values():
         node = t.node
         s = _sign(ratios[node])
@@ -517,13 +524,17 @@ def _build_equations(net: TorsionalNetwork, lash: bool) -> NetworkEquations:
             nominal = t.function(t_s, nominal_angle, nominal_speed, **kwargs)
         ext[node] = ext[node] + s * t0
         ext_nominal[node] = ext_nominal[node] + s * nominal
-        outputs.append(t0)
-        out_names.append(("external_torque_Nm", t.name))
+        ext_outputs.append((t.name, node, t0, t1 if t.acceleration_dependent else None))
     for node in net.inertias:
         torque[node] = torque[node] + ext[node]
 
     j_eff = [net.inertias[node].inertia_kgm2 - accel_coeff[node] for node in free]
     acc = [torque[node] / j_eff[i] for i, node in enumerate(free)]
+    for name, node, t0, t1 in ext_outputs:  # the applied torque, including its acceleration-dependent part
+        if t1 is not None and node in index:
+            t0 = t0 + t1 * _sign(ratios[node]) * acc[index[node]]
+        outputs.append(t0)
+        out_names.append(("external_torque_Nm", name))
     for node in net.boundary_nodes:  # reaction needed to keep the prescribed motion, in the node's sense
         outputs.append(-_sign(ratios[node]) * torque[node])
         out_names.append(("boundary_torque_Nm", node))

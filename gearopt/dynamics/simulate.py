@@ -58,7 +58,8 @@ class Simulation:
     ``external_torque_Nm`` in each node's own sense, ``boundary_torque_Nm`` reaction torques of the speed boundary,
     ``node_angle_mrad`` angle deviations, ``node_speed_rpm`` absolute speeds. ``time_s`` and ``crank_angle_deg``
     (reference-node angle) arrays; ``cycle_change`` per simulated cycle (run-in first); ``contact_variation``
-    integrated contact-indicator variations per mesh; ``stats`` run time and integrator counters.
+    integrated contact-indicator variations per mesh; ``stats`` run time and integrator counters; ``cycles``
+    recorded cycles; ``mesh_base_radii_mm`` (r_b1, r_b2) per mesh.
     """
 
     speed_rpm: float
@@ -73,6 +74,8 @@ class Simulation:
     final_state: np.ndarray
     stats: dict = field(default_factory=dict)
     parameters: dict = field(default_factory=dict)
+    cycles: int = 1
+    mesh_base_radii_mm: dict = field(default_factory=dict)
 
     def __getattr__(self, name):
         frames = self.__dict__.get("frames", {})
@@ -327,7 +330,8 @@ class Simulator:
         return Simulation(speed_rpm=float(speed_rpm), backlash=self.lash, time_s=time_s,
                           crank_angle_deg=np.degrees(tau), frames=frames, contact_variation=variation,
                           cycle_change=changes, run_in_cycles=run_in, steady_state_tol=tol, final_state=x_final,
-                          stats=stats, parameters=dict(zip(names, pvec.tolist())))
+                          stats=stats, parameters=dict(zip(names, pvec.tolist())), cycles=len(recorded),
+                          mesh_base_radii_mm={m.name: m.base_radii_mm for m in self.network.meshes.values()})
 
 
 def _shape_peak(shape) -> float:

@@ -8,8 +8,14 @@ import scipy.linalg
 
 from gearopt import numerics as nm
 from gearopt.dynamics import TorsionalNetwork
-from gearopt.dynamics.modes import (campbell_diagram, damped_modes, forced_response, linear_matrices, mode_shapes,
-                                    natural_frequencies_Hz)
+from gearopt.dynamics.modes import (
+    campbell_diagram,
+    damped_modes,
+    forced_response,
+    linear_matrices,
+    mode_shapes,
+    natural_frequencies_Hz,
+)
 from gearopt.errors import GearoptInputError
 
 # Mendes, Meirelles & Zampieri (2008), Proc. IMechE K 222:155, Fig. 4 chain as in openTorsion

@@ -8,8 +8,13 @@ import pytest
 
 import gearopt as go
 from gearopt.contact.stiffness import contact_line_length_mm
-from gearopt.dynamics.mesh import (MeshStiffnessShape, axial_force_N, contact_line_length_ratio, mesh_force,
-                                   restitution_coefficient)
+from gearopt.dynamics.mesh import (
+    MeshStiffnessShape,
+    axial_force_N,
+    contact_line_length_ratio,
+    mesh_force,
+    restitution_coefficient,
+)
 from gearopt.errors import GearoptInputError
 
 K, C, J_BACK, W = 5.0e8, 4000.0, 150e-6, 0.05e-6

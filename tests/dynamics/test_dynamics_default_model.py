@@ -1,0 +1,127 @@
+"""The packaged default timing-system model, the speed sweep and sensitivities through the integrator."""
+
+import math
+
+import numpy as np
+import pytest
+from dynamics_networks import forced_pair
+
+from gearopt.data import load_default_data
+from gearopt.dynamics import default_timing_model
+from gearopt.dynamics.mesh import MeshStiffnessShape
+from gearopt.dynamics.sensitivity import response_sensitivities
+from gearopt.dynamics.simulate import Simulator
+from gearopt.dynamics.sweep import simulation_statistics, speed_sweep
+from gearopt.engine import AccessoryTorque, EngineExcitation
+from gearopt.errors import GearoptInputError
+
+MESHES = ["crank-cam", "cam-ac", "cam-fp", "crank-lpi", "lpi-lpg"]
+
+
+@pytest.fixture(scope="module")
+def spur():
+    return default_timing_model("spur")
+
+
+@pytest.fixture(scope="module")
+def spur_run(spur):
+    # the acceptance call (issue 5), short: two engine cycles without lash; statistics over the second
+    return spur.simulate(speed_rpm=2500, cycles=1, backlash=False, rtol=1e-6, run_in_cycles=1, output_step_deg=1.0,
+                         external_torques=True)
+
+
+def test_acceptance_interface(spur, spur_run):
+    sim = spur_run
+    assert list(sim.mesh_force_N.columns) == MESHES
+    assert sim.time_s.shape == sim.crank_angle_deg.shape == (720,)
+    assert sim.crank_angle_deg[-1] == pytest.approx(720.0)
+    assert sim.time_s[-1] == pytest.approx(720.0 / (2500 * 6.0))          # one cycle at 2500 rpm = 48 ms
+    assert np.all(np.isfinite(sim.mesh_force_N.to_numpy()))
+
+
+def test_mesh_table_matches_the_data_backlash(spur):
+    # default_train.toml [meshes.*] backlash_min/max_mm are [C] circumferential backlash at the working circle of the
+    # spur train (computed there independently); along the line of action j_bt = j_wt cos(alpha_wt)
+    data = load_default_data()
+    for mesh in MESHES:
+        m = data["meshes"][mesh]
+        pair = spur.train.pairs[mesh]
+        alpha_wt = math.radians(pair.geometry()["working_pressure_angle_deg"])
+        expected = 0.5 * (m["backlash_min_mm"] + m["backlash_max_mm"]) * math.cos(alpha_wt)
+        assert spur.mesh_table.loc[mesh, "backlash_line_of_action_mm"] == pytest.approx(expected, abs=1.5e-3)
+    assert (spur.mesh_table["damping_ratio"] == 0.08).all()
+
+
+def test_cylinder_and_accessory_torques_are_the_engine_models(spur):
+    # the network's torques along the nominal motion against gearopt.engine at the same operating point
+    speed = 2500.0
+    exc = EngineExcitation.from_data(speed_rpm=speed)             # pressure scaled to the speed-load map
+    eq = spur.network.equations(lash=False)
+    pvec = spur.network.parameter_vector(speed, spur.parameters_at(speed))
+    tau = np.radians(np.arange(0.0, 720.0, 7.5))
+    omega = speed * math.pi / 30
+    torques = np.array(eq.nominal_torques.map(tau.size)(tau[None, :], np.repeat(pvec[:, None], tau.size, 1)))
+    free = eq.free_nodes
+    ref = np.array(exc.cylinder_torques_Nm(tau, omega))
+    for i in range(6):
+        np.testing.assert_allclose(torques[free.index(f"throw_{i + 1}")], ref[i], rtol=1e-9, atol=1e-6)
+    valve = AccessoryTorque.camshaft()
+    np.testing.assert_allclose(torques[free.index("cam_station_3")], valve(0.5 * tau) / 6.0, rtol=1e-12)
+    # absolute sign convention: the cam turns backwards, its load torque is positive in absolute terms
+    pump = AccessoryTorque.fuel_pump()
+    np.testing.assert_allclose(torques[free.index("fp_pump")], -pump(0.5 * tau), rtol=1e-12)
+
+
+def test_mean_torque_balance(spur, spur_run):
+    # rigid-body (virtual work) balance of a periodic state: internal shaft and mesh torques do no work on the rigid
+    # motion, so sum |r_i| mean(T_i) + reaction = 0; the mean crank-cam force carries the accessory loads referred to
+    # the cam gear (valve train and fuel pump at cam speed, air compressor at twice it), gearopt.engine's means
+    sim = spur_run
+    ext = sim.external_torque_Nm.mean()
+    valve, pump = AccessoryTorque.camshaft(), AccessoryTorque.fuel_pump()
+    comp, lube = AccessoryTorque.air_compressor(), AccessoryTorque.lube_pump()
+    r_cam = spur.mesh_table.loc["crank-cam", "base_radius_2_mm"] * 1e-3
+    cam_load = valve.mean_Nm + pump.mean_Nm + 2.0 * comp.mean_Nm
+    assert sim.mesh_force_N["crank-cam"].mean() * r_cam == pytest.approx(cam_load, rel=5e-3)
+    crank_load = 0.5 * cam_load + 38.0 / 24.0 * lube.mean_Nm
+    cylinders = sum(ext[f"cylinder_{i}"] for i in range(1, 7))
+    assert cylinders - crank_load + sim.boundary_torque_Nm["flywheel"].mean() == pytest.approx(0.0, abs=0.5)
+    # the applied cylinder torques include the reciprocating masses' response to the vibration (-m s'^2 theta'' and
+    # the speed-dependent term): their mean differs from the constant-speed indicated torque by under 1 %
+    nominal = EngineExcitation.from_data(speed_rpm=2500.0).mean_torque_Nm()
+    assert cylinders == pytest.approx(nominal, rel=0.01)
+
+
+def test_helical_model_reports_axial_forces():
+    helical = default_timing_model("helical")
+    beta_b = helical.mesh_table.loc["crank-cam", "base_helix_angle_deg"]
+    assert 5.0 < beta_b < 6.0
+    sim = helical.simulate(speed_rpm=1500, cycles=1, backlash=False, output_step_deg=2.0)
+    f, fa = sim.mesh_force_N["crank-cam"], sim.axial_force_N["crank-cam"]
+    np.testing.assert_allclose(fa, f * math.tan(math.radians(beta_b)), rtol=1e-12)
+    with pytest.raises(GearoptInputError, match="kind='bevel'"):
+        default_timing_model("bevel")
+
+
+def test_speed_sweep_rows_and_statistics(spur, spur_run):
+    stats = simulation_statistics(spur_run, shafts=("cam-cam_station_1",))
+    row = stats.set_index("element").loc["crank-cam"]
+    r2 = spur.mesh_table.loc["crank-cam", "base_radius_2_mm"] * 1e-3
+    assert row["peak_gear_2_torque_Nm"] == pytest.approx(spur_run.mesh_force_N["crank-cam"].abs().max() * r2)
+    assert row["drive_separations_per_cycle"] == 0.0             # linear meshes never separate
+    sweep = speed_sweep(spur, [1200.0], backlash=(False,), cycles=1, run_in_cycles=0, output_step_deg=2.0)
+    assert set(sweep["element"]) == set(MESHES) | {"cam-cam_station_1"}
+    assert (sweep["speed_rpm"] == 1200.0).all() and not sweep["backlash"].any()
+
+
+def test_sensitivities_through_the_integrator_match_finite_differences():
+    # CasADi forward sensitivities (CVODES) of the peak and RMS mesh force over a periodic lash response against
+    # central differences of the same integration (the rattle here is periodic: cycle change ~1e-4)
+    net = forced_pair(ripple_Nm=1000.0, shape=MeshStiffnessShape.from_contact_ratios(1.6))
+    sim = Simulator(net, lash=True, rtol=1e-8, output_step_deg=1.0)
+    df = response_sensitivities(sim, 1500.0, ["g1-g2.backlash_mm", "g1-g2.damping_N_s_per_m"],
+                                output=("mesh_force_N", "g1-g2"), cycles=1, run_in_cycles=3)
+    assert (df["fd_relative_error"] < 0.02).all()
+    assert abs(df.set_index("parameter").loc["g1-g2.backlash_mm", "d_peak"]) > 1e3    # N per mm: a real effect
+    with pytest.raises(GearoptInputError, match="unknown parameters"):
+        response_sensitivities(sim, 1500.0, ["nope"])
