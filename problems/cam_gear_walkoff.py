@@ -24,6 +24,8 @@ import sys
 import time
 from pathlib import Path
 
+import pandas as pd
+
 import gearopt as go
 from gearopt.data import load_default_data, load_thesis_tables, train_from_data
 from gearopt.design.shift_distribution import optimise_shift_split
@@ -123,6 +125,78 @@ def _json_number(v) -> float | str:
     return "inf" if v == float("inf") else v
 
 
+DYNAMIC_JOINTS = ("cam", "ac", "fp")
+
+
+def dynamics_stage(data: dict, quick: bool = False) -> dict:
+    """Stage 6: torsional dynamics of the timing train (helical baseline and spur redesign), with and without
+    backlash, at rated speed and overspeed (thesis Figs. 4.3-4.5), and a speed sweep with the walk-off margins of
+    the cam, AC and FP joints over speed."""
+    from gearopt.dynamics import default_timing_model, speed_sweep
+
+    engine = data_values(data)["engine"]
+    speeds = ((engine["overspeed_test_speed_rpm"],) if quick
+              else (engine["rated_speed_rpm"], engine["overspeed_test_speed_rpm"]))
+    sweep_speeds = ((engine["idle_speed_rpm"], engine["overspeed_test_speed_rpm"]) if quick
+                    else (engine["idle_speed_rpm"], engine["peak_torque_speed_rpm"], engine["rated_speed_rpm"],
+                          engine["overspeed_test_speed_rpm"]))
+    run = dict(cycles=1, run_in_cycles=0 if quick else 1)
+    out: dict = {"runs": {}, "sweeps": {}, "speeds_rpm": speeds}
+    for kind in ("helical", "spur"):
+        model = default_timing_model(kind)
+        for speed in speeds:
+            for lash in (False, True):
+                out["runs"][(kind, speed, lash)] = model.simulate(speed_rpm=speed, backlash=lash, **run)
+        out["sweeps"][kind] = speed_sweep(model, sweep_speeds, backlash=(True,), joints=DYNAMIC_JOINTS, **run)
+    return out
+
+
+def write_dynamics(out: Path, dyn: dict) -> tuple[list[str], dict]:
+    import matplotlib.pyplot as plt
+
+    lines = ["## Timing-train dynamics: contact forces, helical vs spur, without and with backlash", ""]
+    speeds = dyn["speeds_rpm"]
+    fig, axes = plt.subplots(len(speeds), 2, figsize=(11, 3.2 * len(speeds)), squeeze=False, layout="constrained")
+    rows = []
+    for i, speed in enumerate(speeds):
+        for j, lash in enumerate((False, True)):
+            ax = axes[i, j]
+            for kind in ("helical", "spur"):
+                sim = dyn["runs"][(kind, speed, lash)]
+                f = sim.frame("mesh_force_N", "crank_angle_deg")["crank-cam"]
+                ax.plot(f.index - f.index[0], f.to_numpy() / 1000.0, lw=0.8, label=kind)
+                summ = sim.summary()
+                for mesh, r in summ.iterrows():
+                    rows.append({"train": kind, "speed_rpm": speed, "backlash": lash, "mesh": mesh,
+                                 "peak_drive_force_N": r["peak_drive_force_N"],
+                                 "peak_back_force_N": r["peak_back_force_N"], "rms_force_N": r["rms_force_N"],
+                                 "peak_axial_force_N": r["peak_axial_force_N"]})
+            ax.set_title(f"crank-cam, {speed:g} rpm, {'with' if lash else 'no'} backlash", fontsize=9)
+            ax.set_xlabel("crank angle [deg]")
+            ax.set_ylabel("mesh force [kN]")
+            ax.grid(alpha=0.3)
+            ax.legend(fontsize=7)
+    path = figs.save(fig, out / "figures" / "dynamics_crank_cam_force.png")
+    table = pd.DataFrame(rows)
+    write_table(table, out, "dynamics_mesh_forces")
+    lines += [f"![contact forces]({path.relative_to(out)})", "", to_markdown(table), ""]
+    result: dict = {"mesh_forces": table.to_dict(orient="records"), "joint_margins_over_speed": {}}
+    lines += ["### Walk-off and slip margins over speed (with backlash)", ""]
+    for kind, sweep in dyn["sweeps"].items():
+        write_table(sweep, out, f"speed_sweep_{kind}")
+        joints = sweep[sweep["element_type"] == "joint"]
+        cols = [c for c in ("element", "speed_rpm", "peak_torque_Nm", "peak_axial_force_N", "min_torque_margin",
+                            "min_axial_margin", "max_slip_utilisation") if c in joints.columns]
+        lines += [f"#### {kind}", "", to_markdown(joints[cols]), ""]
+        for _, r in joints.iterrows():
+            entry = result["joint_margins_over_speed"].setdefault(str(r["element"]), {}).setdefault(kind, [])
+            entry.append({"speed_rpm": float(r["speed_rpm"]), "torque_margin": _json_number(r["min_torque_margin"]),
+                          "axial_margin": _json_number(r["min_axial_margin"]),
+                          "peak_torque_Nm": float(r["peak_torque_Nm"]),
+                          "peak_axial_force_N": float(r["peak_axial_force_N"])})
+    return lines, result
+
+
 CONTACT_MESHES = {"crank-cam": "crank_cam_torque_Nm", "cam-ac": "cam_ac_torque_Nm", "cam-fp": "cam_fp_torque_Nm"}
 
 
@@ -203,7 +277,7 @@ def write_rating(out: Path, ratings: dict) -> tuple[list[str], dict]:
 
 
 def write_outputs(out: Path, macro: dict, split: dict, timings: dict, contact: dict | None = None,
-                  ratings: dict | None = None, joints: dict | None = None) -> None:
+                  ratings: dict | None = None, joints: dict | None = None, dynamics: dict | None = None) -> None:
     out.mkdir(parents=True, exist_ok=True)
     lines = ["# Cam gear walk-off: spur redesign of the timing train", "",
              "Generated by `problems/cam_gear_walkoff.py` on the packaged default data. Thesis columns are the "
@@ -229,7 +303,8 @@ def write_outputs(out: Path, macro: dict, split: dict, timings: dict, contact: d
     contact_lines, contact_result = write_contact(out, contact) if contact else ([], {})
     rating_lines, rating_result = write_rating(out, ratings) if ratings else ([], {})
     joint_lines, joint_result = write_joints(out, joints) if joints else ([], {})
-    lines += contact_lines + rating_lines + joint_lines + ["## Run time per stage", ""]
+    dyn_lines, dyn_result = write_dynamics(out, dynamics) if dynamics else ([], {})
+    lines += contact_lines + rating_lines + joint_lines + dyn_lines + ["## Run time per stage", ""]
     lines += [f"- {k}: {v:.3f} s" for k, v in timings.items()]
     (out / "report.md").write_text("\n".join(lines) + "\n")
     result = {
@@ -251,6 +326,7 @@ def write_outputs(out: Path, macro: dict, split: dict, timings: dict, contact: d
         "pairs": contact_result,
         "rating": rating_result,
         "joints": joint_result,
+        "dynamics": dyn_result,
         "stage_time_s": timings,
     }
     (out / "result.json").write_text(json.dumps(result, indent=2) + "\n")
@@ -285,7 +361,11 @@ def main(argv: list[str] | None = None) -> int:
     timings["joints_blanks_webs"] = time.perf_counter() - t0
 
     t0 = time.perf_counter()
-    write_outputs(args.out, macro, split, timings, contact, ratings, joints)
+    dynamics = dynamics_stage(data, quick=args.quick)
+    timings["dynamics"] = time.perf_counter() - t0
+
+    t0 = time.perf_counter()
+    write_outputs(args.out, macro, split, timings, contact, ratings, joints, dynamics)
     timings["write_outputs"] = time.perf_counter() - t0
 
     spur = macro["tables"]["table_3_3_profile_shift"]

@@ -192,7 +192,7 @@ def _safe_ratio(capacity, demand):
         return capacity / nm.fabs(demand)
     cap = np.asarray(nm.value(capacity), dtype=float)
     dem = np.abs(np.asarray(nm.value(demand), dtype=float))
-    with np.errstate(divide="ignore", invalid="ignore"):
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):  # denormal demands: margin inf
         r = np.where(dem > 0.0, cap / np.where(dem > 0.0, dem, 1.0), np.inf)
     return float(r) if r.ndim == 0 else r
 

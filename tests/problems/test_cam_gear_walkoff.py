@@ -90,3 +90,20 @@ def test_joint_margins_for_both_trains(run):
     # the weakest fit holds less than the nominal one
     assert joints["crank"]["helical"]["weakest"]["torque_capacity_Nm"] < \
         joints["crank"]["helical"]["nominal"]["torque_capacity_Nm"]
+
+
+def test_dynamics_forces_and_walk_off_margins_over_speed(run):
+    dyn = json.loads((run / "result.json").read_text())["dynamics"]
+    forces = dyn["mesh_forces"]
+    assert {(r["train"], r["backlash"]) for r in forces} == {("helical", False), ("helical", True), ("spur", False),
+                                                             ("spur", True)}
+    # helical meshes push axially, spur meshes do not
+    assert all(r["peak_axial_force_N"] > 0 for r in forces if r["train"] == "helical")
+    assert all(r["peak_axial_force_N"] == 0 for r in forces if r["train"] == "spur")
+    margins = dyn["joint_margins_over_speed"]
+    assert set(margins) == {"joint:cam", "joint:ac", "joint:fp"}
+    cam = margins["joint:cam"]
+    assert len(cam["helical"]) == len(cam["spur"]) >= 2
+    assert all(isinstance(m["axial_margin"], float) and m["axial_margin"] > 0 for m in cam["helical"])
+    assert all(m["axial_margin"] == "inf" for m in cam["spur"])
+    assert (run / "figures" / "dynamics_crank_cam_force.png").stat().st_size > 10_000
