@@ -11,7 +11,11 @@ CSV tables, ``report.md`` and ``result.json`` (headline numbers with units). Sta
 3. contact: for crank-cam, cam-ac and cam-fp, the exact LTCA of the helical baseline and the unmodified spur pair at
    the design torque, the spur microgeometry minimising the largest PPTE over the design-torque range (Ipopt on the
    smooth LTCA; contact-stress and loaded-contact-ratio limits), and the comparison the thesis shows in Figs.
-   4.9-4.15/4.22: TE, load intensity, contact stress, flash temperature, root stress, Harris maps, percentage change.
+   4.9-4.15/4.22: TE, load intensity, contact stress, flash temperature, root stress, Harris maps, percentage change;
+4. rating: ISO 6336-2/-3 method B contact and root stresses and safety factors per mesh, helical and spur;
+5. joints: shaft-hub joint capacities, torque and walk-off margins (nominal and weakest fit), blanks, webs;
+6. dynamics: the torsional model of the timing train, helical vs spur, with and without backlash, at rated speed
+   and overspeed (thesis Figs. 4.3-4.5), and the joints' torque and axial margins over a speed sweep.
 
 Usage: ``python problems/cam_gear_walkoff.py [--quick] [--out DIR]``.
 """
