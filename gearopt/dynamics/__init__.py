@@ -5,7 +5,8 @@ packaged default timing-system model, speed sweeps and sensitivities through the
 Modules: :mod:`~gearopt.dynamics.mesh` (mesh force, stiffness shape, axial force), :mod:`~gearopt.dynamics.network`
 (:class:`TorsionalNetwork`), :mod:`~gearopt.dynamics.simulate` (:class:`Simulator`, :class:`Simulation`),
 :mod:`~gearopt.dynamics.modes` (linear analysis), :mod:`~gearopt.dynamics.default_model`
-(:func:`default_timing_model`).
+(:func:`default_timing_model`), :mod:`~gearopt.dynamics.sweep` (:func:`speed_sweep`),
+:mod:`~gearopt.dynamics.sensitivity` (:func:`response_sensitivities`).
 """
 
 from .default_model import TimingModel, default_timing_model
@@ -25,11 +26,13 @@ from .modes import (
     natural_frequencies_Hz,
 )
 from .network import TorsionalNetwork
+from .sensitivity import response_sensitivities
 from .simulate import INTEGRATORS, Simulation, Simulator, simulate
+from .sweep import simulation_statistics, speed_sweep
 
 __all__ = [
     "TorsionalNetwork", "MeshStiffnessShape", "mesh_force", "axial_force_N", "contact_line_length_ratio",
     "restitution_coefficient", "Simulator", "Simulation", "simulate", "INTEGRATORS", "linear_matrices",
     "natural_frequencies_Hz", "mode_shapes", "damped_modes", "campbell_diagram", "forced_response",
-    "default_timing_model", "TimingModel",
+    "default_timing_model", "TimingModel", "speed_sweep", "simulation_statistics", "response_sensitivities",
 ]

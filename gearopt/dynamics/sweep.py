@@ -1,5 +1,6 @@
-"""Speed sweep of a timing model: peak and RMS mesh forces, gear and joint torques, axial forces and contact counts
-per speed, with and without lash (the design-torque and joint-load inputs of the main job).
+"""Speed sweep of a timing model: peak and RMS mesh forces, gear and joint torques, axial forces, contact counts and
+the walk-off margins of shaft-hub joints per speed, with and without lash (the design-torque and joint-load inputs
+of the main job).
 
 Each (speed, lash) point runs the model's cached simulator (one integrator per lash option, parameters per speed):
 ``run_in_cycles`` cycles from the static state (or until ``steady_state_tol``), then ``cycles`` recorded cycles over
@@ -51,13 +52,55 @@ def simulation_statistics(sim, shafts=()) -> pd.DataFrame:
     return pd.DataFrame(rows)
 
 
+def walk_off_history(model, sim, joint: str = "cam", interference: str = "nominal",
+                     root_rotation: str = "cw") -> dict:
+    """Axial force, joint torque and slip margins of one shaft-hub joint over a simulation (gearopt.joints).
+
+    The per-mesh torques on each mesh's first gear (force x r_b1, + when it drives) go to
+    :func:`gearopt.joints.walk_off` (hands, rotation senses and the thrust direction, +z = off the shaft nose),
+    which sums the axial forces of all meshes of the joint's gear; the joint torque is the network's shaft torque
+    from the gear to its shaft (it includes the gear's own inertia torque); the capacity is
+    :func:`gearopt.joints.joint_capacity` of ``[joints.<joint>]`` at the simulation speed (centrifugal loss) and
+    ``interference`` case, and :func:`gearopt.joints.margin_history` gives the margins over time.
+
+    Returns a dict: ``axial_force_N`` and ``joint_torque_Nm`` (arrays over the simulation), ``capacity`` (dict),
+    and the margin summary (``min_torque_margin``, ``min_axial_margin``, ``min_combined_margin``,
+    ``max_slip_utilisation``, ...). Joints whose gear has no shaft element in the network (the crank gear, lumped
+    in the crankshaft node; the idler) raise ``GearoptInputError``.
+    """
+    from ..joints import joint_capacity, margin_history, walk_off
+
+    data = model.data
+    joints = data.get("joints", {})
+    if joint not in joints:
+        raise GearoptInputError(f"joint={joint!r} is not in [joints] ({sorted(joints)})")
+    gear = joints[joint]["gear"]
+    shafts = [s.name for s in model.network.shafts.values() if s.node_a == gear]
+    if not shafts:
+        raise GearoptInputError(f"joint {joint!r}: gear {gear!r} has no shaft element in the network (its joint "
+                                f"torque is not a network output)")
+    torques = {mesh: sim.mesh_force_N[mesh].to_numpy() * sim.mesh_base_radii_mm[mesh][0] * 1e-3
+               for mesh in sim.mesh_force_N.columns}
+    res = walk_off(model.train, torques, root_rotation=root_rotation)
+    axial = np.asarray(res.axial_force_N[gear], dtype=float) * np.ones(len(sim.time_s))
+    torque = sim.shaft_torque_Nm[shafts[0]].to_numpy()
+    cap = joint_capacity(data, joint, interference=interference, speed_rpm=sim.speed_rpm)
+    hist = margin_history(cap["type"], torque, axial, cap["torque_capacity_Nm"], cap["axial_capacity_N"])
+    summary = {k: v for k, v in hist.items() if k.startswith(("min_", "max_", "argmin_"))}
+    return {"axial_force_N": axial, "joint_torque_Nm": torque, "capacity": cap, **summary}
+
+
 def speed_sweep(model, speeds_rpm, backlash=(False, True), cycles: int = 2, run_in_cycles: int = 2,
                 steady_state_tol: float | None = None, rtol: float = 1e-6, shafts=("cam-cam_station_1",),
-                parameters: dict | None = None, **options) -> pd.DataFrame:
+                joints=("cam",), parameters: dict | None = None, **options) -> pd.DataFrame:
     """Sweep ``model`` (a :class:`~gearopt.dynamics.default_model.TimingModel`) over ``speeds_rpm`` [rpm] for each
     lash option in ``backlash``; returns one row per (speed, lash, element) with the columns of
     :func:`simulation_statistics` plus ``speed_rpm``, ``backlash``, ``cycle_change`` (last run-in/recorded cycle's
-    change) and ``run_time_s``. ``options`` go to the simulator (``jit=True`` pays off for long sweeps)."""
+    change) and ``run_time_s``; with ``joints`` (``[joints.*]`` names) also one ``element_type == "joint"`` row per
+    joint from :func:`walk_off_history`: ``peak_axial_force_N`` (largest |F_a| on the gear), ``max_off_nose_force_N``
+    (largest pull off the shaft nose, +z), ``peak_torque_Nm`` (largest |joint torque|), ``min_torque_margin``,
+    ``min_axial_margin``, ``min_combined_margin``, ``max_slip_utilisation`` -- the walk-off margin over speed.
+    ``options`` go to the simulator (``jit=True`` pays off for long sweeps)."""
     speeds = np.atleast_1d(np.asarray(speeds_rpm, dtype=float))
     check_range("cycles", cycles, 1, None)
     frames = []
@@ -66,6 +109,17 @@ def speed_sweep(model, speeds_rpm, backlash=(False, True), cycles: int = 2, run_
             sim = model.simulate(float(speed), cycles, backlash=bool(lash), rtol=rtol, parameters=parameters,
                                  run_in_cycles=run_in_cycles, steady_state_tol=steady_state_tol, **options)
             stats = simulation_statistics(sim, shafts)
+            rows = []
+            for joint in joints:
+                w = walk_off_history(model, sim, joint)
+                rows.append({"element": f"joint:{joint}", "element_type": "joint",
+                             "peak_axial_force_N": float(np.max(np.abs(w["axial_force_N"]))),
+                             "max_off_nose_force_N": float(np.max(w["axial_force_N"])),
+                             "peak_torque_Nm": float(np.max(np.abs(w["joint_torque_Nm"]))),
+                             **{k: w[k] for k in ("min_torque_margin", "min_axial_margin", "min_combined_margin",
+                                                  "max_slip_utilisation")}})
+            if rows:
+                stats = pd.concat([stats, pd.DataFrame(rows)], ignore_index=True)
             stats.insert(0, "backlash", bool(lash))
             stats.insert(0, "speed_rpm", float(speed))
             stats["cycle_change"] = sim.cycle_change[-1] if sim.cycle_change else np.nan
@@ -74,4 +128,4 @@ def speed_sweep(model, speeds_rpm, backlash=(False, True), cycles: int = 2, run_
     return pd.concat(frames, ignore_index=True)
 
 
-__all__ = ["speed_sweep", "simulation_statistics"]
+__all__ = ["speed_sweep", "simulation_statistics", "walk_off_history"]

@@ -11,9 +11,10 @@ from gearopt.dynamics import default_timing_model
 from gearopt.dynamics.mesh import MeshStiffnessShape
 from gearopt.dynamics.sensitivity import response_sensitivities
 from gearopt.dynamics.simulate import Simulator
-from gearopt.dynamics.sweep import simulation_statistics, speed_sweep
+from gearopt.dynamics.sweep import simulation_statistics, speed_sweep, walk_off_history
 from gearopt.engine import AccessoryTorque, EngineExcitation
 from gearopt.errors import GearoptInputError
+from gearopt.joints import walk_off
 
 MESHES = ["crank-cam", "cam-ac", "cam-fp", "crank-lpi", "lpi-lpg"]
 
@@ -27,7 +28,7 @@ def spur():
 def spur_run(spur):
     # the acceptance call (issue 5), short: two engine cycles without lash; statistics over the second
     return spur.simulate(speed_rpm=2500, cycles=1, backlash=False, rtol=1e-6, run_in_cycles=1, output_step_deg=1.0,
-                         external_torques=True)
+                         external_torques=True, jit=False)
 
 
 def test_acceptance_interface(spur, spur_run):
@@ -37,6 +38,9 @@ def test_acceptance_interface(spur, spur_run):
     assert sim.crank_angle_deg[-1] == pytest.approx(720.0)
     assert sim.time_s[-1] == pytest.approx(720.0 / (2500 * 6.0))          # one cycle at 2500 rpm = 48 ms
     assert np.all(np.isfinite(sim.mesh_force_N.to_numpy()))
+    by_angle = sim.frame("mesh_force_N", index="crank_angle_deg")
+    assert by_angle.index[0] == pytest.approx(1.0) and by_angle.index.name == "crank_angle_deg"
+    np.testing.assert_array_equal(by_angle.to_numpy(), sim.mesh_force_N.to_numpy())
 
 
 def test_mesh_table_matches_the_data_backlash(spur):
@@ -96,9 +100,23 @@ def test_helical_model_reports_axial_forces():
     helical = default_timing_model("helical")
     beta_b = helical.mesh_table.loc["crank-cam", "base_helix_angle_deg"]
     assert 5.0 < beta_b < 6.0
-    sim = helical.simulate(speed_rpm=1500, cycles=1, backlash=False, output_step_deg=2.0)
+    sim = helical.simulate(speed_rpm=1500, cycles=1, backlash=False, output_step_deg=2.0, jit=False)
     f, fa = sim.mesh_force_N["crank-cam"], sim.axial_force_N["crank-cam"]
     np.testing.assert_allclose(fa, f * math.tan(math.radians(beta_b)), rtol=1e-12)
+    # independent derivation (gearopt.joints.walk_off: F_z = -h tan(beta_w) F_theta at the working circle, from the
+    # torque 2000 T / d_w): the crank-cam mesh's thrust on the cam gear has the magnitude of F_bt tan(beta_b)
+    torques = {m: sim.mesh_force_N[m].to_numpy() * sim.mesh_base_radii_mm[m][0] * 1e-3 for m in MESHES}
+    contributions = walk_off(helical.train, torques).contributions
+    on_cam = next(c for c in contributions if c["mesh"] == "crank-cam" and c["gear"] == "cam")
+    np.testing.assert_allclose(np.abs(on_cam["axial_force_N"]), np.abs(fa), rtol=1e-9)
+    w = walk_off_history(helical, sim, "cam")
+    total = sum(c["axial_force_N"] for c in contributions if c["gear"] == "cam")
+    np.testing.assert_allclose(w["axial_force_N"], total, rtol=1e-12)
+    np.testing.assert_allclose(w["joint_torque_Nm"], sim.shaft_torque_Nm["cam-cam_station_1"])
+    assert 0 < w["max_slip_utilisation"] < 1 and w["min_combined_margin"] == pytest.approx(
+        1 / w["max_slip_utilisation"])
+    with pytest.raises(GearoptInputError, match="no shaft element"):
+        walk_off_history(helical, sim, "crank")
     with pytest.raises(GearoptInputError, match="kind='bevel'"):
         default_timing_model("bevel")
 
@@ -109,8 +127,11 @@ def test_speed_sweep_rows_and_statistics(spur, spur_run):
     r2 = spur.mesh_table.loc["crank-cam", "base_radius_2_mm"] * 1e-3
     assert row["peak_gear_2_torque_Nm"] == pytest.approx(spur_run.mesh_force_N["crank-cam"].abs().max() * r2)
     assert row["drive_separations_per_cycle"] == 0.0             # linear meshes never separate
-    sweep = speed_sweep(spur, [1200.0], backlash=(False,), cycles=1, run_in_cycles=0, output_step_deg=2.0)
-    assert set(sweep["element"]) == set(MESHES) | {"cam-cam_station_1"}
+    sweep = speed_sweep(spur, [1200.0], backlash=(False,), cycles=1, run_in_cycles=0, output_step_deg=2.0, jit=False)
+    assert set(sweep["element"]) == set(MESHES) | {"cam-cam_station_1", "joint:cam"}
+    joint = sweep.set_index("element").loc["joint:cam"]
+    assert joint["peak_axial_force_N"] == 0.0                       # spur: no thrust, the margin is the torque's
+    assert joint["min_combined_margin"] == pytest.approx(joint["min_torque_margin"], rel=1e-12)
     assert (sweep["speed_rpm"] == 1200.0).all() and not sweep["backlash"].any()
 
 

@@ -180,3 +180,29 @@ def test_linear_matrices_hold_the_boundary_and_are_symmetric():
     free = linear_matrices(net, boundary="free")
     assert free["nodes"] == ["g1", "g2", "drive"]
     assert natural_frequencies_Hz(net, boundary="free")[0] == pytest.approx(0.0, abs=1e-5)
+
+
+def test_user_stiffness_function_equals_the_same_fourier_shape():
+    # the LTCA's stiffness over the mesh cycle can be plugged in as a callable of the mesh angle (mean 1)
+    from gearopt.dynamics.mesh import MeshStiffnessShape
+    from gearopt.dynamics.simulate import simulate
+
+    def build(shape):
+        net = TorsionalNetwork(cycle_deg=360.0)
+        net.add_inertia("drive", 1.0).add_inertia("g1", 0.01).add_inertia("g2", 0.04)
+        net.add_shaft("drive", "g1", 2e5, 5.0)
+        net.add_mesh("g1", "g2", base_radii_mm=(40.0, 80.0), teeth=(30, 60), stiffness_N_per_m=4e8,
+                     damping_N_s_per_m=2000.0, stiffness_shape=shape)
+        net.add_torque("g2", lambda t, a, w: -100.0 + 0.0 * a, name="load")
+        return net.set_speed_boundary("drive")
+
+    fourier = simulate(build(MeshStiffnessShape((0.2, 0.0), (0.0, -0.05))), 1500.0, 1, backlash=False, rtol=1e-9)
+    user = simulate(build(lambda psi: 1.0 + 0.2 * nm.cos(psi) - 0.05 * nm.sin(2 * psi)), 1500.0, 1, backlash=False,
+                    rtol=1e-9)
+    np.testing.assert_allclose(user.mesh_force_N["g1-g2"], fourier.mesh_force_N["g1-g2"], rtol=1e-7)
+    k = user.mesh_stiffness_N_per_m["g1-g2"]
+    psi = np.linspace(0, 2 * np.pi, 10001)
+    shape = 1.0 + 0.2 * np.cos(psi) - 0.05 * np.sin(2 * psi)
+    assert k.max() / k.min() == pytest.approx(shape.max() / shape.min(), rel=0.01)   # the variation reaches k(t)
+    with pytest.raises(GearoptInputError, match="mean 1"):
+        build(lambda psi: 2.0 + 0.0 * psi)
