@@ -37,8 +37,8 @@ from __future__ import annotations
 import inspect
 import math
 from collections import deque
-from dataclasses import dataclass, field
 from collections.abc import Callable
+from dataclasses import dataclass, field
 
 import casadi as ca
 import numpy as np
