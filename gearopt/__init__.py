@@ -15,3 +15,4 @@ from .engine import AccessoryTorque, CylinderPressure, EngineExcitation, crank_t
 from .joints import (bolt_preload_N, fit_interference_um, joint_margins, press_fit, quasi_static_mesh_torques_Nm,
                      taper_fit, walk_off)
 from .blank import GearBlank, web_fatigue, web_stress
+from .dynamics import MeshStiffnessShape, TorsionalNetwork, default_timing_model
