@@ -94,6 +94,7 @@ cos = _dual(np.cos, ca.cos)
 tan = _dual(np.tan, ca.tan)
 asin = _dual(np.arcsin, ca.asin)
 atan = _dual(np.arctan, ca.atan)
+tanh = _dual(np.tanh, ca.tanh)
 exp = _dual(np.exp, ca.exp)
 log = _dual(np.log, ca.log)
 log1p = _dual(np.log1p, ca.log1p)
@@ -181,11 +182,10 @@ def softplus(x, width):
 
 
 def sigmoid(x, width):
-    """Logistic step ``1/(1+exp(-x/w))`` (the derivative of :func:`softplus`), overflow-free."""
+    """Logistic step ``1/(1+exp(-x/w))`` (the derivative of :func:`softplus`), written ``(1 + tanh(x/(2w)))/2``:
+    overflow-free and smooth everywhere (its CasADi derivative at ``x = 0`` is exactly ``1/(4w)``)."""
     _check_width(width)
-    e = exp(-fabs(x) / width)
-    pos = 1.0 / (1.0 + e)
-    return where(x >= 0, pos, 1.0 - pos)
+    return 0.5 * (1.0 + tanh(0.5 * x / width))
 
 
 def smooth_max(a, b, width):
@@ -403,7 +403,7 @@ def repeat_rows(x_row, n: int):
 
 __all__ = [
     "is_casadi", "is_symbolic", "is_numeric", "to_float", "value", "sin", "cos", "tan", "asin", "acos", "atan",
-    "atan2", "exp", "log", "log1p", "sqrt", "fabs", "sign", "floor", "fmax", "fmin", "clip", "where", "vertcat",
+    "atan2", "tanh", "exp", "log", "log1p", "sqrt", "fabs", "sign", "floor", "fmax", "fmin", "clip", "where", "vertcat",
     "sum1", "softplus", "sigmoid", "smooth_max", "smooth_min", "smooth_abs", "sqrt_safe", "acos_safe", "involute",
     "inverse_involute", "INVOLUTE_MAX", "column", "reshape", "symbol", "function", "implicit_scalar_root", "column_max", "column_sum", "matrix", "hcat", "vcat", "matmul", "row", "repeat_rows",
 ]

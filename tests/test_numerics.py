@@ -147,3 +147,12 @@ def test_inverse_involute_mx_works():
     v = ca.MX.sym("v")
     f = ca.Function("f", [v], [nm.inverse_involute(v)])
     assert float(f(nm.involute(0.4))) == pytest.approx(0.4, abs=1e-14)
+
+
+def test_sigmoid_derivative_at_zero_is_one_over_four_w():
+    # the logistic function's slope at 0 is 1/(4w) (found missing when sigmoid was built from fabs)
+    import casadi as ca
+    x = ca.SX.sym("x")
+    d = ca.Function("d", [x], [ca.jacobian(nm.sigmoid(x, 0.5), x)])
+    assert float(d(0.0)) == pytest.approx(0.5)
+    assert float(nm.sigmoid(800.0, 1.0)) == 1.0 and float(nm.sigmoid(-800.0, 1.0)) == 0.0
