@@ -15,7 +15,6 @@ from __future__ import annotations
 import json
 import math
 import platform
-import statistics
 import time
 from dataclasses import replace
 from pathlib import Path
@@ -29,6 +28,8 @@ import numpy as np  # noqa: E402
 import scipy  # noqa: E402
 from scipy.optimize import brentq, minimize  # noqa: E402
 
+from _timing import median_time  # noqa: E402  (benchmarks/_timing.py)
+
 import gearopt as go  # noqa: E402
 from gearopt import numerics as nm  # noqa: E402
 from gearopt.design.shift_distribution import optimise_shift_split  # noqa: E402
@@ -36,15 +37,6 @@ from gearopt.errors import GeometryError  # noqa: E402
 
 OUT = Path(__file__).resolve().parent / "results"
 REPEATS = 7
-
-
-def median_time(fun, repeats=REPEATS):
-    times = []
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        fun()
-        times.append(time.perf_counter() - t0)
-    return statistics.median(times)
 
 
 def bench_inverse_involute(n=100_000):

@@ -27,7 +27,6 @@ from __future__ import annotations
 import json
 import math
 import platform
-import statistics
 import time
 from pathlib import Path
 
@@ -39,6 +38,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import scipy  # noqa: E402
 
+from _timing import median_time as _median_time  # noqa: E402  (benchmarks/_timing.py)
+
 import gearopt as go  # noqa: E402
 from gearopt.contact.layout import default_slices  # noqa: E402
 from gearopt.contact.ltca import ltca  # noqa: E402
@@ -47,6 +48,11 @@ from gearopt.contact.microgeometry import Microgeometry  # noqa: E402
 
 OUT = Path(__file__).resolve().parent / "results"
 REPEATS = 7
+
+
+def median_time(fun, repeats=REPEATS):
+    """Median wall time; fewer repeats (at least 3) once the calls pass 1 s."""
+    return _median_time(fun, repeats, budget_s=1.0)
 TORQUE_NM = 300.0
 TOLERANCE = 0.01                     # PPTE within 1 % of the converged value
 REF_POSITIONS, REF_SLICES = 5120, 161
@@ -57,18 +63,6 @@ GRID_POSITIONS = (20, 40, 80, 160, 320, 640, 1280)
 GRID_SLICES = (1, 5, 11, 21, 41, 81)
 SMOOTHING_UM = (1.0, 0.5, 0.2, 0.1, 0.05, 0.02, 0.01, 0.005, 0.002, 0.001)
 SYMBOLIC_POSITIONS = (40, 160, 320)
-
-
-def median_time(fun, repeats=REPEATS, budget_s=1.0):
-    """Median wall time of ``fun()``; fewer repeats (at least 3) when one call is slow."""
-    times = []
-    for i in range(repeats):
-        t0 = time.perf_counter()
-        fun()
-        times.append(time.perf_counter() - t0)
-        if i >= 2 and sum(times) > budget_s:
-            break
-    return statistics.median(times)
 
 
 def relief_starts(pair) -> tuple:

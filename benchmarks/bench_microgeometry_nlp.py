@@ -52,6 +52,8 @@ import scipy  # noqa: E402
 from scipy.optimize import minimize  # noqa: E402
 from scipy.stats import qmc  # noqa: E402
 
+from _timing import median_time  # noqa: E402  (benchmarks/_timing.py)
+
 import gearopt as go  # noqa: E402
 from gearopt.contact.ltca import ltca  # noqa: E402
 from gearopt.contact.ltca_smooth import LTCAModel  # noqa: E402
@@ -70,15 +72,6 @@ REACH = 0.01                   # "same PPTE": within 1 % of Ipopt's
 STRESS_TOL_MPA = 1e-3
 NAMES = ("tip_relief_1_um", "tip_relief_2_um", "tip_relief_1_start_roll_deg", "tip_relief_2_start_roll_deg",
          "profile_crown_1_um", "profile_crown_2_um")
-
-
-def median_time(fun, repeats=REPEATS):
-    times = []
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        fun()
-        times.append(time.perf_counter() - t0)
-    return statistics.median(times)
 
 
 def bounds(pair):

@@ -36,13 +36,7 @@ def plot_transmission_error(results: dict, *, title: str = "", ax=None):
         te = np.asarray(r.transmission_error_um)
         ax.plot(np.append(x, x[-1] + (x[1] - x[0])), np.append(te, te[0]), marker=".", ms=3,
                 label=f"{label}: PPTE {r.ppte_um:.2f} µm")
-    ax.set_xlabel("mesh position, roll angle of gear 1 [deg]")
-    ax.set_ylabel("transmission error [µm]")
-    ax.set_title(title)
-    ax.grid(alpha=0.3)
-    ax.legend(fontsize=7)
-    fig.tight_layout()
-    return fig
+    return _finish_line_plot(fig, ax, "mesh position, roll angle of gear 1 [deg]", "transmission error [µm]", title)
 
 
 def flank_map(result, quantity: str = "load_intensity", gear: int = 1, points: int = 200):
@@ -115,13 +109,7 @@ def plot_harris_map(maps: dict[str, pd.DataFrame], *, title: str = "", ax=None):
     fig, ax = _axes(ax, (6.4, 3.8))
     for label, df in maps.items():
         ax.plot(df["torque_Nm"], df["ppte_um"], marker="o", ms=3, label=label)
-    ax.set_xlabel("torque on the driving gear [N m]")
-    ax.set_ylabel("PPTE [µm]")
-    ax.set_title(title)
-    ax.grid(alpha=0.3)
-    ax.legend(fontsize=7)
-    fig.tight_layout()
-    return fig
+    return _finish_line_plot(fig, ax, "torque on the driving gear [N m]", "PPTE [µm]", title)
 
 
 def plot_percentage_change(table: pd.DataFrame, baseline: str, *, title: str = "", ax=None):
@@ -155,6 +143,16 @@ def save(fig, path: str | Path, dpi: int = 120) -> Path:
     fig.savefig(path, dpi=dpi)
     plt.close(fig)
     return path
+
+
+def _finish_line_plot(fig, ax, xlabel: str, ylabel: str, title: str):
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    ax.set_title(title)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    return fig
 
 
 def _axes(ax, size):
