@@ -67,7 +67,9 @@ class TimingModel:
     """The default timing-system network with its data, gear train and per-mesh table (see module docstring).
 
     ``mesh_table`` (index mesh): gears, base radii [mm], teeth, contact ratios, base helix angle [deg], mean mesh
-    stiffness [N/m], damping [N s/m], backlash along the line of action [mm], ISO validity note.
+    stiffness [N/m], damping [N s/m], backlash along the line of action [mm], ISO validity note. ``gear_nodes``:
+    gear name -> network node that carries it (the crank gear is lumped in ``crank_gear_node``; every other gear is
+    its own node).
     """
 
     kind: str
@@ -79,6 +81,7 @@ class TimingModel:
     pressure: str
     raw_peak_pressure_bar: float
     notes: list = field(default_factory=list)
+    gear_nodes: dict = field(default_factory=dict)
 
     def parameters_at(self, speed_rpm: float, load: float | None = None) -> dict:
         """Parameter overrides for ``speed_rpm`` [rpm]: the cylinder-pressure scale that makes the trace's peak the
@@ -286,7 +289,8 @@ def default_timing_model(kind: str = "spur", *, data: dict | None = None, load: 
                    description="lube pump (gearopt.engine)")
 
     return TimingModel(kind=kind, network=net, train=train, mesh_table=mesh_df, data=raw, load=float(load),
-                       pressure=pressure, raw_peak_pressure_bar=float(exc.pressure.peak_bar), notes=notes)
+                       pressure=pressure, raw_peak_pressure_bar=float(exc.pressure.peak_bar), notes=notes,
+                       gear_nodes=dict(gear_node))
 
 
 __all__ = ["default_timing_model", "TimingModel", "KINDS", "PRESSURE_SCALE"]

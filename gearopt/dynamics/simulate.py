@@ -38,7 +38,7 @@ import numpy as np
 import pandas as pd
 
 from ..errors import GearoptInputError, check_range
-from .network import ANGLE_UNIT_RAD, OFFSET_PARAMETER, TorsionalNetwork
+from .network import ANGLE_UNIT_RAD, OFFSET_PARAMETER, SPEED_PARAMETER, TorsionalNetwork
 
 INTEGRATORS = ("cvodes", "idas", "collocation", "rk")
 #: Quantities of the output DataFrames (one column per element).
@@ -59,7 +59,10 @@ class Simulation:
     ``node_angle_mrad`` angle deviations, ``node_speed_rpm`` absolute speeds. ``time_s`` and ``crank_angle_deg``
     (reference-node angle) arrays; ``cycle_change`` per simulated cycle (run-in first); ``contact_variation``
     integrated contact-indicator variations per mesh; ``stats`` run time and integrator counters; ``cycles``
-    recorded cycles; ``mesh_base_radii_mm`` (r_b1, r_b2) per mesh.
+    recorded cycles; ``mesh_base_radii_mm`` (r_b1, r_b2) per mesh; ``angle_offset_rad`` the reference-node angle
+    [rad] at the start of the first recorded cycle (so ``crank_angle_deg`` + it is the integration's own angle);
+    ``steady_state_method`` ``"run-in"`` or ``"shooting"`` and ``shooting`` (residual, iterations, ...; see
+    :meth:`Simulator.periodic_state`).
     """
 
     speed_rpm: float
@@ -76,6 +79,9 @@ class Simulation:
     parameters: dict = field(default_factory=dict)
     cycles: int = 1
     mesh_base_radii_mm: dict = field(default_factory=dict)
+    angle_offset_rad: float = 0.0
+    steady_state_method: str = "run-in"
+    shooting: dict = field(default_factory=dict)
 
     def __getattr__(self, name):
         frames = self.__dict__.get("frames", {})
@@ -344,7 +350,8 @@ class Simulator:
                           crank_angle_deg=np.degrees(tau), frames=frames, contact_variation=variation,
                           cycle_change=changes, run_in_cycles=run_in, steady_state_tol=tol, final_state=x_final,
                           stats=stats, parameters=dict(zip(names, pvec.tolist())), cycles=len(recorded),
-                          mesh_base_radii_mm={m.name: m.base_radii_mm for m in self.network.meshes.values()})
+                          mesh_base_radii_mm={m.name: m.base_radii_mm for m in self.network.meshes.values()},
+                          angle_offset_rad=float(recorded[0][0] * self.cycle_rad))
 
 
 def _shape_peak(shape) -> float:
@@ -355,6 +362,31 @@ def _shape_peak(shape) -> float:
         return float(np.max(np.abs(shape.variation(psi)))) if shape.harmonics else 0.0
     psi = np.linspace(0.0, 2.0 * np.pi, 1024, endpoint=False)
     return float(np.max(np.abs(np.array([float(shape(v)) for v in psi]) - 1.0)))
+
+
+def node_accelerations(network: TorsionalNetwork, sim: Simulation) -> pd.DataFrame:
+    """Angular accelerations [rad/s^2] of the free nodes at the samples of ``sim`` (a simulation of ``network``),
+    in the network's common sign convention (the nominal rotation has constant speed, so this is both the
+    vibratory and the absolute acceleration). Evaluated from the equations of motion at the recorded states (the
+    integrator's accuracy, no finite difference). Columns: free nodes; index ``time_s``."""
+    eq = network.equations(lash=sim.backlash)
+    key = ("accelerations", sim.backlash)
+    n = len(eq.free_nodes)
+    if key not in network._cache:
+        i_speed = eq.parameter_names.index(SPEED_PARAMETER)
+        network._cache[key] = ca.Function("accelerations", [eq.tau, eq.x, eq.p],
+                                          [eq.rhs[n:] * eq.p[i_speed]], {"cse": True})
+    fun = network._cache[key]
+    pvec = np.array([sim.parameters[k] for k in eq.parameter_names], dtype=float)
+    pvec[eq.parameter_names.index(OFFSET_PARAMETER)] = 0.0
+    omega = pvec[eq.parameter_names.index(SPEED_PARAMETER)]
+    ratios = network.speed_ratios()
+    x = np.vstack([sim.node_angle_mrad[nd].to_numpy() for nd in eq.free_nodes]
+                  + [sim.node_speed_rpm[nd].to_numpy() * math.pi / 30.0 - ratios[nd] * omega
+                     for nd in eq.free_nodes])
+    tau = np.radians(sim.crank_angle_deg) + sim.angle_offset_rad
+    acc = np.array(fun.map(tau.size)(tau[None, :], x, np.repeat(pvec[:, None], tau.size, 1)))
+    return pd.DataFrame({nd: acc[i] for i, nd in enumerate(eq.free_nodes)}, index=pd.Index(sim.time_s, name="time_s"))
 
 
 def simulator(network: TorsionalNetwork, **options) -> Simulator:
@@ -376,4 +408,4 @@ def simulate(network: TorsionalNetwork, speed_rpm: float, cycles: int = 10, *, b
                    steady_state_tol=steady_state_tol)
 
 
-__all__ = ["INTEGRATORS", "Simulation", "Simulator", "simulator", "simulate"]
+__all__ = ["INTEGRATORS", "Simulation", "Simulator", "simulator", "simulate", "node_accelerations"]

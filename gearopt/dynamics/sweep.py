@@ -52,42 +52,91 @@ def simulation_statistics(sim, shafts=()) -> pd.DataFrame:
     return pd.DataFrame(rows)
 
 
+def _gear_inertia_kgm2(data: dict, gear: str) -> tuple[float, str]:
+    """Own inertia of a gear lumped into a larger network node: ``gears.<gear>.inertia_kgm2`` if the data give it,
+    else the data's solid-disc estimate ``solid_disc_inertia_kgm2``; raises if neither exists."""
+    from ..data import values
+    spec = values(data).get("gears", {}).get(gear, {})
+    for key in ("inertia_kgm2", "solid_disc_inertia_kgm2"):
+        if key in spec:
+            return float(spec[key]), f"gears.{gear}.{key}"
+    raise GearoptInputError(f"gear {gear!r}: no inertia_kgm2 or solid_disc_inertia_kgm2 in the data; pass "
+                            f"gear_inertia_kgm2")
+
+
 def walk_off_history(model, sim, joint: str = "cam", interference: str = "nominal",
-                     root_rotation: str = "cw") -> dict:
+                     root_rotation: str = "cw", gear_inertia_kgm2: float | None = None) -> dict:
     """Axial force, joint torque and slip margins of one shaft-hub joint over a simulation (gearopt.joints).
 
     The per-mesh torques on each mesh's first gear (force x r_b1, + when it drives) go to
     :func:`gearopt.joints.walk_off` (hands, rotation senses and the thrust direction, +z = off the shaft nose),
-    which sums the axial forces of all meshes of the joint's gear; the joint torque is the network's shaft torque
-    from the gear to its shaft (it includes the gear's own inertia torque); the capacity is
-    :func:`gearopt.joints.joint_capacity` of ``[joints.<joint>]`` at the simulation speed (centrifugal loss) and
-    ``interference`` case, and :func:`gearopt.joints.margin_history` gives the margins over time.
+    which sums the axial forces of all meshes of the joint's gear. The joint torque [N m] (+ when the gear drives
+    its shaft, as :mod:`gearopt.joints.walk_off`) is
+
+    * for a gear that is its own network node with a shaft element to its load (cam, AC, FP, LPG): that shaft's
+      torque (it includes the gear's own inertia torque);
+    * for a gear lumped into a larger node (the crank gear in ``crank_gear_node`` of the crankshaft chain,
+      ``model.gear_nodes``): the gear's rotational equilibrium, ``sum of its mesh torques (F r_b of crank-cam and
+      crank-lpi, signed) - J_g alpha``, with ``alpha`` the node's angular acceleration from the equations of motion
+      (:func:`~gearopt.dynamics.simulate.node_accelerations`) and ``J_g`` the gear's own inertia
+      (``gear_inertia_kgm2``; default ``gears.<gear>.inertia_kgm2`` of the data, else its
+      ``solid_disc_inertia_kgm2`` estimate -- 0.00373 kg m^2 for the default crank gear). Approximation: the gear
+      is taken as a rigid body moving with the node (the nose between gear seat and node is rigid), so the seat
+      carries the rest of the node's torques; ``gear_inertia_kgm2=0`` gives the plain mesh-torque sum.
+
+    The capacity is :func:`gearopt.joints.joint_capacity` of ``[joints.<joint>]`` at the simulation speed
+    (centrifugal loss) and ``interference`` case, and :func:`gearopt.joints.margin_history` gives the margins.
 
     Returns a dict: ``axial_force_N`` and ``joint_torque_Nm`` (arrays over the simulation), ``capacity`` (dict),
-    and the margin summary (``min_torque_margin``, ``min_axial_margin``, ``min_combined_margin``,
-    ``max_slip_utilisation``, ...). Joints whose gear has no shaft element in the network (the crank gear, lumped
-    in the crankshaft node; the idler) raise ``GearoptInputError``.
+    ``joint_torque_method`` (``"shaft"`` or ``"mesh_sum"``), ``gear_inertia_kgm2`` (mesh_sum only), and the
+    margin summary (``min_torque_margin``, ``min_axial_margin``, ``min_combined_margin``, ``max_slip_utilisation``,
+    ...). A gear that is its own node without a shaft element (the lube-pump idler on its stub) raises
+    ``GearoptInputError``: its joint carries only the hub's inertia torque, which the model does not resolve.
     """
     from ..joints import joint_capacity, margin_history, walk_off
+    from .simulate import node_accelerations
 
     data = model.data
     joints = data.get("joints", {})
     if joint not in joints:
         raise GearoptInputError(f"joint={joint!r} is not in [joints] ({sorted(joints)})")
     gear = joints[joint]["gear"]
-    shafts = [s.name for s in model.network.shafts.values() if s.node_a == gear]
-    if not shafts:
-        raise GearoptInputError(f"joint {joint!r}: gear {gear!r} has no shaft element in the network (its joint "
-                                f"torque is not a network output)")
+    node = getattr(model, "gear_nodes", {}).get(gear, gear)
     torques = {mesh: sim.mesh_force_N[mesh].to_numpy() * sim.mesh_base_radii_mm[mesh][0] * 1e-3
                for mesh in sim.mesh_force_N.columns}
-    res = walk_off(model.train, torques, root_rotation=root_rotation)
+    extra = {}
+    if node == gear:
+        shafts = [s.name for s in model.network.shafts.values() if s.node_a == gear]
+        if not shafts:
+            raise GearoptInputError(f"joint {joint!r}: gear {gear!r} has no shaft element in the network (its joint "
+                                    f"torque is not a network output)")
+        res = walk_off(model.train, torques, root_rotation=root_rotation)
+        torque = sim.shaft_torque_Nm[shafts[0]].to_numpy()
+        extra["joint_torque_method"] = "shaft"
+    else:
+        if gear_inertia_kgm2 is None:
+            j_g, source = _gear_inertia_kgm2(data, gear)
+        else:
+            check_range("gear_inertia_kgm2", gear_inertia_kgm2, 0.0, None, unit="kg m^2")
+            j_g, source = float(gear_inertia_kgm2), "argument"
+        if node not in model.network.inertias:
+            raise GearoptInputError(f"joint {joint!r}: gear node {node!r} is not in the network")
+        if j_g > model.network.inertias[node].inertia_kgm2:
+            raise GearoptInputError(f"joint {joint!r}: gear inertia {j_g} kg m^2 exceeds its node {node!r}'s "
+                                    f"{model.network.inertias[node].inertia_kgm2} kg m^2")
+        if j_g == 0.0 or node in model.network.boundary_nodes:
+            alpha = np.zeros(len(sim.time_s))
+        else:
+            sign = 1.0 if model.network.speed_ratios()[node] >= 0 else -1.0
+            alpha = sign * node_accelerations(model.network, sim)[node].to_numpy()  # in the gear's own sense
+        res = walk_off(model.train, torques, root_rotation=root_rotation, inertia_torques_Nm={gear: j_g * alpha})
+        torque = np.asarray(res.joint_torque_Nm[gear], dtype=float) * np.ones(len(sim.time_s))
+        extra.update(joint_torque_method="mesh_sum", gear_inertia_kgm2=j_g, gear_inertia_source=source)
     axial = np.asarray(res.axial_force_N[gear], dtype=float) * np.ones(len(sim.time_s))
-    torque = sim.shaft_torque_Nm[shafts[0]].to_numpy()
     cap = joint_capacity(data, joint, interference=interference, speed_rpm=sim.speed_rpm)
     hist = margin_history(cap["type"], torque, axial, cap["torque_capacity_Nm"], cap["axial_capacity_N"])
     summary = {k: v for k, v in hist.items() if k.startswith(("min_", "max_", "argmin_"))}
-    return {"axial_force_N": axial, "joint_torque_Nm": torque, "capacity": cap, **summary}
+    return {"axial_force_N": axial, "joint_torque_Nm": torque, "capacity": cap, **extra, **summary}
 
 
 def speed_sweep(model, speeds_rpm, backlash=(False, True), cycles: int = 2, run_in_cycles: int = 2,
