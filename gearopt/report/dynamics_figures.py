@@ -1,0 +1,103 @@
+"""Figures of the torsional dynamics of a timing train: the Campbell diagram of the linearised model.
+
+:func:`campbell_table` lists every crossing of a natural frequency with an engine-order line inside a speed range
+(speed = 60 f / order) and the node that dominates the mode's shape; :func:`plot_campbell` draws the natural
+frequencies against engine speed with the order lines and marks those crossings. The linear model is
+:mod:`gearopt.dynamics.modes` (mean mesh stiffness, both flanks in contact, speed boundary held), so its natural
+frequencies do not depend on speed: the Campbell lines are horizontal. Plotting only; the eigenvalue problem is
+solved by :func:`gearopt.dynamics.modes.campbell_diagram`.
+"""
+
+from __future__ import annotations
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+import pandas as pd  # noqa: E402
+
+from ..dynamics.modes import campbell_diagram, mode_shapes  # noqa: E402
+from ..errors import GearoptInputError  # noqa: E402
+
+#: Engine orders of a four-stroke engine's Campbell diagram by default: 0.5 ... 12 in half orders.
+DEFAULT_ORDERS = tuple(np.arange(0.5, 12.01, 0.5))
+
+
+def _network(model):
+    """A TimingModel's network, or the network itself."""
+    net = getattr(model, "network", model)
+    if not hasattr(net, "speed_ratios"):
+        raise GearoptInputError(f"model={type(model).__name__} must be a TorsionalNetwork or a TimingModel")
+    return net
+
+
+def campbell_table(model, speeds_rpm, orders=DEFAULT_ORDERS, *, max_frequency_Hz: float | None = None,
+                   boundary: str = "network") -> pd.DataFrame:
+    """Crossings of natural frequencies with engine orders inside the speed range.
+
+    ``model``: a :class:`~gearopt.dynamics.default_model.TimingModel` or a
+    :class:`~gearopt.dynamics.network.TorsionalNetwork`; ``speeds_rpm`` [rpm] (its min and max set the range);
+    ``orders`` engine orders (cycles per crank revolution; 0.5 = once per engine cycle of a four-stroke);
+    ``max_frequency_Hz`` drops higher modes; ``boundary`` as :func:`gearopt.dynamics.modes.linear_matrices`.
+    Returns a DataFrame with ``mode`` (1-based, ascending frequency, rigid-body modes left out),
+    ``frequency_Hz``, ``order``, ``speed_rpm`` = 60 f / order, and ``dominant_node`` (largest |angle| of the
+    undamped mode shape), sorted by speed.
+    """
+    net = _network(model)
+    camp = campbell_diagram(net, speeds_rpm, orders, boundary=boundary, max_frequency_Hz=max_frequency_Hz)
+    crossings = camp["crossings"].copy()
+    shapes = mode_shapes(net, boundary=boundary).drop(index="frequency_Hz")
+    crossings["dominant_node"] = [str(shapes[f"mode_{int(m)}"].abs().idxmax()) for m in crossings["mode"]]
+    return crossings.sort_values(["speed_rpm", "mode"]).reset_index(drop=True)
+
+
+def plot_campbell(model, speeds_rpm, orders=DEFAULT_ORDERS, *, max_frequency_Hz: float | None = None,
+                  label_orders=(0.5, 1.5, 3.0, 4.5, 6.0, 7.5, 9.0, 12.0), title: str = "", ax=None):
+    """Campbell diagram of the linearised model: natural frequencies [Hz] (horizontal lines, labelled with mode
+    number and dominant node) against engine speed [rpm], engine-order lines ``f = order n / 60`` for ``orders``
+    (those in ``label_orders`` drawn darker and labelled), and a marker at every crossing inside the speed range
+    (:func:`campbell_table`). ``max_frequency_Hz`` (default: 1.1 x the highest order's frequency at the top speed)
+    limits modes and axis. Returns the matplotlib ``Figure``."""
+    speeds = np.asarray(speeds_rpm, dtype=float).reshape(-1)
+    orders = np.asarray(orders, dtype=float).reshape(-1)
+    if speeds.size < 2:
+        raise GearoptInputError("speeds_rpm needs at least two speeds")
+    if orders.size == 0:
+        raise GearoptInputError("orders must not be empty")
+    f_top = max_frequency_Hz if max_frequency_Hz is not None else 1.1 * float(orders.max()) * speeds.max() / 60.0
+    table = campbell_table(model, speeds, orders, max_frequency_Hz=f_top)
+    net = _network(model)
+    camp = campbell_diagram(net, speeds, orders, max_frequency_Hz=f_top)
+    if ax is None:
+        fig, ax = plt.subplots(figsize=(8.0, 5.5), layout="constrained")
+    else:
+        fig = ax.figure
+    n = np.array([speeds.min(), speeds.max()])
+    labelled = {float(o) for o in label_orders}
+    for o in orders:
+        strong = float(o) in labelled
+        ax.plot(n, o * n / 60.0, color="0.25" if strong else "0.7", lw=0.9 if strong else 0.5, zorder=1)
+        if strong and o * n[1] / 60.0 <= f_top:
+            ax.annotate(f"{o:g}", (n[1], o * n[1] / 60.0), xytext=(2, 0), textcoords="offset points",
+                        fontsize=7, va="center")
+    shapes = mode_shapes(net).drop(index="frequency_Hz")
+    for _, mode in camp["modes"].iterrows():
+        node = shapes[f"mode_{int(mode['mode'])}"].abs().idxmax()
+        ax.axhline(mode["frequency_Hz"], color="tab:blue", lw=1.0, zorder=2)
+        ax.annotate(f"mode {int(mode['mode'])} ({node}) {mode['frequency_Hz']:.0f} Hz", (n[0], mode["frequency_Hz"]),
+                    xytext=(3, 2), textcoords="offset points", fontsize=7, color="tab:blue")
+    if len(table):
+        ax.scatter(table["speed_rpm"], table["frequency_Hz"], s=18, color="tab:red", zorder=3,
+                   label=f"{len(table)} crossings in {speeds.min():.0f}-{speeds.max():.0f} rpm")
+        ax.legend(loc="upper left", fontsize=8)
+    ax.set_xlim(n[0], n[1] * 1.04)
+    ax.set_ylim(0.0, f_top)
+    ax.set_xlabel("engine speed [rpm]")
+    ax.set_ylabel("frequency [Hz]")
+    ax.set_title(title or "Campbell diagram (linearised model, engine orders)")
+    ax.grid(alpha=0.3)
+    return fig
+
+
+__all__ = ["DEFAULT_ORDERS", "campbell_table", "plot_campbell"]
