@@ -25,7 +25,7 @@ from __future__ import annotations
 import time
 from dataclasses import dataclass
 from contextlib import contextmanager
-from typing import Any, Callable, Iterator
+from typing import TYPE_CHECKING, Any, Callable, Iterator
 
 import casadi as ca
 import numpy as np
@@ -40,6 +40,10 @@ from gearopt.design.result import (ProblemResult, constraint_table, multipliers_
                                    violations_from_tables)
 from gearopt.errors import (GearoptInputError, InfeasibleProblemError, NumericalSolveError,
                             ViolatedConstraint)
+
+if TYPE_CHECKING:  # pragma: no cover
+    from gearopt.design.elastic import ElasticResult
+    from gearopt.design.multistart import MultiStartResult
 
 DEFAULT_IPOPT_OPTIONS: dict[str, Any] = {
     "print_level": 0, "sb": "yes", "max_iter": 1000, "tol": 1e-8, "mu_strategy": "adaptive"}
@@ -280,7 +284,8 @@ class Problem:
         return report
 
     def solve(self, *, warm_start: bool = False, verbose: bool = False,
-              casadi_options: dict[str, Any] | None = None, **ipopt_options: Any) -> ProblemResult:
+              casadi_options: dict[str, Any] | None = None, elastic_on_failure: bool = False,
+              **ipopt_options: Any) -> ProblemResult:
         """Run the pre-solve check, then Ipopt; return the result or raise a typed error.
 
         Args:
@@ -289,6 +294,10 @@ class Problem:
                 ``warm_start_init_point="yes"``.
             verbose: Ipopt iteration log (``print_level`` 5) and CasADi timings.
             casadi_options: extra or overriding CasADi ``nlpsol`` options (e.g. ``{"expand": True}``).
+            elastic_on_failure: when Ipopt fails, also run :meth:`solve_elastic` (default mode, same options and
+                start) and raise the typed error with the least relaxation in its message and as attributes
+                ``relaxations`` (DataFrame: name, element, bound_side, bound, relaxation, unit, ...; None if the
+                elastic solve failed too) and ``elastic`` (the :class:`~gearopt.design.elastic.ElasticResult`).
             **ipopt_options: Ipopt options by their Ipopt names (``max_iter=50``, ``tol=1e-6`` ...), overriding
                 :data:`DEFAULT_IPOPT_OPTIONS`.
 
@@ -333,9 +342,28 @@ class Problem:
         x_scaled, lam = self._last_iterate(stats, start, lam0)
         result = self._result(stats, x_scaled, lam, start, solve_s, build_s + max(wall_s - solve_s, 0.0))
         if not result.success:
-            raise failures.solve_error(result) from error
+            failure = failures.solve_error(result)
+            if elastic_on_failure:
+                from gearopt.design.elastic import attach_elastic  # late: elastic builds a Problem
+                failure = attach_elastic(self, failure, warm_start=warm_start, verbose=verbose,
+                                         casadi_options=casadi_options, **ipopt_options)
+            raise failure from error
         self._previous_x, self._previous_lam = x_scaled, lam
         return result
+
+    def solve_elastic(self, **options: Any) -> "ElasticResult":
+        """Least weighted relaxation of the constraints that makes the problem feasible, by name and in units
+        (variable bounds stay hard); see :func:`gearopt.design.elastic.solve_elastic` for the options
+        (``weights``, ``mode``, ``penalty``, tolerances, solve options). The problem itself is not modified."""
+        from gearopt.design.elastic import solve_elastic
+        return solve_elastic(self, **options)
+
+    def multistart(self, n: int, *, seed: int = 0, **options: Any) -> "MultiStartResult":
+        """Solve from ``n`` Latin-hypercube starting points inside the variable bounds; see
+        :func:`gearopt.design.multistart.multistart` (``variables``, ``span``, ``include_initial``, solve
+        options). The declared initial guesses are restored afterwards."""
+        from gearopt.design.multistart import multistart
+        return multistart(self, n, seed=seed, **options)
 
     # ------------------------------------------------------------------ internals: declarations
 

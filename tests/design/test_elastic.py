@@ -1,0 +1,296 @@
+"""Tests of gearopt.design.elastic: the least weighted relaxation of an infeasible problem, by name and in units.
+
+References are analytic (derived next to each test) or a brute-force scan computed here; none comes from the code
+under test.
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import casadi as ca
+import numpy as np
+import pandas as pd
+import pytest
+
+import gearopt as go
+from gearopt.design import Problem
+from gearopt.design.elastic import ELASTIC_COLUMNS, ElasticResult, solve_elastic
+from gearopt.errors import GearoptInputError, InfeasibleProblemError, SolveError
+
+TOL = 1e-5   # phase 2 keeps the relaxation within 1e-6 (scaled) of phase 1; Ipopt tol 1e-8
+
+
+def conflict(scale_min: float = 1.0, scale_max: float = 1.0, objective=None) -> Problem:
+    """x >= 2 mm and x <= 1 mm: infeasible by exactly 1 mm whichever bound moves."""
+    p = Problem("conflict")
+    x = p.variable("x_mm", init=0.0, scale=1.0, unit="mm")
+    p.subject_to("x_min_mm", x, lower=2.0, scale=scale_min, unit="mm")
+    p.subject_to("x_max_mm", x, upper=1.0, scale=scale_max, unit="mm")
+    p.minimize(objective(x) if objective else x ** 2)
+    return p
+
+
+# --------------------------------------------------------------------------- analytic toy problems
+
+@pytest.mark.parametrize("weights, scales, relaxed, x_star", [
+    # cost of relaxing by r: w r / scale. w_min/s_min = 1 < w_max/s_max = 3: move x >= 2 down to 1 -> x = 1
+    ({"x_min_mm": 1.0, "x_max_mm": 3.0}, (1.0, 1.0), "x_min_mm", 1.0),
+    # 3 > 1: move x <= 1 up to 2 -> x = 2
+    ({"x_min_mm": 3.0, "x_max_mm": 1.0}, (1.0, 1.0), "x_max_mm", 2.0),
+    # equal weights, scales 0.1 vs 1: relaxing x >= 2 costs 10 per mm, x <= 1 costs 1 per mm -> x = 2
+    (None, (0.1, 1.0), "x_max_mm", 2.0),
+    # weights and scales together: 5/10 = 0.5 < 1/1 -> relax x >= 2 -> x = 1
+    ({"x_min_mm": 5.0}, (10.0, 1.0), "x_min_mm", 1.0),
+])
+def test_two_conflicting_bounds_relax_the_cheaper_one_by_one_mm(weights, scales, relaxed, x_star):
+    p = conflict(*scales)
+    res = p.solve_elastic(weights=weights)
+    assert isinstance(res, ElasticResult)
+    assert not res.feasible
+    assert res.values["x_mm"] == pytest.approx(x_star, abs=TOL)
+    # the two relaxations total exactly the 1 mm gap, all of it on the cheaper constraint
+    assert res.table["relaxation"].sum() == pytest.approx(1.0, abs=TOL)
+    assert res.relaxation(relaxed) == pytest.approx(1.0, abs=TOL)
+    top = res.table.iloc[0]
+    assert top["base"] == relaxed and top["unit"] == "mm"
+    assert list(res.relaxed["base"]) == [relaxed]
+    # total weighted scaled relaxation = w / s of the relaxed constraint times 1 mm
+    w = (weights or {}).get(relaxed, 1.0)
+    s = scales[0] if relaxed == "x_min_mm" else scales[1]
+    assert res.total_relaxation == pytest.approx(w / s, rel=1e-6)
+
+
+@pytest.mark.parametrize("sign, x_star", [(1.0, 2.0), (-1.0, 1.0)])
+def test_lexicographic_phase_picks_the_objective_among_least_relaxations(sign, x_star):
+    """Equal costs: every x in [1, 2] relaxes a total of 1 mm. Phase 2 minimises (x - 5 sign)^2 over that segment:
+    x = 2 for a target at +5, x = 1 for -5. Phase 1 alone may stop anywhere in [1, 2]."""
+    p = conflict(objective=lambda x: (x - 5.0 * sign) ** 2)
+    res = p.solve_elastic()
+    assert res.values["x_mm"] == pytest.approx(x_star, abs=TOL)
+    assert res.objective == pytest.approx((x_star - 5.0 * sign) ** 2, abs=1e-4)
+    assert res.table["relaxation"].sum() == pytest.approx(1.0, abs=TOL)
+    phase1 = p.solve_elastic(mode="relaxation")
+    assert 1.0 - TOL <= phase1.values["x_mm"] <= 2.0 + TOL
+    assert phase1.table["relaxation"].sum() == pytest.approx(1.0, abs=TOL)
+
+
+@pytest.mark.parametrize("penalty, x_star", [(2.0, 4.0), (100.0, 1.0)])
+def test_penalty_mode_is_the_exact_l1_penalty(penalty, x_star):
+    """min (x-5)^2 s.t. x <= 1: the multiplier of x <= 1 is 2(5-1) = 8. The l1 penalty (x-5)^2 + g max(x-1, 0)
+    is exact for g > 8 (x = 1); for g = 2 its minimum is where 2(x-5) + 2 = 0, x = 4, a violation of 3."""
+    p = Problem("penalty")
+    x = p.variable("x", init=0.0)
+    p.subject_to("x_max", x, upper=1.0)
+    p.minimize((x - 5.0) ** 2)
+    res = p.solve_elastic(mode="penalty", penalty=penalty)
+    assert res.values["x"] == pytest.approx(x_star, abs=1e-6)
+    assert res.relaxation("x_max") == pytest.approx(x_star - 1.0, abs=1e-6)
+    assert res.feasible is (x_star == 1.0)
+
+
+@pytest.mark.parametrize("w1, w2, total", [(1.0, 3.0, 3.0), (3.0, 1.0, 1.0)])
+def test_conflicting_equalities_relaxed_by_their_gap(w1, w2, total):
+    """x + y = 1 and x + y = 3 conflict by 2. The cheaper equality (weight 1 against 3) moves by 2 to the other's
+    value; phase 2 then minimises x^2 + y^2 on x + y = total: x = y = total / 2. The first equality's relaxation is
+    on its upper side when x + y = 3 lies above it, the second's on its lower side."""
+    p = Problem("equalities")
+    x = p.variable("x", init=0.0)
+    y = p.variable("y", init=0.0)
+    p.subject_to("sum_a", x + y, lower=1.0, upper=1.0, unit="N")
+    p.subject_to("sum_b", x + y, lower=3.0, upper=3.0, unit="N")
+    p.minimize(x ** 2 + y ** 2)
+    res = p.solve_elastic(weights={"sum_a": w1, "sum_b": w2})
+    assert res.values["x"] == pytest.approx(total / 2, abs=TOL)
+    assert res.values["y"] == pytest.approx(total / 2, abs=TOL)
+    top = res.table.iloc[0]
+    expected = ("sum_a", "upper") if total == 3.0 else ("sum_b", "lower")
+    assert (top["name"], top["bound_side"], top["unit"]) == (*expected, "N")
+    assert top["relaxation"] == pytest.approx(2.0, abs=TOL)
+    assert res.table["relaxation"].iloc[1:].max() == pytest.approx(0.0, abs=TOL)
+
+
+def test_vector_constraint_elements_are_named_and_in_units():
+    """Stresses s_i = 100 x_i [MPa] with limits (50, 150, 250) MPa and x_i >= 1 (hard variable bounds):
+    the least relaxation is s_0 by 50 MPa (x_0 = 1), the others hold."""
+    p = Problem("stresses")
+    x = p.variable("x", init=2.0, lower=1.0, upper=5.0, n=3)
+    p.subject_to("stress_MPa", 100.0 * x, upper=np.array([50.0, 150.0, 250.0]), scale=10.0, unit="MPa")
+    p.minimize(ca.sumsqr(x))
+    res = p.solve_elastic()
+    assert list(res.table.columns) == ELASTIC_COLUMNS
+    top = res.table.iloc[0]
+    assert (top["name"], top["element"], top["bound_side"], top["unit"]) == ("stress_MPa[0]", 0, "upper", "MPa")
+    assert top["relaxation"] == pytest.approx(50.0, abs=1e-4)
+    assert top["scaled_relaxation"] == pytest.approx(5.0, abs=1e-5)
+    assert res.table["relaxation"].iloc[1:].max() == pytest.approx(0.0, abs=1e-6)
+    # variable bounds are hard: x_0 stays at its lower bound 1 instead of moving to 0.5
+    assert res.values["x"][0] == pytest.approx(1.0, abs=1e-6)
+    assert "stress_MPa[0]: upper bound 50 MPa -> 100 MPa" in res.summary()
+
+
+def test_feasible_problem_reports_zero_relaxation_and_the_same_optimum():
+    """min x^2 + y^2 s.t. x + y >= 1, x <= 2: optimum (1/2, 1/2), f = 1/2 (KKT)."""
+    def build():
+        p = Problem("circle")
+        x = p.variable("x", init=0.0, scale=2.0)
+        y = p.variable("y", init=0.0)
+        p.subject_to("sum_min", x + y, lower=1.0, scale=0.5)
+        p.subject_to("x_max", x, upper=2.0)
+        p.minimize(x ** 2 + y ** 2)
+        return p
+    direct = build().solve()
+    elastic = build().solve_elastic()
+    assert elastic.feasible
+    assert elastic.relaxed.empty
+    assert elastic.table["relaxation"].max() == pytest.approx(0.0, abs=1e-7)
+    for name in ("x", "y"):
+        assert elastic.values[name] == pytest.approx(direct.values[name], abs=1e-5)
+        assert elastic.values[name] == pytest.approx(0.5, abs=1e-5)
+    assert elastic.objective == pytest.approx(direct.objective, abs=1e-5)
+    assert "can be met" in elastic.summary()
+
+
+def test_original_problem_is_untouched_and_still_solves():
+    p = conflict()
+    p.solve_elastic()
+    assert p.constraint_names == ("x_min_mm", "x_max_mm")
+    assert p.variable_names == ("x_mm",)
+    with pytest.raises(InfeasibleProblemError):
+        p.solve()
+
+
+def test_parameters_are_used_at_their_current_value():
+    """x >= a, x <= 1 with a a parameter: the relaxation is a - 1 for every a > 1, 0 below."""
+    p = Problem("param")
+    a = p.parameter("a_mm", 3.0, unit="mm")
+    x = p.variable("x", init=0.0)
+    p.subject_to("x_min", x - a, lower=0.0, unit="mm")
+    p.subject_to("x_max", x, upper=1.0, unit="mm", scale=0.5)
+    p.minimize(x ** 2)
+    assert p.solve_elastic().relaxation("x_min") == pytest.approx(2.0, abs=TOL)
+    p.set_parameter("a_mm", 1.5)
+    assert p.solve_elastic().relaxation("x_min") == pytest.approx(0.5, abs=TOL)
+    p.set_parameter("a_mm", 0.5)
+    assert p.solve_elastic().feasible
+
+
+# --------------------------------------------------------------------------- errors carrying the relaxation
+
+def test_solve_with_elastic_on_failure_attaches_relaxations_to_the_typed_error():
+    p = conflict(scale_min=0.1)
+    with pytest.raises(InfeasibleProblemError) as info:
+        p.solve(elastic_on_failure=True)
+    err = info.value
+    assert isinstance(err.relaxations, pd.DataFrame)
+    assert err.relaxations.iloc[0]["name"] == "x_max_mm"       # x >= 2 is 10x dearer to move (scale 0.1)
+    assert err.relaxations.iloc[0]["relaxation"] == pytest.approx(1.0, abs=TOL)
+    assert "x_max_mm: upper bound 1 mm -> 2 mm (relax by 1 mm)" in str(err)
+    assert err.status and err.hint and err.violated            # the ordinary failure data are kept
+    assert isinstance(err.elastic, ElasticResult)
+
+
+def test_without_elastic_on_failure_the_error_is_unchanged():
+    with pytest.raises(InfeasibleProblemError) as info:
+        conflict().solve()
+    assert not hasattr(info.value, "relaxations")
+    assert "elastic mode" not in str(info.value)
+
+
+def test_input_errors_name_the_parameter():
+    p = conflict()
+    with pytest.raises(GearoptInputError, match="mode='phase3'"):
+        p.solve_elastic(mode="phase3")
+    with pytest.raises(GearoptInputError, match="no_such"):
+        p.solve_elastic(weights={"no_such": 1.0})
+    with pytest.raises(GearoptInputError, match=r"weights\['x_min_mm'\]=-1.0"):
+        p.solve_elastic(weights={"x_min_mm": -1.0})
+    with pytest.raises(GearoptInputError, match="penalty=0"):
+        p.solve_elastic(mode="penalty", penalty=0.0)
+    q = Problem("free")
+    x = q.variable("x", init=1.0)
+    q.minimize(x ** 2)
+    with pytest.raises(GearoptInputError, match="no constraints"):
+        solve_elastic(q)
+
+
+def test_variable_bounds_are_hard():
+    """Variable bounds are hard: with x in [0, 1] and the constraint x >= 3, only the constraint moves (by 2, at
+    x = 1), even though moving the variable bound would be as cheap."""
+    p = Problem("box")
+    x = p.variable("x", init=0.5, lower=0.0, upper=1.0)
+    p.subject_to("x_min", x, lower=3.0)
+    p.minimize(x)
+    res = p.solve_elastic()
+    assert res.values["x"] == pytest.approx(1.0, abs=1e-6)
+    assert res.relaxation("x_min") == pytest.approx(2.0, abs=1e-6)
+
+
+# --------------------------------------------------------------------------- a real case: the shift split
+
+def shift_split_problem(pair, min_contact_ratio: float) -> Problem:
+    """The NLP of gearopt.design.shift_distribution.optimise_shift_split ('max_min_tip_thickness'), rebuilt here
+    from the public GearPair pieces so that its Problem is at hand (optimise_shift_split solves internally)."""
+    total = pair.profile_shifts[0] + pair.profile_shifts[1]
+    p = Problem("shift split")
+    x1 = p.variable("profile_shift_1", init=0.2, lower=-1.0, upper=2.0, scale=0.5)
+    trial = replace(pair, profile_shifts=(x1, total - x1), tip_diameters_mm=None)
+    for name, expr in trial.constraints(min_tip_thickness_ratio=0.2, min_contact_ratio=min_contact_ratio,
+                                        worst_case=True, iso_tr_4467_limits=True, min_backlash_mm=None).items():
+        p.subject_to(name, expr, lower=0.0, unit="mm" if name.endswith("_mm") else "")
+    m = float(pair.module_mm)
+    t = p.variable("min_tip_thickness_mm", init=0.5 * m, lower=0.0, upper=2.0 * m, scale=m, unit="mm")
+    s = trial.geometry()["tip_thickness_mm"]
+    for i in range(2):
+        p.subject_to(f"epigraph_tip_thickness_{i + 1}_mm", s[i] - t, lower=0.0, unit="mm")
+    p.maximize(t, scale=m)
+    return p
+
+
+def test_shift_split_with_impossible_contact_ratio_reports_the_contact_ratio_gap():
+    """Default crank-cam pair (z 38/76, a = 172.24 mm): the worst-case transverse contact ratio over the free split
+    x1 (x1 + x2 fixed) peaks near 1.62, so min_contact_ratio = 1.9 is infeasible. The least relaxation is
+    1.9 - max over x1 of the worst-case contact ratio, found here by brute force over x1 in [-1, 2] (step 1e-4)
+    among splits that meet every other limit."""
+    pair = go.load_default_train("spur").pairs["crank-cam"]
+    total = pair.profile_shifts[0] + pair.profile_shifts[1]
+    grid = np.arange(-1.0, 2.0 + 1e-12, 1e-4)
+    trial = replace(pair, profile_shifts=(grid, total - grid), tip_diameters_mm=None)
+    margins = trial.constraints(min_tip_thickness_ratio=0.2, min_contact_ratio=0.0, worst_case=True,
+                                iso_tr_4467_limits=True, min_backlash_mm=None)
+    eps = np.asarray(margins.pop("contact_ratio_margin"), dtype=float)
+    others_ok = np.all([np.asarray(v, dtype=float) >= 0.0 for v in margins.values()], axis=0)
+    best_eps = eps[others_ok].max()
+    best_x1 = grid[others_ok][eps[others_ok].argmax()]
+    assert 1.55 < best_eps < 1.7                                 # a plausible spur contact ratio
+
+    with pytest.raises(InfeasibleProblemError) as info:
+        shift_split_problem(pair, 1.9).solve(elastic_on_failure=True)
+    err = info.value
+    top = err.relaxations.iloc[0]
+    assert top["name"] == "contact_ratio_margin"
+    assert top["relaxation"] == pytest.approx(1.9 - best_eps, abs=1e-5)
+    assert err.relaxations["relaxation"].iloc[1:].max() < 1e-6   # nothing else has to move
+    assert "contact_ratio_margin: lower bound 0 -> " in str(err)
+    # phase 2 may trade up to 1e-6 of contact ratio for tip thickness: |dx1| <~ sqrt(2e-6 / eps'') ~ 1e-2
+    assert err.elastic.values["profile_shift_1"] == pytest.approx(best_x1, abs=1e-2)
+
+
+def test_shift_split_feasible_limit_reports_no_relaxation():
+    pair = go.load_default_train("spur").pairs["crank-cam"]
+    direct = shift_split_problem(pair, 1.2).solve()
+    elastic = shift_split_problem(pair, 1.2).solve_elastic()
+    assert elastic.feasible
+    assert elastic.values["profile_shift_1"] == pytest.approx(direct.values["profile_shift_1"], abs=1e-4)
+    assert elastic.objective == pytest.approx(direct.objective, rel=1e-5)
+
+
+def test_elastic_failure_of_a_nan_model_is_typed():
+    """A model that is NaN over the whole box cannot be relaxed: phase 1 raises a typed error naming it."""
+    p = Problem("nan")
+    x = p.variable("x", init=1.0, lower=0.5, upper=2.0)
+    p.subject_to("bad_log", ca.log(x - 3.0), lower=0.0)
+    p.minimize(x)
+    with pytest.raises((SolveError, GearoptInputError)) as info:
+        p.solve_elastic()
+    assert "bad_log" in str(info.value)
