@@ -11,6 +11,7 @@ from __future__ import annotations
 
 from typing import Any
 
+from .. import numerics as nm
 from ..data import values
 from ..errors import GearoptInputError
 from .press_fit import press_fit
@@ -31,7 +32,8 @@ def _material(d: dict, name: str) -> dict:
 
 
 def joint_capacity(data: dict, joint: str, *, interference: str = "nominal", nut_factor: str = "nominal",
-                   smoothing: bool = False, theory: str = "uniform_pressure", speed_rpm: float = 0.0) -> dict:
+                   smoothing: bool = False, theory: str = "uniform_pressure", speed_rpm: float = 0.0,
+                   overrides: dict | None = None) -> dict:
     """Capacity of one ``[joints.<joint>]`` entry as a flat dict.
 
     ``interference``: ``"nominal"``/``"min"``/``"max"`` of the ISO 286 fit (press fits); ``nut_factor``:
@@ -40,11 +42,19 @@ def joint_capacity(data: dict, joint: str, *, interference: str = "nominal", nut
     Keys: ``joint``, ``gear``, ``type``, ``fit``, ``pressure_MPa``, ``torque_capacity_Nm``, ``axial_capacity_N``,
     ``hub_hoop_stress_MPa``, ``hub_von_mises_MPa``, ``hub_yield_safety``, ``fit_diameter_mm`` and for tapers
     ``bolt_preload_N`` and ``torque_capacity_engagement_friction_Nm``.
+
+    ``overrides`` replaces entries of ``[joints.<joint>]`` by value, numeric or CasADi-symbolic (a design variable of an
+    NLP: e.g. ``{"diametral_interference_um": x}`` with ``interference="nominal"``, ``fit_length_mm``,
+    ``nut_torque_Nm``); symbolic entries give symbolic capacities.
     """
     d = values(data)
     if joint not in d.get("joints", {}):
         raise GearoptInputError(f"joint={joint!r} is not in [joints] ({sorted(d.get('joints', {}))})")
-    j = d["joints"][joint]
+    j = dict(d["joints"][joint])
+    unknown = set(overrides or {}) - set(j)
+    if unknown:
+        raise GearoptInputError(f"overrides={sorted(unknown)} are not entries of [joints.{joint}] ({sorted(j)})")
+    j.update(overrides or {})
     hub = _material(d, j["hub_material"])
     shaft = _material(d, j["shaft_material"])
     row: dict[str, Any] = {"joint": joint, "gear": j["gear"], "type": j["joint_type"]}
@@ -80,8 +90,7 @@ def joint_capacity(data: dict, joint: str, *, interference: str = "nominal", nut
                    hub_yield_safety=r["hub_yield_safety"])
     else:
         raise GearoptInputError(f"[joints.{joint}] joint_type={j['joint_type']!r} must be one of {JOINT_TYPES}")
-    return {k: (float(v) if hasattr(v, "__float__") and not isinstance(v, (str, bool)) else v)
-            for k, v in row.items()}
+    return {k: (float(v) if nm.is_numeric(v) and not isinstance(v, (str, bool)) else v) for k, v in row.items()}
 
 
 def joint_capacities(data: dict, **options) -> dict[str, dict]:
