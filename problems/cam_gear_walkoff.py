@@ -28,6 +28,7 @@ import sys
 import time
 from pathlib import Path
 
+import numpy as np
 import pandas as pd
 
 import gearopt as go
@@ -129,7 +130,7 @@ def _json_number(v) -> float | str:
     return "inf" if v == float("inf") else v
 
 
-DYNAMIC_JOINTS = ("cam", "ac", "fp")
+DYNAMIC_JOINTS = ("crank", "cam", "ac", "fp")
 
 
 def dynamics_stage(data: dict, quick: bool = False) -> dict:
@@ -145,17 +146,37 @@ def dynamics_stage(data: dict, quick: bool = False) -> dict:
                     else (engine["idle_speed_rpm"], engine["peak_torque_speed_rpm"], engine["rated_speed_rpm"],
                           engine["overspeed_test_speed_rpm"]))
     run = dict(cycles=1, run_in_cycles=0 if quick else 1)
-    out: dict = {"runs": {}, "sweeps": {}, "speeds_rpm": speeds}
+    out: dict = {"runs": {}, "sweeps": {}, "models": {}, "speeds_rpm": speeds}
     for kind in ("helical", "spur"):
         model = default_timing_model(kind)
         for speed in speeds:
             for lash in (False, True):
                 out["runs"][(kind, speed, lash)] = model.simulate(speed_rpm=speed, backlash=lash, **run)
         out["sweeps"][kind] = speed_sweep(model, sweep_speeds, backlash=(True,), joints=DYNAMIC_JOINTS, **run)
+        out["models"][kind] = model
+    out["campbell_speeds_rpm"] = (engine["idle_speed_rpm"], engine["overspeed_test_speed_rpm"])
     return out
 
 
-def write_dynamics(out: Path, dyn: dict) -> tuple[list[str], dict]:
+def dynamic_design_torques(data: dict, dyn: dict) -> pd.DataFrame:
+    """Mesh torques from the dynamics against the design torques of the data: per mesh and train, the peak
+    |mesh force| x base radius of the mesh's first gear at each simulated speed, without and with backlash, and the
+    ratio to the top of the design-torque range the microgeometry is optimised over (``[design_loads]``)."""
+    loads = data_values(data)["design_loads"]
+    top = max(loads["torque_range_fractions"])
+    rows = []
+    for (kind, speed, lash), sim in dyn["runs"].items():
+        for mesh, key in RATED_MESHES.items():
+            if mesh not in sim.mesh_force_N.columns:
+                continue
+            torque = float(np.max(np.abs(sim.mesh_force_N[mesh].to_numpy())) * sim.mesh_base_radii_mm[mesh][0] * 1e-3)
+            rows.append({"train": kind, "speed_rpm": speed, "backlash": lash, "mesh": mesh,
+                         "design_torque_Nm": loads[key], "range_top_Nm": top * loads[key],
+                         "peak_dynamic_torque_Nm": torque, "ratio_to_range_top": torque / (top * loads[key])})
+    return pd.DataFrame(rows)
+
+
+def write_dynamics(out: Path, dyn: dict, design_torques: pd.DataFrame | None = None) -> tuple[list[str], dict]:
     import matplotlib.pyplot as plt
 
     lines = ["## Timing-train dynamics: contact forces, helical vs spur, without and with backlash", ""]
@@ -185,6 +206,24 @@ def write_dynamics(out: Path, dyn: dict) -> tuple[list[str], dict]:
     write_table(table, out, "dynamics_mesh_forces")
     lines += [f"![contact forces]({path.relative_to(out)})", "", to_markdown(table), ""]
     result: dict = {"mesh_forces": table.to_dict(orient="records"), "joint_margins_over_speed": {}}
+    if design_torques is not None:
+        write_table(design_torques, out, "dynamic_design_torques")
+        lines += ["### Dynamic mesh torques against the design-torque range", "",
+                  "Peak |mesh force| x base radius of the mesh's first gear. Without backlash the dynamic peaks are "
+                  "the inputs of the design torques; with backlash the impacts exceed them (the thesis' overspeed "
+                  "case).", "", to_markdown(design_torques), ""]
+        result["design_torques"] = design_torques.to_dict(orient="records")
+    from gearopt.report.dynamics_figures import campbell_table, plot_campbell
+
+    speeds_c = dyn["campbell_speeds_rpm"]
+    for kind, model in dyn["models"].items():
+        fig = plot_campbell(model, np.linspace(speeds_c[0], speeds_c[1], 50), title=f"{kind} train: Campbell diagram")
+        path = figs.save(fig, out / "figures" / f"campbell_{kind}.png")
+        crossings = campbell_table(model, speeds_c)
+        write_table(crossings, out, f"campbell_crossings_{kind}")
+        lines += [f"### Campbell diagram ({kind})", "", f"![Campbell]({path.relative_to(out)})", "",
+                  f"{len(crossings)} crossings of natural frequencies with engine orders between {speeds_c[0]:g} and "
+                  f"{speeds_c[1]:g} rpm (`campbell_crossings_{kind}.csv`).", ""]
     lines += ["### Walk-off and slip margins over speed (with backlash)", ""]
     for kind, sweep in dyn["sweeps"].items():
         write_table(sweep, out, f"speed_sweep_{kind}")
@@ -193,7 +232,8 @@ def write_dynamics(out: Path, dyn: dict) -> tuple[list[str], dict]:
                             "min_axial_margin", "max_slip_utilisation") if c in joints.columns]
         lines += [f"#### {kind}", "", to_markdown(joints[cols]), ""]
         for _, r in joints.iterrows():
-            entry = result["joint_margins_over_speed"].setdefault(str(r["element"]), {}).setdefault(kind, [])
+            joint = str(r["element"]).removeprefix("joint:")
+            entry = result["joint_margins_over_speed"].setdefault(joint, {}).setdefault(kind, [])
             entry.append({"speed_rpm": float(r["speed_rpm"]), "torque_margin": _json_number(r["min_torque_margin"]),
                           "axial_margin": _json_number(r["min_axial_margin"]),
                           "peak_torque_Nm": float(r["peak_torque_Nm"]),
@@ -281,7 +321,8 @@ def write_rating(out: Path, ratings: dict) -> tuple[list[str], dict]:
 
 
 def write_outputs(out: Path, macro: dict, split: dict, timings: dict, contact: dict | None = None,
-                  ratings: dict | None = None, joints: dict | None = None, dynamics: dict | None = None) -> None:
+                  ratings: dict | None = None, joints: dict | None = None, dynamics: dict | None = None,
+                  design_torques: pd.DataFrame | None = None) -> None:
     out.mkdir(parents=True, exist_ok=True)
     lines = ["# Cam gear walk-off: spur redesign of the timing train", "",
              "Generated by `problems/cam_gear_walkoff.py` on the packaged default data. Thesis columns are the "
@@ -307,7 +348,7 @@ def write_outputs(out: Path, macro: dict, split: dict, timings: dict, contact: d
     contact_lines, contact_result = write_contact(out, contact) if contact else ([], {})
     rating_lines, rating_result = write_rating(out, ratings) if ratings else ([], {})
     joint_lines, joint_result = write_joints(out, joints) if joints else ([], {})
-    dyn_lines, dyn_result = write_dynamics(out, dynamics) if dynamics else ([], {})
+    dyn_lines, dyn_result = write_dynamics(out, dynamics, design_torques) if dynamics else ([], {})
     lines += contact_lines + rating_lines + joint_lines + dyn_lines + ["## Run time per stage", ""]
     lines += [f"- {k}: {v:.3f} s" for k, v in timings.items()]
     (out / "report.md").write_text("\n".join(lines) + "\n")
@@ -353,6 +394,11 @@ def main(argv: list[str] | None = None) -> int:
     timings["shift_split_nlp"] = time.perf_counter() - t0
 
     t0 = time.perf_counter()
+    dynamics = dynamics_stage(data, quick=args.quick)
+    design_torques = dynamic_design_torques(data, dynamics)
+    timings["dynamics"] = time.perf_counter() - t0
+
+    t0 = time.perf_counter()
     contact = contact_stage(data, macro["trains"], quick=args.quick)
     timings["contact_ltca_and_microgeometry_nlp"] = time.perf_counter() - t0
 
@@ -365,11 +411,7 @@ def main(argv: list[str] | None = None) -> int:
     timings["joints_blanks_webs"] = time.perf_counter() - t0
 
     t0 = time.perf_counter()
-    dynamics = dynamics_stage(data, quick=args.quick)
-    timings["dynamics"] = time.perf_counter() - t0
-
-    t0 = time.perf_counter()
-    write_outputs(args.out, macro, split, timings, contact, ratings, joints, dynamics)
+    write_outputs(args.out, macro, split, timings, contact, ratings, joints, dynamics, design_torques)
     timings["write_outputs"] = time.perf_counter() - t0
 
     spur = macro["tables"]["table_3_3_profile_shift"]

@@ -101,9 +101,23 @@ def test_dynamics_forces_and_walk_off_margins_over_speed(run):
     assert all(r["peak_axial_force_N"] > 0 for r in forces if r["train"] == "helical")
     assert all(r["peak_axial_force_N"] == 0 for r in forces if r["train"] == "spur")
     margins = dyn["joint_margins_over_speed"]
-    assert set(margins) == {"joint:cam", "joint:ac", "joint:fp"}
-    cam = margins["joint:cam"]
+    assert set(margins) == {"crank", "cam", "ac", "fp"}
+    cam = margins["cam"]
     assert len(cam["helical"]) == len(cam["spur"]) >= 2
     assert all(isinstance(m["axial_margin"], float) and m["axial_margin"] > 0 for m in cam["helical"])
     assert all(m["axial_margin"] == "inf" for m in cam["spur"])
     assert (run / "figures" / "dynamics_crank_cam_force.png").stat().st_size > 10_000
+    for kind in ("helical", "spur"):
+        assert (run / "figures" / f"campbell_{kind}.png").stat().st_size > 10_000
+        assert all(m["torque_margin"] > 0 for m in margins["crank"][kind])
+
+
+def test_dynamic_design_torques_are_compared_with_the_design_range(run):
+    rows = json.loads((run / "result.json").read_text())["dynamics"]["design_torques"]
+    meshes = {r["mesh"] for r in rows}
+    assert {"crank-cam", "cam-ac", "cam-fp"} <= meshes
+    for r in rows:
+        assert r["ratio_to_range_top"] == pytest.approx(r["peak_dynamic_torque_Nm"] / r["range_top_Nm"])
+    # backlash impacts raise the dynamic mesh torque above the no-lash value at the same speed (thesis Figs. 4.3-4.5)
+    by = {(r["train"], r["speed_rpm"], r["mesh"], r["backlash"]): r["peak_dynamic_torque_Nm"] for r in rows}
+    assert all(by[(t, s, m, True)] > by[(t, s, m, False)] for (t, s, m, lash) in by if not lash)
