@@ -109,7 +109,8 @@ def size_all(data: dict, trains: list[str], joints: list[str], margin: float, fa
                        active_constraints="; ".join(s.active_constraints))
             if s.joint_type == "press_fit":
                 v = s.values
-                row.update(sized_interference_um=v["interference_um"], sized_interference_min_um=v["interference_min_um"],
+                row.update(sized_interference_um=v["interference_um"],
+                           sized_interference_min_um=v["interference_min_um"],
                            sized_interference_max_um=v["interference_max_um"], tolerance_band_um=v["tolerance_band_um"],
                            required_min_interference_um=v["required_min_interference_um"],
                            allowed_max_interference_um=v["allowed_max_interference_um"],

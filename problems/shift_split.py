@@ -52,7 +52,8 @@ def sweep(pair, points: int) -> pd.DataFrame:
             trial = replace(pair, profile_shifts=(float(x1), total - float(x1)), tip_diameters_mm=None)
             g = trial.geometry()
             margins = trial.constraints(worst_case=True, iso_tr_4467_limits=True, min_backlash_mm=None, **LIMITS)
-            row.update(tip_thickness_1_mm=float(g["tip_thickness_mm"][0]), tip_thickness_2_mm=float(g["tip_thickness_mm"][1]),
+            row.update(tip_thickness_1_mm=float(g["tip_thickness_mm"][0]),
+                       tip_thickness_2_mm=float(g["tip_thickness_mm"][1]),
                        specific_sliding_root_1=float(g["specific_sliding_root"][0]),
                        specific_sliding_root_2=float(g["specific_sliding_root"][1]),
                        worst_case_transverse_contact_ratio=float(g["worst_case_transverse_contact_ratio"]),

@@ -391,8 +391,9 @@ def size_press_fit(spec: PressFitSpec, demands: JointDemand | Sequence[JointDema
         smoothing: apply the DIN 7190 smoothing loss of the spec's roughness (``smoothing_rule``).
         free: variables: ``"interference_um"`` always, plus optionally ``"length_mm"``,
             ``"hub_outer_diameter_mm"``.
-        bounds: {variable: (low, high)}; defaults: interference up to 400 um, length 0.5-1.5 x and hub outer
-            diameter 1.2 d to 1.5 x the spec's.
+        bounds: {variable: (low, high)}; defaults: interference up to 400 um (its lower bound is always at least
+            half the band + smoothing + centrifugal loss), length 0.5-1.5 x the spec's, hub outer diameter
+            max(1.2 d, 0.8 x the spec's) to 1.5 x the spec's.
         objective: ``"min_interference"`` or ``"max_margin"``.
         ipopt: Ipopt options for :meth:`Problem.solve`.
 
