@@ -810,6 +810,9 @@ def tooth_count_study(train: GearTrain, *, objective: str = "max_min_worst_case_
             best_idx = table.index[0]
             best_x = results[best_idx]["root_profile_shift"]
     table = table.reset_index(drop=True)
+    for g in train.gears:
+        if f"teeth_{g}" in table:
+            table[f"teeth_{g}"] = table[f"teeth_{g}"].astype(int)
     best = _train_with_teeth(train, enumeration.teeth(enumeration.admissible.loc[best_idx]), best_x) \
         if best_idx is not None else None
     study = ToothCountStudy(objective=objective, table=table, rejected=enumeration.rejected, best=best,
