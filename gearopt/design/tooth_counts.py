@@ -569,8 +569,7 @@ def enumerate_tooth_counts(train: GearTrain, *, ratio_tolerance_percent: Mapping
             row.update(precheck_root_shift_contact_ratio=float(xs[j]),
                        precheck_min_worst_case_contact_ratio=float(eps_min[j]),
                        precheck_root_shift_tip_thickness=float(xs[k]), precheck_min_tip_thickness_mm=float(tip_min[k]))
-            models_key = key
-            rows.append((row, models_key, model))
+            rows.append((row, key, model))
         else:
             rows.append((row, None, None))
     admissible = pd.DataFrame([r for r, _, _ in rows])
@@ -601,7 +600,8 @@ class ToothCountStudy:
     smallest worst-case
     contact ratio, or the smallest tip thickness [mm]), ``profile_shift_<gear>``, ``worst_case_contact_ratio_<mesh>``,
     ``tip_thickness_<gear>_mm``, ``min_worst_case_contact_ratio``, ``min_tip_thickness_mm``, ``limiting`` (the
-    meshes or gears that set the objective), ``active`` (active constraints and bounds), ``violated`` (names of violated constraints of a failed solve). ``rejected``: the enumeration's
+    meshes or gears that set the objective), ``active`` (active constraints and bounds), ``violated`` (names of
+    violated constraints of a failed solve). ``rejected``: the enumeration's
     rejections. ``best``: the best candidate as a numeric :class:`GearTrain` (``None`` if no solve succeeded).
     ``solves``: one dict per NLP in solve order. ``bonmin``: :func:`bonmin_cross_check`'s result or ``None``.
     """
@@ -878,7 +878,8 @@ def bonmin_cross_check(enumeration: ToothCountEnumeration, *, options: Mapping[s
 
     Bonmin's default B-BB algorithm is exact for convex relaxations only; this model is nonconvex (the involute
     relation), so agreement is evidence, not proof. Returns a dict: ``status``, ``teeth``, ``shift_margin``,
-    ``root_profile_shift``, ``enumeration_teeth`` (best by shift margin, ties: all listed), ``enumeration_shift_margin``,
+    ``root_profile_shift``, ``enumeration_teeth`` (best by shift margin, ties: all listed),
+    ``enumeration_shift_margin``,
     ``agrees`` (Bonmin's teeth among the enumeration's best and margins equal within 1e-6), ``solve_time_s``.
     ``options``: extra Bonmin options (``bonmin.`` names without the prefix); ``verbose``: keep Bonmin's log.
     Raises ``GearoptInputError`` if this CasADi has no Bonmin.
