@@ -69,6 +69,25 @@ def macro_design(data: dict, thesis: dict) -> dict:
     }
 
 
+TOOTH_COUNT_COLUMNS = ["rank", "teeth_crank", "teeth_cam", "teeth_ac", "teeth_fp", "teeth_lpi", "teeth_lpg",
+                       "ratio_error_crank-lpi_percent", "max_abs_ratio_error_percent", "min_worst_case_contact_ratio",
+                       "min_tip_thickness_mm", "limiting", "status"]
+
+
+def tooth_count_stage(data: dict, spur: go.GearTrain, lube_tolerance_percent: float = 3.0) -> dict:
+    """Stage 1b: integer tooth counts at the fixed centre distances (thesis Table 3.1): every assignment within
+    ``lube_tolerance_percent`` of the original helical ratios on the lube-pump branch (0 % elsewhere, the cam
+    exactly 2:1), screened for sums of shifts and ISO/TR 4467 limits, each solved for the root shift split that
+    maximises the smallest worst-case contact ratio (Ipopt, warm-started), ranked."""
+    from gearopt.design.tooth_counts import enumerate_tooth_counts, tooth_count_study
+
+    enumeration = enumerate_tooth_counts(spur, reference="helical_original", data=data,
+                                         ratio_tolerance_percent={"crank-lpi": lube_tolerance_percent})
+    study = tooth_count_study(spur, enumeration=enumeration, objective="max_min_worst_case_contact_ratio")
+    return {"study": study, "lube_tolerance_percent": lube_tolerance_percent,
+            "rejected_by_stage": enumeration.rejected["stage"].value_counts().to_dict()}
+
+
 def shift_split_study(spur: go.GearTrain, mesh: str = "crank-cam") -> dict:
     """Stage 2: the optimised profile-shift split of one mesh at its fixed centre distance."""
     return optimise_shift_split(spur.pairs[mesh], min_contact_ratio=1.2, objective="max_min_tip_thickness")
@@ -156,6 +175,52 @@ def dynamics_stage(data: dict, quick: bool = False) -> dict:
         out["models"][kind] = model
     out["campbell_speeds_rpm"] = (engine["idle_speed_rpm"], engine["overspeed_test_speed_rpm"])
     return out
+
+
+JOINT_TARGET_MARGIN = 1.5
+"""Slip margin (capacity / dynamic peak demand) the joint-sizing stage asks of every joint over the speed sweep."""
+
+
+def joint_sizing_stage(data: dict, trains: dict, dyn: dict, target_margin: float = JOINT_TARGET_MARGIN) -> dict:
+    """Stage 6b: size every timing-gear joint (crank, cam press fits; AC, FP tapers) for ``target_margin`` against
+    the dynamic demands of the speed sweep (peak joint torque and axial force at every speed, with backlash), at
+    the weakest tolerance / nut factor (:func:`gearopt.design.joint_sizing.size_joint`). A joint that no admissible
+    design can size fails typed; the elastic solve then reports how far each limit must move."""
+    from gearopt.design.joint_sizing import JointDemand, size_joint
+    from gearopt.errors import SolveError
+
+    rows, results = [], {}
+    for kind, sweep in dyn["sweeps"].items():
+        joints = sweep[sweep["element_type"] == "joint"]
+        for joint in DYNAMIC_JOINTS:
+            gear = data_values(data)["joints"][joint]["gear"]
+            ratio = abs(float(trains[kind].speed_ratios[gear]))
+            sel = joints[joints["element"] == f"joint:{joint}"]
+            demands = [JointDemand(torque_Nm=float(r["peak_torque_Nm"]), axial_force_N=float(r["peak_axial_force_N"]),
+                                   speed_rpm=ratio * float(r["speed_rpm"]), name=f"{r['speed_rpm']:g}rpm")
+                       for _, r in sel.iterrows()]
+            row = {"train": kind, "joint": joint, "target_margin": target_margin,
+                   "peak_torque_Nm": max(d.torque_Nm for d in demands),
+                   "peak_axial_force_N": max(d.axial_force_N for d in demands),
+                   "present_min_torque_margin": float(sel["min_torque_margin"].min()),
+                   "present_min_axial_margin": float(sel["min_axial_margin"].min())}
+            try:
+                sized = size_joint(data, joint, demands, target_margin=target_margin, elastic_on_failure=True)
+            except SolveError as exc:
+                relax = getattr(exc, "relaxations", None)
+                worst = (f"{relax.iloc[0]['name']} by {relax.iloc[0]['relaxation']:.3g} {relax.iloc[0]['unit']}"
+                         if relax is not None and len(relax) else "; ".join(v.name for v in exc.violated[:3]))
+                row.update(status=exc.status, result="no admissible design", must_relax=worst)
+            else:
+                v = sized.values
+                row.update(status=sized.solve.status, must_relax="",
+                           result=(f"interference >= {v['required_min_interference_um']:.1f} um, fit "
+                                   f"{sized.fit['fit'] if sized.fit else 'none in ISO 286'}"
+                                   if sized.joint_type == "press_fit" else f"nut torque {v['nut_torque_Nm']:.1f} N m"),
+                           min_margin=float(sized.margins.filter(like="margin").min(numeric_only=True).min()))
+                results[(kind, joint)] = sized
+            rows.append(row)
+    return {"table": pd.DataFrame(rows), "results": results}
 
 
 def dynamic_design_torques(data: dict, dyn: dict) -> pd.DataFrame:
@@ -322,7 +387,8 @@ def write_rating(out: Path, ratings: dict) -> tuple[list[str], dict]:
 
 def write_outputs(out: Path, macro: dict, split: dict, timings: dict, contact: dict | None = None,
                   ratings: dict | None = None, joints: dict | None = None, dynamics: dict | None = None,
-                  design_torques: pd.DataFrame | None = None) -> None:
+                  design_torques: pd.DataFrame | None = None, teeth: dict | None = None,
+                  sizing: dict | None = None) -> None:
     out.mkdir(parents=True, exist_ok=True)
     lines = ["# Cam gear walk-off: spur redesign of the timing train", "",
              "Generated by `problems/cam_gear_walkoff.py` on the packaged default data. Thesis columns are the "
@@ -340,6 +406,17 @@ def write_outputs(out: Path, macro: dict, split: dict, timings: dict, contact: d
     for key, df in macro["tables"].items():
         write_table(df, out, key)
         lines += [f"## {titles[key]}", "", to_markdown(df), ""]
+    if teeth is not None:
+        ranked = teeth["study"].table
+        write_table(ranked, out, "tooth_count_candidates")
+        write_table(teeth["study"].rejected, out, "tooth_count_rejected")
+        cols = [c for c in TOOTH_COUNT_COLUMNS if c in ranked.columns]
+        lines += ["## Tooth counts at the fixed centre distances (thesis Table 3.1)", "",
+                  f"Candidates within {teeth['lube_tolerance_percent']:g} % of the original helical speed ratios on "
+                  f"the lube-pump branch (0 % elsewhere), ranked by the smallest worst-case contact ratio after an "
+                  f"Ipopt shift split per candidate. Rejected: "
+                  + ", ".join(f"{n} at {stage}" for stage, n in teeth["rejected_by_stage"].items()) + ".", "",
+                  to_markdown(ranked[cols]), ""]
     split_df = split["table"]
     write_table(split_df, out, "shift_split_crank_cam")
     lines += ["## Profile-shift split of crank-cam: Ipopt vs ISO/TR 4467", "", to_markdown(split_df), "",
@@ -349,7 +426,15 @@ def write_outputs(out: Path, macro: dict, split: dict, timings: dict, contact: d
     rating_lines, rating_result = write_rating(out, ratings) if ratings else ([], {})
     joint_lines, joint_result = write_joints(out, joints) if joints else ([], {})
     dyn_lines, dyn_result = write_dynamics(out, dynamics, design_torques) if dynamics else ([], {})
-    lines += contact_lines + rating_lines + joint_lines + dyn_lines + ["## Run time per stage", ""]
+    sizing_lines = []
+    if sizing is not None:
+        write_table(sizing["table"], out, "joint_sizing")
+        sizing_lines = ["## Joint sizing against the dynamic demands over speed", "",
+                        f"Every joint sized for a slip margin of {JOINT_TARGET_MARGIN:g} against the peak joint torque "
+                        "and axial force of the speed sweep (with backlash), at the weakest interference / nut "
+                        "factor (`gearopt.design.joint_sizing`); `present_min_*` are the margins of the present "
+                        "design over the same sweep.", "", to_markdown(sizing["table"]), ""]
+    lines += contact_lines + rating_lines + joint_lines + dyn_lines + sizing_lines + ["## Run time per stage", ""]
     lines += [f"- {k}: {v:.3f} s" for k, v in timings.items()]
     (out / "report.md").write_text("\n".join(lines) + "\n")
     result = {
@@ -368,10 +453,13 @@ def write_outputs(out: Path, macro: dict, split: dict, timings: dict, contact: d
         "profile_shifts": {kind: {g: float(x) for g, x in macro["trains"][kind].profile_shifts.items()}
                            for kind in ("spur", "helical")},
         "shift_split_crank_cam": {k: v for k, v in split.items() if k != "table"},
+        "tooth_counts": ([{c: (r[c] if isinstance(r[c], str) else float(r[c])) for c in TOOTH_COUNT_COLUMNS
+                           if c in r} for r in teeth["study"].table.to_dict(orient="records")] if teeth else []),
         "pairs": contact_result,
         "rating": rating_result,
         "joints": joint_result,
         "dynamics": dyn_result,
+        "joint_sizing": (sizing["table"].replace({np.inf: "inf"}).to_dict(orient="records") if sizing else []),
         "stage_time_s": timings,
     }
     (out / "result.json").write_text(json.dumps(result, indent=2) + "\n")
@@ -390,6 +478,10 @@ def main(argv: list[str] | None = None) -> int:
     timings["macro_design"] = time.perf_counter() - t0
 
     t0 = time.perf_counter()
+    teeth = tooth_count_stage(data, macro["trains"]["spur"])
+    timings["tooth_counts"] = time.perf_counter() - t0
+
+    t0 = time.perf_counter()
     split = shift_split_study(macro["trains"]["spur"])
     timings["shift_split_nlp"] = time.perf_counter() - t0
 
@@ -397,6 +489,10 @@ def main(argv: list[str] | None = None) -> int:
     dynamics = dynamics_stage(data, quick=args.quick)
     design_torques = dynamic_design_torques(data, dynamics)
     timings["dynamics"] = time.perf_counter() - t0
+
+    t0 = time.perf_counter()
+    sizing = joint_sizing_stage(data, macro["trains"], dynamics)
+    timings["joint_sizing_nlp"] = time.perf_counter() - t0
 
     t0 = time.perf_counter()
     contact = contact_stage(data, macro["trains"], quick=args.quick)
@@ -411,7 +507,8 @@ def main(argv: list[str] | None = None) -> int:
     timings["joints_blanks_webs"] = time.perf_counter() - t0
 
     t0 = time.perf_counter()
-    write_outputs(args.out, macro, split, timings, contact, ratings, joints, dynamics, design_torques)
+    write_outputs(args.out, macro, split, timings, contact, ratings, joints, dynamics, design_torques, teeth,
+                  sizing)
     timings["write_outputs"] = time.perf_counter() - t0
 
     spur = macro["tables"]["table_3_3_profile_shift"]
@@ -422,6 +519,10 @@ def main(argv: list[str] | None = None) -> int:
         print(f"  {mesh:10s} eps_alpha {row['transverse_contact_ratio']:.3f} (worst case "
               f"{row['worst_case_transverse_contact_ratio']:.3f}), backlash {row['normal_backlash_min_mm']:.3f}-"
               f"{row['normal_backlash_max_mm']:.3f} mm: {row['check']}")
+    best = teeth["study"].table.iloc[0]
+    print(f"tooth counts: {len(teeth['study'].table)} candidates; best LPI/LPG {best['teeth_lpi']:.0f}/"
+          f"{best['teeth_lpg']:.0f} (crank-LPI ratio error {best['ratio_error_crank-lpi_percent']:+.2f} %, "
+          f"worst-case eps_alpha {best['min_worst_case_contact_ratio']:.3f})")
     print(f"crank-cam split, Ipopt ({split['objective']}): x = {split['profile_shifts'][0]:.4f} / "
           f"{split['profile_shifts'][1]:.4f}; ISO/TR 4467: {split['iso_tr_4467_profile_shifts'][0]:.4f} / "
           f"{split['iso_tr_4467_profile_shifts'][1]:.4f}")
@@ -433,6 +534,10 @@ def main(argv: list[str] | None = None) -> int:
         j = joints[kind]["joints_nominal"].set_index("gear")
         print(f"  joints ({kind}): " + ", ".join(
             f"{g} torque x{r['torque_margin']:.2f} axial x{r['axial_margin']:.3g}" for g, r in j.iterrows()))
+    for _, r in sizing["table"].iterrows():
+        if r["train"] == "spur":
+            print(f"  joint {r['joint']:5s} (spur) present margin x{r['present_min_torque_margin']:.2f} over speed; "
+                  f"for x{r['target_margin']:g}: {r['result']}{(' -- relax ' + r['must_relax']) if r['must_relax'] else ''}")
     print("stage times:", ", ".join(f"{k} {v:.2f} s" for k, v in timings.items()))
     print(f"wrote {args.out}/report.md, result.json and CSV tables")
     return 0

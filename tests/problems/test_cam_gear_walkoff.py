@@ -121,3 +121,25 @@ def test_dynamic_design_torques_are_compared_with_the_design_range(run):
     # backlash impacts raise the dynamic mesh torque above the no-lash value at the same speed (thesis Figs. 4.3-4.5)
     by = {(r["train"], r["speed_rpm"], r["mesh"], r["backlash"]): r["peak_dynamic_torque_Nm"] for r in rows}
     assert all(by[(t, s, m, True)] > by[(t, s, m, False)] for (t, s, m, lash) in by if not lash)
+
+
+def test_tooth_count_candidates_include_the_thesis_choice(run):
+    rows = json.loads((run / "result.json").read_text())["tooth_counts"]
+    teeth = [(r["teeth_lpi"], r["teeth_lpg"]) for r in rows]
+    assert (24.0, 24.0) in teeth                       # thesis Table 3.1: 2.7027 % on crank-LPI, accepted
+    thesis = rows[teeth.index((24.0, 24.0))]
+    assert thesis["ratio_error_crank-lpi_percent"] == pytest.approx(100.0 / 37.0, abs=1e-3)
+    assert [r["rank"] for r in rows] == sorted(r["rank"] for r in rows)
+    objective = [r["min_worst_case_contact_ratio"] for r in rows]
+    assert objective == sorted(objective, reverse=True) and min(objective) >= 1.2
+
+
+def test_joints_are_sized_against_the_dynamic_demands(run):
+    rows = json.loads((run / "result.json").read_text())["joint_sizing"]
+    assert {(r["train"], r["joint"]) for r in rows} == {(t, j) for t in ("helical", "spur")
+                                                        for j in ("crank", "cam", "ac", "fp")}
+    for r in rows:
+        if r["status"] == "Solve_Succeeded":
+            assert r["min_margin"] == pytest.approx(r["target_margin"], rel=1e-6)   # the sizing is active
+        else:
+            assert r["must_relax"]                                                # typed failure, named
