@@ -42,16 +42,16 @@ import casadi as ca
 import matplotlib
 
 matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-
-from _timing import median_time  # noqa: E402  (benchmarks/_timing.py)
+import matplotlib.pyplot as plt
+import numpy as np
+from _timing import median_time  # benchmarks/_timing.py
 
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT / "tests" / "stability"))
 
-import gearopt as go  # noqa: E402
-import stability_cases as sc  # noqa: E402  (tests/stability/stability_cases.py)
+import stability_cases as sc
+
+import gearopt as go
 
 OUT = Path(__file__).resolve().parent / "results"
 N_PER_FAMILY = 50
@@ -214,7 +214,7 @@ def main() -> int:
         cases = family_cases(name)
         outcomes = [sc.run_case(name, c) for c in cases]
         summary = summarise(outcomes)
-        summary["nominal_case_median_time_s"] = median_time(lambda: sc.run_case(name, NOMINAL[name]), repeats=5)
+        summary["nominal_case_median_time_s"] = median_time(lambda name=name: sc.run_case(name, NOMINAL[name]), repeats=5)
         families[name] = {"summary": summary, "runs": [row(o) for o in outcomes]}
         print(f"{name}: success {summary['success_rate']:.0%}, typed {summary['typed_failure_rate']:.0%}, "
               f"check_failed {summary['check_failed']}, unnamed {summary['unnamed_failures']}, "

@@ -31,8 +31,9 @@ designer must concede.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any, Mapping
+from typing import TYPE_CHECKING, Any
 
 import casadi as ca
 import numpy as np
@@ -113,8 +114,8 @@ class ElasticResult:
         if rows.empty:
             return (f"elastic mode: every constraint of problem '{self.problem}' can be met (largest scaled "
                     f"relaxation <= {self.feasibility_tol:g})")
-        lines = [f"elastic mode ({self.mode}, l1 over scaled relaxations): {len(rows)} bound(s) must move for "
-                 f"problem '{self.problem}' to be feasible:"]
+        lines = [(f"elastic mode ({self.mode}, l1 over scaled relaxations): {len(rows)} bound(s) must move for "
+                  f"problem '{self.problem}' to be feasible:")]
         for row in rows.head(n).itertuples(index=False):
             unit = f" {row.unit}" if row.unit else ""
             moved = row.bound - row.relaxation if row.bound_side == "lower" else row.bound + row.relaxation
@@ -125,7 +126,7 @@ class ElasticResult:
         return "\n".join(lines)
 
 
-def solve_elastic(problem: "Problem", *, weights: Mapping[str, Any] | None = None, mode: str = "lexicographic",
+def solve_elastic(problem: Problem, *, weights: Mapping[str, Any] | None = None, mode: str = "lexicographic",
                   penalty: float = 100.0, feasibility_tol: float = 1e-6, relaxation_tol: float = 1e-7,
                   warm_start: bool = False, verbose: bool = False, casadi_options: dict[str, Any] | None = None,
                   **ipopt_options: Any) -> ElasticResult:
@@ -212,8 +213,8 @@ def solve_elastic(problem: "Problem", *, weights: Mapping[str, Any] | None = Non
                          phase2_error=phase2_error, feasibility_tol=float(feasibility_tol))
 
 
-def _mirror(problem: "Problem", constraints: list, w: list[np.ndarray], start: dict[str, np.ndarray], *,
-            relax: bool) -> tuple["Problem", ca.MX, ca.MX]:
+def _mirror(problem: Problem, constraints: list, w: list[np.ndarray], start: dict[str, np.ndarray], *,
+            relax: bool) -> tuple[Problem, ca.MX, ca.MX]:
     """A new Problem with ``problem``'s variables (started at the scaled point ``start``) and constraints, built on
     one CasADi Function of the original constraints and objective at the current parameter values; with ``relax``
     every finite bound gets a relaxation variable. Returns it, the weighted scaled relaxation (0 without
@@ -258,14 +259,14 @@ def _scaled_start(result: ProblemResult, variables: list) -> dict[str, np.ndarra
             / v.scale for v in variables}
 
 
-def _scaled_relaxations(problem: "Problem", constraints: list, w: list[np.ndarray],
+def _scaled_relaxations(problem: Problem, constraints: list, w: list[np.ndarray],
                         result: ProblemResult) -> np.ndarray:
     """Scaled relaxation of every finite bound, recomputed from the original constraints at ``result``."""
     g = problem._evaluate(_scaled_start(result, list(problem._variables.values())))[0]
     return _relaxation_table(constraints, w, g)["scaled_relaxation"].to_numpy(dtype=float)
 
 
-def attach_elastic(problem: "Problem", error: SolveError, **elastic_options: Any) -> SolveError:
+def attach_elastic(problem: Problem, error: SolveError, **elastic_options: Any) -> SolveError:
     """A copy of the typed solve ``error`` (same class, status, hint, violations, partial result) whose message
     adds the elastic relaxation and which carries it: ``.relaxations`` (the :attr:`ElasticResult.table`, or None
     if the elastic solve failed too) and ``.elastic`` (the :class:`ElasticResult` or that second error)."""
@@ -334,4 +335,4 @@ def _relaxation_table(constraints: list, weights: list[np.ndarray], g: np.ndarra
     return table.sort_values("scaled_relaxation", ascending=False, kind="stable").reset_index(drop=True)
 
 
-__all__ = ["ElasticResult", "solve_elastic", "attach_elastic", "MODES", "ELASTIC_COLUMNS"]
+__all__ = ["ELASTIC_COLUMNS", "MODES", "ElasticResult", "attach_elastic", "solve_elastic"]

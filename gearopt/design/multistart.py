@@ -23,8 +23,9 @@ from __future__ import annotations
 
 import time
 from collections import Counter
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any, Mapping, Sequence
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import pandas as pd
@@ -92,7 +93,7 @@ def latin_hypercube(n: int, dims: int, rng: np.random.Generator) -> np.ndarray:
     return (strata + rng.random((n, dims))) / n
 
 
-def multistart(problem: "Problem", n: int, *, seed: int | None = 0, variables: Sequence[str] | None = None,
+def multistart(problem: Problem, n: int, *, seed: int | None = 0, variables: Sequence[str] | None = None,
                span: float | Mapping[str, float] | None = None, include_initial: bool = False,
                **solve_options: Any) -> MultiStartResult:
     """Solve ``problem`` from ``n`` Latin-hypercube starting points (plus, optionally, its declared guess).
@@ -244,7 +245,7 @@ def _infeasibility(err: Exception) -> float:
     return worst
 
 
-def _all_failed(problem: "Problem", errors: list[Exception | None], table: pd.DataFrame) -> Exception:
+def _all_failed(problem: Problem, errors: list[Exception | None], table: pd.DataFrame) -> Exception:
     """The error of the start closest to feasibility (ties: lower objective), re-raised with the start count."""
     def rank(k: int) -> tuple[float, float]:
         objective = problem._sense * float(table["objective"][k])
@@ -266,4 +267,4 @@ def _all_failed(problem: "Problem", errors: list[Exception | None], table: pd.Da
     return new
 
 
-__all__ = ["multistart", "MultiStartResult", "latin_hypercube"]
+__all__ = ["MultiStartResult", "latin_hypercube", "multistart"]

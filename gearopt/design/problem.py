@@ -351,14 +351,14 @@ class Problem:
         self._previous_x, self._previous_lam = x_scaled, lam
         return result
 
-    def solve_elastic(self, **options: Any) -> "ElasticResult":
+    def solve_elastic(self, **options: Any) -> ElasticResult:
         """Least weighted relaxation of the constraints that makes the problem feasible, by name and in units
         (variable bounds stay hard); see :func:`gearopt.design.elastic.solve_elastic` for the options
         (``weights``, ``mode``, ``penalty``, tolerances, solve options). The problem itself is not modified."""
         from gearopt.design.elastic import solve_elastic
         return solve_elastic(self, **options)
 
-    def multistart(self, n: int, *, seed: int = 0, **options: Any) -> "MultiStartResult":
+    def multistart(self, n: int, *, seed: int = 0, **options: Any) -> MultiStartResult:
         """Solve from ``n`` Latin-hypercube starting points inside the variable bounds; see
         :func:`gearopt.design.multistart.multistart` (``variables``, ``span``, ``include_initial``, solve
         options). The declared initial guesses are restored afterwards."""

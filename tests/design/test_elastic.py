@@ -294,3 +294,33 @@ def test_elastic_failure_of_a_nan_model_is_typed():
     with pytest.raises((SolveError, GearoptInputError)) as info:
         p.solve_elastic()
     assert "bad_log" in str(info.value)
+
+
+def test_elastic_constraints_derivatives_match_finite_differences():
+    """The elastic NLP (original constraints through one CasADi Function, scaling, relaxation selection) feeds
+    Ipopt: its constraint Jacobian (ca.jacobian on the SX expansion) against central differences."""
+    from gearopt.design.elastic import _mirror, _weights
+
+    p = Problem("nonlinear")
+    a = p.parameter("a", 1.5)
+    x = p.variable("x", init=0.3, lower=-2.0, upper=2.0, scale=0.5)
+    y = p.variable("y", init=np.array([0.2, -0.4]), n=2, scale=2.0)
+    p.subject_to("ring", ca.vertcat(x ** 2 + y[0] ** 2, ca.sin(x * y[1])), lower=np.array([1.0, -0.5]),
+                 upper=np.array([4.0, 0.5]), scale=np.array([2.0, 0.1]), unit="m^2")
+    p.subject_to("exp_min", ca.exp(a * x) - y[1], lower=0.2, scale=3.0)
+    p.minimize((x - 1) ** 2 + ca.sumsqr(y))
+    constraints = list(p._constraints.values())
+    ep, total, _ = _mirror(p, constraints, _weights(constraints, None), p._start(False), relax=True)
+    ep.minimize(total)
+    fn = ca.Function("elastic_g", [ep.opti.x], [ep.opti.g, ep.opti.f]).expand()
+    xs = ca.SX.sym("x", ep.opti.nx)
+    g, f = fn(xs)
+    jac = ca.Function("elastic_jacobian", [xs], [ca.jacobian(ca.vertcat(g, f), xs)])
+    val = ca.Function("val", [xs], [ca.vertcat(g, f)])
+    point = np.random.default_rng(4).uniform(-0.8, 0.8, ep.opti.nx)
+    exact = np.array(jac(point))
+    h = 1e-6
+    fd = np.column_stack([(np.array(val(point + h * e)) - np.array(val(point - h * e))).ravel() / (2 * h)
+                          for e in np.eye(ep.opti.nx)])
+    np.testing.assert_allclose(exact, fd, rtol=1e-6, atol=1e-7)
+    assert ep.opti.nx == 3 + 2 + 2 + 1      # variables, ring lower/upper relaxations, exp_min lower relaxation

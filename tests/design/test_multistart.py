@@ -13,7 +13,12 @@ import pytest
 
 from gearopt.design import Problem
 from gearopt.design.multistart import MultiStartResult, latin_hypercube, multistart
-from gearopt.errors import BadInitialGuessError, GearoptInputError, InfeasibleProblemError, SolveError
+from gearopt.errors import (
+    BadInitialGuessError,
+    GearoptInputError,
+    InfeasibleProblemError,
+    SolveError,
+)
 
 TILT = 0.3
 
@@ -41,7 +46,7 @@ def test_global_minimum_found_where_the_default_start_finds_the_local_one():
         ms = double_well().multistart(5, seed=seed)
         assert isinstance(ms, MultiStartResult)
         assert ms.best.values["x"] == pytest.approx(global_x, abs=1e-7)
-        f = lambda x: (x ** 2 - 1) ** 2 + TILT * x  # noqa: E731
+        f = lambda x: (x ** 2 - 1) ** 2 + TILT * x
         assert ms.best.objective == pytest.approx(f(global_x), abs=1e-10)
         assert ms.success_rate == 1.0
         assert ms.table["objective"].min() == pytest.approx(ms.best.objective)

@@ -38,9 +38,10 @@ from __future__ import annotations
 
 import math
 import time
+from collections.abc import Callable
 from dataclasses import dataclass, field, replace
 from functools import lru_cache
-from typing import Any, Callable
+from typing import Any
 
 import numpy as np
 
@@ -356,6 +357,16 @@ def assert_finite_or_typed(outcome: Outcome) -> None:
     assert outcome.kind in ("solved", "typed_failure"), outcome.describe()
 
 
-__all__ = ["Outcome", "run_case", "FAMILIES", "KINDS", "split_limits", "feasible_centre_distance_range",
-           "pair_at", "default_pair", "assert_finite_or_typed", "shift_split_problem"]
+__all__ = [
+    "FAMILIES",
+    "KINDS",
+    "Outcome",
+    "assert_finite_or_typed",
+    "default_pair",
+    "feasible_centre_distance_range",
+    "pair_at",
+    "run_case",
+    "shift_split_problem",
+    "split_limits",
+]
 

@@ -16,7 +16,7 @@ import pytest
 
 sys.path.insert(0, os.path.dirname(__file__))
 
-import stability_cases as sc  # noqa: E402
+import stability_cases as sc
 
 RANDOM = sc.microgeometry_random_cases(8, seed=11)
 

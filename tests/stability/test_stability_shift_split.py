@@ -17,7 +17,7 @@ import pytest
 
 sys.path.insert(0, os.path.dirname(__file__))
 
-import stability_cases as sc  # noqa: E402
+import stability_cases as sc
 
 RANDOM = sc.shift_split_random_cases(12, seed=2024)
 EXTREME = sc.shift_split_extreme_cases(8, seed=7)

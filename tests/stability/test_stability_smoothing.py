@@ -14,7 +14,7 @@ import pytest
 
 sys.path.insert(0, os.path.dirname(__file__))
 
-import stability_cases as sc  # noqa: E402
+import stability_cases as sc
 
 WIDTHS_UM = (0.05, 0.01, 0.005)
 
