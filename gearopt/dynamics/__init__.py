@@ -27,7 +27,7 @@ from .modes import (
 )
 from .network import TorsionalNetwork
 from .sensitivity import response_sensitivities
-from .simulate import INTEGRATORS, Simulation, Simulator, node_accelerations, simulate
+from .simulate import INTEGRATORS, PeriodicStateError, Simulation, Simulator, node_accelerations, simulate
 from .sweep import simulation_statistics, speed_sweep, walk_off_history
 
 __all__ = [
@@ -35,5 +35,5 @@ __all__ = [
     "restitution_coefficient", "Simulator", "Simulation", "simulate", "INTEGRATORS", "linear_matrices",
     "natural_frequencies_Hz", "mode_shapes", "damped_modes", "campbell_diagram", "forced_response",
     "default_timing_model", "TimingModel", "speed_sweep", "simulation_statistics", "response_sensitivities",
-    "node_accelerations", "walk_off_history",
+    "node_accelerations", "walk_off_history", "PeriodicStateError",
 ]

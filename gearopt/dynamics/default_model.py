@@ -92,18 +92,26 @@ class TimingModel:
 
     def simulate(self, speed_rpm: float = 2500.0, cycles: int = 10, backlash: bool = True, rtol: float = 1e-6,
                  *, parameters: dict | None = None, load: float | None = None, run_in_cycles: int = 0,
-                 steady_state_tol: float | None = None, x0=None, jit: bool | None = None, **options) -> Simulation:
+                 steady_state_tol: float | None = None, x0=None, jit: bool | None = None,
+                 steady_state: str = "run-in", shooting_tol: float | None = None,
+                 shooting_jacobian: str = "linear", shooting_max_iter: int = 20,
+                 on_shooting_failure: str = "raise", **options) -> Simulation:
         """Simulate ``cycles`` engine cycles (720 deg) at ``speed_rpm`` [rpm] (flywheel speed); ``backlash``
         selects the lash model (else linear meshes). ``parameters`` override network parameters (e.g.
         ``{"crank-cam.backlash_mm": 0.2}``); ``jit``: compile the equations with the system C compiler (default
         ``None``: if one is found -- about 2 s once per option set, then about 3x faster); the rest as
         :meth:`gearopt.dynamics.simulate.Simulator.run` and :class:`~gearopt.dynamics.simulate.Simulator` options
-        (``method``, ``atol``, ``output_step_deg``, ``external_torques``).
+        (``method``, ``atol``, ``output_step_deg``, ``external_torques``; ``steady_state="shooting"`` solves the
+        periodic state by shooting, see :meth:`~gearopt.dynamics.simulate.Simulator.periodic_state`; here the
+        default ``shooting_jacobian="linear"``, the chord iteration: the exact forward-sensitivity Newton costs
+        about 20 s per iteration on this 46-state model).
         """
         p = self.parameters_at(speed_rpm, load)
         p.update(parameters or {})
         return simulate(self.network, speed_rpm, cycles, backlash=backlash, rtol=rtol, parameters=p,
                         run_in_cycles=run_in_cycles, steady_state_tol=steady_state_tol, x0=x0,
+                        steady_state=steady_state, shooting_tol=shooting_tol, shooting_jacobian=shooting_jacobian,
+                        shooting_max_iter=shooting_max_iter, on_shooting_failure=on_shooting_failure,
                         jit=_auto_jit(jit), **options)
 
     def simulator(self, backlash: bool = True, rtol: float = 1e-6, jit: bool | None = None, **options):
