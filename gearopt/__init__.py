@@ -16,3 +16,5 @@ from .joints import (bolt_preload_N, fit_interference_um, joint_margins, press_f
                      taper_fit, walk_off)
 from .blank import GearBlank, web_fatigue, web_stress
 from .dynamics import MeshStiffnessShape, TorsionalNetwork, default_timing_model
+from .design import (DesignVariable, Limit, LoadCase, Objective, Problem, Scene, enumerate_tooth_counts,
+                     optimise_microgeometry, optimise_shift_split, size_blank, size_joint, tooth_count_study)
