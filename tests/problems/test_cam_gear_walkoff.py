@@ -1,22 +1,13 @@
 """The main job runs end to end on the packaged data and writes its tables; shape checks against the thesis."""
 
-import importlib.util
 import json
-from pathlib import Path
 
 import pytest
 
-SCRIPT = Path(__file__).resolve().parents[2] / "problems" / "cam_gear_walkoff.py"
-
 
 @pytest.fixture(scope="module")
-def run(tmp_path_factory):
-    spec = importlib.util.spec_from_file_location("cam_gear_walkoff", SCRIPT)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    out = tmp_path_factory.mktemp("out")
-    assert module.main(["--quick", "--out", str(out)]) == 0
-    return out
+def run(run_quick):
+    return run_quick("cam_gear_walkoff")
 
 
 def test_outputs_written(run):

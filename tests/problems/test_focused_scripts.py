@@ -1,10 +1,8 @@
 """The focused problem scripts run with --quick in-process and write what they promise; their numbers are checked
 against independent evaluations (brute-force sweeps, the numeric joint models, a second LTCA path)."""
 
-import importlib.util
 import json
 import math
-from pathlib import Path
 
 import numpy as np
 import pandas as pd
@@ -12,35 +10,20 @@ import pytest
 
 from gearopt.joints import press_fit, taper_fit, taper_slip_utilisation
 
-ROOT = Path(__file__).resolve().parents[2] / "problems"
 
-
-def load(name):
-    spec = importlib.util.spec_from_file_location(f"focused_{name}", ROOT / f"{name}.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+@pytest.fixture(scope="module")
+def microgeometry_run(run_quick):
+    return run_quick("pair_microgeometry") / "crank-cam"
 
 
 @pytest.fixture(scope="module")
-def microgeometry_run(tmp_path_factory):
-    out = tmp_path_factory.mktemp("pair_microgeometry")
-    assert load("pair_microgeometry").main(["--quick", "--out", str(out)]) == 0
-    return out / "crank-cam"
+def shift_run(run_quick):
+    return run_quick("shift_split")
 
 
 @pytest.fixture(scope="module")
-def shift_run(tmp_path_factory):
-    out = tmp_path_factory.mktemp("shift_split")
-    assert load("shift_split").main(["--quick", "--out", str(out)]) == 0
-    return out
-
-
-@pytest.fixture(scope="module")
-def joint_run(tmp_path_factory):
-    out = tmp_path_factory.mktemp("joint_sizing")
-    assert load("joint_sizing").main(["--quick", "--out", str(out)]) == 0
-    return out
+def joint_run(run_quick):
+    return run_quick("joint_sizing")
 
 
 # ------------------------------------------------------------------------------------------------ pair_microgeometry

@@ -1,8 +1,6 @@
 """The tooth-count script runs with --quick, writes its tables, and its numbers re-evaluate independently."""
 
-import importlib.util
 import json
-from pathlib import Path
 
 import pandas as pd
 import pytest
@@ -10,17 +8,11 @@ import pytest
 from gearopt.data import load_default_train
 from gearopt.design.tooth_counts import _train_with_teeth
 
-SCRIPT = Path(__file__).resolve().parents[2] / "problems" / "tooth_counts.py"
 
 
 @pytest.fixture(scope="module")
-def run(tmp_path_factory):
-    spec = importlib.util.spec_from_file_location("tooth_counts_script", SCRIPT)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    out = tmp_path_factory.mktemp("out")
-    assert module.main(["--quick", "--out", str(out)]) == 0
-    return out
+def run(run_quick):
+    return run_quick("tooth_counts")
 
 
 def test_outputs_written(run):
