@@ -43,31 +43,17 @@ def _summary(pair: GearPair) -> dict:
     }
 
 
-def optimise_shift_split(pair: GearPair, *, objective: str = "max_min_tip_thickness", min_contact_ratio: float = 1.2,
-                         min_tip_thickness_ratio: float = 0.2, iso_tr_4467_limits: bool = True,
-                         shift_split: float = 0.5, verbose: bool = False) -> dict:
-    """Optimise the split of ``pair``'s (fixed) sum of profile shifts; returns a plain dict.
-
-    Keys: ``objective``, ``status``, ``iterations``, ``profile_shifts`` (optimised), ``iso_tr_4467_profile_shifts``
-    (the ISO/TR 4467 split with ``shift_split`` = lambda, also the initial guess), ``objective_value`` (mm for tip
-    thickness, dimensionless for sliding), ``active_constraints`` (names), ``table`` (DataFrame comparing the two
-    splits). Raises a :class:`~gearopt.errors.SolveError` subclass naming the violated limits if Ipopt fails.
-    """
+def shift_split_problem(pair: GearPair, *, objective: str = "max_min_tip_thickness", min_contact_ratio: float = 1.2,
+                        min_tip_thickness_ratio: float = 0.2, iso_tr_4467_limits: bool = True,
+                        init: float | None = None) -> Problem:
+    """The split NLP of ``pair`` as a :class:`Problem` (variable ``profile_shift_1``; epigraph variable
+    ``min_tip_thickness_mm`` or ``max_root_specific_sliding``), unsolved, so that Problem-level tools
+    (``multistart``, ``solve_elastic``) apply to it. ``init``: start of x1 (default: the pair's own)."""
     if objective not in OBJECTIVES:
         raise GearoptInputError(f"objective={objective!r} must be one of {OBJECTIVES}")
-    if pair.is_symbolic:
-        raise GearoptInputError("optimise_shift_split needs a numeric pair (its centre distance fixes x1 + x2)")
-    iso_pair = GearPair.from_centre_distance(
-        teeth=pair.teeth, centre_distance_mm=pair.centre_distance_mm, module_mm=pair.module_mm,
-        pressure_angle_deg=pair.pressure_angle_deg, helix_angle_deg=pair.helix_angle_deg,
-        face_width_mm=pair.face_width_mm, shift_split=shift_split,
-        addendum_coefficient=pair.addendum_coefficient, dedendum_coefficient=pair.dedendum_coefficient,
-        root_radius_coefficient=pair.root_radius_coefficient, tip_shortening=pair.tip_shortening,
-        tolerances=pair.tolerances, names=pair.names, helix_hands=pair.helix_hands)
-    x1_iso = float(iso_pair.profile_shifts[0])
-
     p = Problem(name=f"profile-shift split {pair.names[0]}-{pair.names[1]}")
-    x1 = p.variable("profile_shift_1", init=x1_iso, lower=-1.0, upper=2.0, scale=0.5)
+    x1 = p.variable("profile_shift_1", init=float(pair.profile_shifts[0]) if init is None else init, lower=-1.0,
+                    upper=2.0, scale=0.5)
     trial = _split_pair(pair, x1)
     g = trial.geometry()
     margins = trial.constraints(min_tip_thickness_ratio=min_tip_thickness_ratio, min_contact_ratio=min_contact_ratio,
@@ -85,7 +71,37 @@ def optimise_shift_split(pair: GearPair, *, objective: str = "max_min_tip_thickn
         for i in range(2):
             p.subject_to(f"epigraph_specific_sliding_{i + 1}", t + g["specific_sliding_root"][i], lower=0.0)
         p.minimize(t)
-    res = p.solve(verbose=verbose)
+    return p
+
+
+def optimise_shift_split(pair: GearPair, *, objective: str = "max_min_tip_thickness", min_contact_ratio: float = 1.2,
+                         min_tip_thickness_ratio: float = 0.2, iso_tr_4467_limits: bool = True,
+                         shift_split: float = 0.5, verbose: bool = False, **ipopt) -> dict:
+    """Optimise the split of ``pair``'s (fixed) sum of profile shifts; returns a plain dict.
+
+    Keys: ``objective``, ``status``, ``iterations``, ``profile_shifts`` (optimised), ``iso_tr_4467_profile_shifts``
+    (the ISO/TR 4467 split with ``shift_split`` = lambda, also the initial guess), ``objective_value`` (mm for tip
+    thickness, dimensionless for sliding), ``active_constraints`` (names), ``table`` (DataFrame comparing the two
+    splits). Raises a :class:`~gearopt.errors.SolveError` subclass naming the violated limits if Ipopt fails
+    (``elastic_on_failure=True`` among ``ipopt`` attaches the least relaxation of the limits to it).
+    """
+    if objective not in OBJECTIVES:
+        raise GearoptInputError(f"objective={objective!r} must be one of {OBJECTIVES}")
+    if pair.is_symbolic:
+        raise GearoptInputError("optimise_shift_split needs a numeric pair (its centre distance fixes x1 + x2)")
+    iso_pair = GearPair.from_centre_distance(
+        teeth=pair.teeth, centre_distance_mm=pair.centre_distance_mm, module_mm=pair.module_mm,
+        pressure_angle_deg=pair.pressure_angle_deg, helix_angle_deg=pair.helix_angle_deg,
+        face_width_mm=pair.face_width_mm, shift_split=shift_split,
+        addendum_coefficient=pair.addendum_coefficient, dedendum_coefficient=pair.dedendum_coefficient,
+        root_radius_coefficient=pair.root_radius_coefficient, tip_shortening=pair.tip_shortening,
+        tolerances=pair.tolerances, names=pair.names, helix_hands=pair.helix_hands)
+    x1_iso = float(iso_pair.profile_shifts[0])
+
+    p = shift_split_problem(pair, objective=objective, min_contact_ratio=min_contact_ratio,
+                            min_tip_thickness_ratio=min_tip_thickness_ratio, iso_tr_4467_limits=iso_tr_4467_limits,
+                            init=x1_iso)
+    res = p.solve(verbose=verbose, **ipopt)
     x1_opt = float(res.values["profile_shift_1"])
     best = _split_pair(pair, x1_opt)
     table = pd.DataFrame({"iso_tr_4467": _summary(iso_pair), "ipopt": _summary(best)})

@@ -14,6 +14,7 @@ import pandas as pd
 import pytest
 
 import gearopt as go
+from gearopt.design.shift_distribution import shift_split_problem as build_shift_split_problem
 from gearopt.design import Problem
 from gearopt.design.elastic import ELASTIC_COLUMNS, ElasticResult, solve_elastic
 from gearopt.errors import GearoptInputError, InfeasibleProblemError, SolveError
@@ -229,22 +230,8 @@ def test_variable_bounds_are_hard():
 # --------------------------------------------------------------------------- a real case: the shift split
 
 def shift_split_problem(pair, min_contact_ratio: float) -> Problem:
-    """The NLP of gearopt.design.shift_distribution.optimise_shift_split ('max_min_tip_thickness'), rebuilt here
-    from the public GearPair pieces so that its Problem is at hand (optimise_shift_split solves internally)."""
-    total = pair.profile_shifts[0] + pair.profile_shifts[1]
-    p = Problem("shift split")
-    x1 = p.variable("profile_shift_1", init=0.2, lower=-1.0, upper=2.0, scale=0.5)
-    trial = replace(pair, profile_shifts=(x1, total - x1), tip_diameters_mm=None)
-    for name, expr in trial.constraints(min_tip_thickness_ratio=0.2, min_contact_ratio=min_contact_ratio,
-                                        worst_case=True, iso_tr_4467_limits=True, min_backlash_mm=None).items():
-        p.subject_to(name, expr, lower=0.0, unit="mm" if name.endswith("_mm") else "")
-    m = float(pair.module_mm)
-    t = p.variable("min_tip_thickness_mm", init=0.5 * m, lower=0.0, upper=2.0 * m, scale=m, unit="mm")
-    s = trial.geometry()["tip_thickness_mm"]
-    for i in range(2):
-        p.subject_to(f"epigraph_tip_thickness_{i + 1}_mm", s[i] - t, lower=0.0, unit="mm")
-    p.maximize(t, scale=m)
-    return p
+    """The NLP of optimise_shift_split ('max_min_tip_thickness'), unsolved, started at x1 = 0.2."""
+    return build_shift_split_problem(pair, min_contact_ratio=min_contact_ratio, init=0.2)
 
 
 def test_shift_split_with_impossible_contact_ratio_reports_the_contact_ratio_gap():

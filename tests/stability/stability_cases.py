@@ -172,25 +172,12 @@ def feasible_centre_distance_range() -> tuple[float, float]:
 
 def shift_split_problem(pair: GearPair, *, min_contact_ratio: float = MIN_CONTACT_RATIO,
                         min_tip_thickness_ratio: float = MIN_TIP_THICKNESS_RATIO, init: float = 0.2):
-    """The Problem of optimise_shift_split ('max_min_tip_thickness'), rebuilt from the public GearPair pieces so
-    that Problem-level tools (multistart, solve_elastic) can be applied to it."""
-    from gearopt.design import Problem
+    """The Problem of optimise_shift_split ('max_min_tip_thickness') with the limits of these families, so that
+    Problem-level tools (multistart, solve_elastic) apply to it."""
+    from gearopt.design.shift_distribution import shift_split_problem as build
 
-    total = pair.profile_shifts[0] + pair.profile_shifts[1]
-    p = Problem("shift split")
-    x1 = p.variable("profile_shift_1", init=init, lower=-1.0, upper=2.0, scale=0.5)
-    trial = replace(pair, profile_shifts=(x1, total - x1), tip_diameters_mm=None)
-    for name, expr in trial.constraints(min_tip_thickness_ratio=min_tip_thickness_ratio,
-                                        min_contact_ratio=min_contact_ratio, worst_case=True,
-                                        iso_tr_4467_limits=True, min_backlash_mm=None).items():
-        p.subject_to(name, expr, lower=0.0, unit="mm" if name.endswith("_mm") else "")
-    m = float(pair.module_mm)
-    t = p.variable("min_tip_thickness_mm", init=0.5 * m, lower=0.0, upper=2.0 * m, scale=m, unit="mm")
-    s = trial.geometry()["tip_thickness_mm"]
-    for i in range(2):
-        p.subject_to(f"epigraph_tip_thickness_{i + 1}_mm", s[i] - t, lower=0.0, unit="mm")
-    p.maximize(t, scale=m)
-    return p
+    return build(pair, min_contact_ratio=min_contact_ratio, min_tip_thickness_ratio=min_tip_thickness_ratio,
+                 init=init)
 
 
 # --------------------------------------------------------------------------- running and classifying
