@@ -17,6 +17,12 @@
    modes and forced response, and sensitivities of the crank-cam force (CVODES forward sensitivities vs finite
    differences).
 
+5. ``--speed`` (separately, about 2 minutes): the acceptance run (10 cycles with lash, 2500 rpm, JIT) with CVODES
+   variants in one run -- contact quadratures off, sparse LU (csparse), the impact step limit at the run's own
+   speed, BDF order 3, combined -- wall time, mean steps per cycle and the 10-cycle peak/RMS crank-cam force (the
+   lash response is chaotic, so the statistics are the error measure), and the shooting periodic state of the
+   no-lash model against run-in. Writes ``benchmarks/results/dynamics_speed.json``.
+
 Writes ``benchmarks/results/dynamics.json`` and ``benchmarks/results/dynamics.png``.
 Run: ``python benchmarks/bench_dynamics.py`` (about 35 minutes on the 2-core test machine).
 """
@@ -394,5 +400,57 @@ def plot(result, sweep, hsweep, model):
     fig.savefig(OUT / "dynamics.png", dpi=120)
 
 
+SPEED_VARIANTS = {
+    "baseline": {},
+    "no_contact_quadratures": {"contact_quadratures": False},
+    "csparse": {"options": {"linear_solver": "csparse"}},
+    "step_limit_at_2500rpm": {"min_speed_rpm": SPEED},
+    "max_order_3": {"options": {"max_order": 3}},
+    "combined": {"contact_quadratures": False, "min_speed_rpm": SPEED, "options": {"linear_solver": "csparse"}},
+}
+
+
+def speed_study():
+    """Item 5 of issue 5: where the acceptance run's time goes and what the CVODES options buy (one run, ratios)."""
+    model = default_timing_model("spur")
+    out = {"machine": {"platform": platform.platform(), "cpus": os.cpu_count(),
+                       "load_average_start": list(os.getloadavg())},
+           "versions": {"casadi": ca.__version__}, "case": "spur, lash, 2500 rpm, 10 cycles, rtol 1e-6, JIT",
+           "variants": {}}
+    for name, opt in SPEED_VARIANTS.items():
+        sim_obj = model.simulator(backlash=True, rtol=1e-6, jit=True, **opt)          # build outside the timing
+        t, sim = median_time(lambda opt=opt: model.simulate(SPEED, cycles=10, backlash=True, rtol=1e-6, jit=True,
+                                                             **opt), repeats=2)
+        f = sim.mesh_force_N[MESH]
+        out["variants"][name] = {"wall_time_s": t, "integration_time_s": sim.stats["integration_time_s"],
+                                 "steps_per_cycle_mean": float(np.mean(sim.stats["steps_per_cycle"])),
+                                 "max_step_deg": sim_obj.max_step_deg, "peak_drive_force_N": float(f.max()),
+                                 "rms_force_N": float(np.sqrt((f ** 2).mean())),
+                                 "time_per_step_us": 1e6 * sim.stats["integration_time_s"]
+                                 / float(np.sum(sim.stats["steps_per_cycle"]))}
+        print(name, out["variants"][name], flush=True)
+    base = out["variants"]["baseline"]
+    for v in out["variants"].values():
+        v["time_ratio_to_baseline"] = v["wall_time_s"] / base["wall_time_s"]
+        v["rms_change_vs_baseline"] = v["rms_force_N"] / base["rms_force_N"] - 1.0
+    shoot = {}
+    for label, kwargs in (("shooting_linear", {"steady_state": "shooting"}),
+                          ("run_in_6", {"run_in_cycles": 6})):
+        t0 = time.perf_counter()
+        sim = model.simulate(SPEED, cycles=1, backlash=False, jit=True, **kwargs)
+        shoot[label] = {"wall_time_s": time.perf_counter() - t0, "peak_force_N": float(sim.mesh_force_N[MESH].max()),
+                        **({k: v for k, v in sim.shooting.items() if k in ("residual", "relative_residual",
+                                                                           "iterations")} if sim.shooting else {})}
+    out["no_lash_periodic_state"] = shoot
+    out["machine"]["load_average_end"] = list(os.getloadavg())
+    (OUT / "dynamics_speed.json").write_text(json.dumps(out, indent=2, default=float) + "\n")
+    return out
+
+
 if __name__ == "__main__":
-    main()
+    import sys
+
+    if "--speed" in sys.argv:
+        speed_study()
+    else:
+        main()
