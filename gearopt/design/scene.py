@@ -346,10 +346,9 @@ class BuiltScene:
             f"flash_temperature={speed is not None}"))
 
     def _driver_speed_rpm(self, mesh: str, crank_speed_rpm: float) -> float:
-        pair, train = self._meshes[mesh], self.scene.train
-        name = pair.names[self._driving_gear(mesh) - 1]
-        ratio = abs(float(train.speed_ratios.get(name, 1.0))) if train is not None else 1.0
-        return ratio * crank_speed_rpm
+        name = self._meshes[mesh].names[self._driving_gear(mesh) - 1]
+        train = self.scene.train
+        return train.gear_speed_rpm(name, crank_speed_rpm) if train is not None else crank_speed_rpm
 
     def _microgeometry(self, mesh: str, values: Mapping[str, float] | None = None) -> Microgeometry:
         """The mesh's microgeometry: fixed fields from ``scene.microgeometry``, free ones as symbols (or at

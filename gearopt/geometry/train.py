@@ -198,6 +198,11 @@ class GearTrain:
         self.pairs = {name: pair.with_options(tip_diameters_mm=(tips[pair.names[0]], tips[pair.names[1]]))
                       for name, pair in self.pairs.items()}
 
+    def gear_speed_rpm(self, gear: str, root_speed_rpm: float) -> float:
+        """Speed of ``gear`` [rpm] (magnitude) when the root gear turns at ``root_speed_rpm``; a name that is not
+        a gear of the train (a pair's default label) turns with the root."""
+        return abs(float(self.speed_ratios.get(gear, 1.0))) * root_speed_rpm
+
     # ------------------------------------------------------------------------------------------------------------
     # tables
     # ------------------------------------------------------------------------------------------------------------

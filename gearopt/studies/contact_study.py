@@ -53,13 +53,6 @@ class MeshContactStudy:
         return out
 
 
-def _driver_speed_rpm(train: GearTrain, mesh: str, crank_speed_rpm: float, driving_gear: int) -> float:
-    pair = train.pairs[mesh]
-    name = pair.names[driving_gear - 1] if getattr(pair, "names", None) else None
-    ratios = train.speed_ratios
-    return abs(float(ratios.get(name, 1.0))) * crank_speed_rpm
-
-
 def _summary_row(design: str, r: LTCAResult) -> dict[str, Any]:
     return {"design": design, "ppte_um": r.ppte_um, "max_contact_stress_MPa": r.max_contact_stress_MPa,
             "max_root_stress_1_MPa": r.max_root_stress_MPa[0], "max_root_stress_2_MPa": r.max_root_stress_MPa[1],
@@ -79,7 +72,7 @@ def mesh_contact_study(trains: dict[str, GearTrain], mesh: str, torque_Nm: float
     ``nlp_positions``: the positions the microgeometry NLP samples."""
     times: dict[str, float] = {}
     spur, helical = trains["spur"].pairs[mesh], trains["helical"].pairs[mesh]
-    speed = _driver_speed_rpm(trains["spur"], mesh, crank_speed_rpm, driving_gear)
+    speed = trains["spur"].gear_speed_rpm(trains["spur"].pairs[mesh].names[driving_gear - 1], crank_speed_rpm)
     common = dict(driving_gear=driving_gear, positions=positions, speed_rpm=speed,
                   bulk_temperature_C=bulk_temperature_C, friction_coefficient=friction_coefficient)
     t0 = time.perf_counter()
