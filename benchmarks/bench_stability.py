@@ -20,7 +20,7 @@ Outcome of a case: ``solved`` (converged and the exact re-check meets the limits
 (model build, NLP build, solve, exact check) per case, summarised by their median; the nominal case of each family
 is also timed with ``_timing.median_time``.
 
-Also: the generic Latin-hypercube multi-start (:func:`gearopt.design.multistart.multistart`) on the shift-split
+Also: the generic Latin-hypercube multi-start (:func:`gearopt.nlp.multistart.multistart`) on the shift-split
 Problem (50 starts), and elastic mode on just-infeasible contact-ratio limits against the brute-force gap.
 
 Writes ``benchmarks/results/stability.json`` and ``benchmarks/results/stability.png``.

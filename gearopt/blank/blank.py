@@ -30,7 +30,8 @@ import math
 from dataclasses import dataclass
 
 from .. import numerics as nm
-from ..errors import GearoptInputError, check_range
+from ..errors import GearoptInputError
+from ..validation import check_range
 
 STEEL_DENSITY_KG_M3 = 7850.0
 _MM3_TO_M3 = 1e-9

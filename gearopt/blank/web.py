@@ -38,7 +38,8 @@ import math
 import numpy as np
 
 from .. import numerics as nm
-from ..errors import GearoptInputError, check_range
+from ..errors import GearoptInputError
+from ..validation import check_range
 
 
 def web_torsion_shear_MPa(torque_Nm, radius_mm, web_thickness_mm):

@@ -7,6 +7,6 @@ from .ltca_smooth import LTCAModel, SmoothLTCAResult
 from .microgeometry import Microgeometry
 from .potential_energy import (ANCHOR_CONVENTIONS, PotentialEnergyOptions, potential_energy_mesh_stiffness,
                                potential_energy_single_stiffness, potential_energy_stiffness_profile)
-from .stiffness import (StiffnessValidityWarning, contact_line_length_mm, iso6336_stiffness, line_of_contact_stiffness,
+from ..rating.stiffness import (StiffnessValidityWarning, contact_line_length_mm, iso6336_stiffness, line_of_contact_stiffness,
                         mesh_damping, mesh_stiffness_table)
 from .tip_relief import governing_tip_relief_um, min_tip_relief_table, min_tip_relief_um

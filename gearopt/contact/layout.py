@@ -22,7 +22,8 @@ from typing import Any, Callable
 import numpy as np
 
 from .. import numerics as nm
-from ..errors import GearoptInputError, check_range
+from ..errors import GearoptInputError
+from ..validation import check_range
 from ..geometry.pair import GearPair
 from .microgeometry import Microgeometry, lead_deviation_um, misalignment_gap_um, profile_deviation_um
 
@@ -47,7 +48,7 @@ def single_pair_stiffness_profile(kind, pair: GearPair, *, E_MPa: float = 206000
         c = float(kind)
         return lambda s: np.full(np.shape(s), c)
     if kind == "iso6336":
-        from .stiffness import iso6336_stiffness
+        from ..rating.stiffness import iso6336_stiffness
 
         iso = iso6336_stiffness(pair)
         c_single = float(iso["single_stiffness"])

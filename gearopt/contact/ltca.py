@@ -28,7 +28,8 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import GearoptInputError, check_range
+from ..errors import GearoptInputError
+from ..validation import check_range
 from ..geometry.pair import GearPair
 from .layout import MeshLayout, default_positions, default_slices, hertz_stress_factor, mesh_layout, single_pair_stiffness_profile
 from .microgeometry import Microgeometry

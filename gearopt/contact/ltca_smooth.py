@@ -29,7 +29,8 @@ from typing import Any
 import numpy as np
 
 from .. import numerics as nm
-from ..errors import GearoptInputError, check_range
+from ..errors import GearoptInputError
+from ..validation import check_range
 from ..geometry.pair import GearPair
 from .layout import MeshLayout, hertz_stress_factor, mesh_layout
 from .microgeometry import Microgeometry

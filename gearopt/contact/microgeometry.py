@@ -29,7 +29,8 @@ from dataclasses import dataclass
 from typing import Any
 
 from .. import numerics as nm
-from ..errors import GearoptInputError, check_range, per_gear
+from ..errors import GearoptInputError
+from ..validation import check_range, per_gear
 
 SHAPES = ("linear", "parabolic")
 

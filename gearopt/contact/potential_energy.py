@@ -78,7 +78,8 @@ from dataclasses import dataclass, fields
 
 import numpy as np
 
-from ..errors import GearoptInputError, check_range
+from ..errors import GearoptInputError
+from ..validation import check_range
 from ..geometry.pair import GearPair
 
 #: Sainsot, Velex & Duverger (2004) coefficients (A, B, C, D, E, F) of L*, M*, P*, Q* (REFERENCE-DATA 1.2; identical

@@ -1,12 +1,14 @@
-"""Design layer: :class:`Problem` (a named, scaled wrapper of ``casadi.Opti`` with a pre-solve check, typed solve
-failures, multi-start and an elastic mode), scenes that build only what they need, and the NLPs of the toolbox:
-profile-shift split, tooth counts, microgeometry, joint and blank sizing."""
+"""Design layer: the gear design problems built on the NLP framework :mod:`gearopt.nlp` -- scenes that build only
+what they need, and the NLPs of the toolbox: profile-shift split, tooth counts, microgeometry, joint and blank sizing.
 
-from gearopt.design.precheck import Finding, InitialGuessReport, InitialGuessWarning
-from gearopt.design.problem import DEFAULT_CASADI_OPTIONS, DEFAULT_IPOPT_OPTIONS, Problem
-from gearopt.design.result import ProblemResult
-from gearopt.design.elastic import ElasticResult, solve_elastic
-from gearopt.design.multistart import MultiStartResult, multistart
+The framework's names (:class:`Problem`, :class:`ProblemResult`, :func:`multistart`, :func:`solve_elastic`, ...) are
+re-exported here for convenience."""
+
+from gearopt.nlp import (DEFAULT_CASADI_OPTIONS, DEFAULT_IPOPT_OPTIONS, ElasticResult, Finding, InitialGuessReport,
+                         InitialGuessWarning, MultiStartResult, Problem, ProblemResult, multistart,
+                         register_internal_package, solve_elastic)
+
+register_internal_package(__file__)  # constraints a design NLP declares point at the caller of the design layer
 from gearopt.design.microgeometry_nlp import MicrogeometryDesign, min_tip_relief_design, optimise_microgeometry
 from gearopt.design.shift_distribution import optimise_shift_split
 from gearopt.design.tooth_counts import (ToothCountEnumeration, ToothCountStudy, bonmin_cross_check,

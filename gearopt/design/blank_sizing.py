@@ -36,11 +36,12 @@ from ..blank.blank import GearBlank
 from ..blank.catalogue import blank_from_data
 from ..blank.web import web_fatigue, web_stress
 from ..data import values as data_values
-from ..errors import GearoptInputError, check_range
+from ..errors import GearoptInputError
+from ..validation import check_range
 from ..geometry.train import GearTrain
 from ..joints.walk_off import walk_off
-from .problem import Problem
-from .result import ProblemResult
+from ..nlp.problem import Problem
+from ..nlp.result import ProblemResult
 
 CASES = ("forward", "reverse", "forward_reverse")
 LOCATIONS = ("hub", "pocket")

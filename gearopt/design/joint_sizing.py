@@ -48,12 +48,13 @@ from scipy.optimize import brentq
 
 from .. import numerics as nm
 from ..data import values as data_values
-from ..errors import GearoptInputError, check_range
+from ..errors import GearoptInputError
+from ..validation import check_range
 from ..joints.iso286 import fit_interference_um, tolerance_grade_um
 from ..joints.press_fit import SMOOTHING_FACTORS, centrifugal_interference_loss_um, press_fit
 from ..joints.taper_fit import THEORIES, taper_fit
-from .problem import Problem
-from .result import ProblemResult
+from ..nlp.problem import Problem
+from ..nlp.result import ProblemResult
 
 SLIP_CRITERIA = ("combined", "separate")
 PRESS_FIT_OBJECTIVES = ("min_interference", "max_margin")

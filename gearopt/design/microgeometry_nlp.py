@@ -31,10 +31,11 @@ from ..contact.ltca import LTCAResult, ltca
 from ..contact.ltca_smooth import DEFAULT_SMOOTHING_UM, LTCAModel
 from ..contact.microgeometry import Microgeometry
 from ..contact.tip_relief import min_tip_relief_um
-from ..errors import GearoptInputError, SolveError, check_range
+from ..errors import GearoptInputError, SolveError
+from ..validation import check_range
 from ..geometry.pair import GearPair
-from .problem import Problem
-from .result import ProblemResult
+from ..nlp.problem import Problem
+from ..nlp.result import ProblemResult
 
 GROUPS = ("tip_relief", "profile_crown")
 

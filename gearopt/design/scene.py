@@ -5,7 +5,7 @@ limits (:mod:`gearopt.design.scene_spec`), in the vocabulary of :mod:`gearopt.de
 resolves the chain of models behind each requested quantity -- PPTE needs the smooth LTCA, which needs the stiffness,
 the microgeometry and the geometry; a contact-ratio limit needs the geometry only; a dynamic load case needs the
 timing model and one simulation -- builds each once, and turns the scene into one Ipopt NLP
-(:class:`~gearopt.design.problem.Problem`). Nothing else is built: no LTCA for a geometry-only scene, no dynamics
+(:class:`~gearopt.nlp.problem.Problem`). Nothing else is built: no LTCA for a geometry-only scene, no dynamics
 unless a load case asks for it, one face slice for a spur pair without lead modification, only the targets named.
 ``built.built`` lists the models in build order; ``built.build_table`` adds details and build times.
 
@@ -47,8 +47,8 @@ from ..errors import GearoptInputError, InfeasibleProblemError, ViolatedConstrai
 from ..geometry.pair import GearPair
 from ..geometry.train import GearTrain
 from .microgeometry_nlp import _start_bounds, min_tip_relief_design
-from .problem import Problem
-from .result import ProblemResult
+from ..nlp.problem import Problem
+from ..nlp.result import ProblemResult
 from .scene_spec import DesignVariable, Limit, LoadCase, Objective
 from .scene_terms import QuantityKind, quantity_kind, variable_kind
 
@@ -582,7 +582,7 @@ class BuiltScene:
         constraints on failure.
 
         ``starts`` > 1: the declared start plus ``starts - 1`` Latin-hypercube points of the design variables inside
-        their bounds (:func:`gearopt.design.multistart.multistart`, ``seed``); the best optimum is returned and
+        their bounds (:func:`gearopt.nlp.multistart.multistart`, ``seed``); the best optimum is returned and
         ``SceneResult.starts`` tables every start with the success rate. ``check``: re-evaluate the optimum of every
         mesh with LTCA quantities by the exact LTCA at ``check_positions`` (``SceneResult.exact_check``)."""
         starts_table = None

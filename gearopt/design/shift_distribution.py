@@ -20,7 +20,7 @@ import pandas as pd
 
 from ..errors import GearoptInputError
 from ..geometry.pair import GearPair
-from .problem import Problem
+from ..nlp.problem import Problem
 
 OBJECTIVES = ("max_min_tip_thickness", "balance_specific_sliding")
 

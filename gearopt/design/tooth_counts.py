@@ -24,7 +24,7 @@ centre distances closed by profile shift (section 3.4.2). Here that choice is ma
      A sampled check: a candidate feasible only inside a window narrower than the sample spacing would be rejected
      (spacing reported in the reason; ``precheck=False`` sends every interval-feasible candidate to the NLP).
 
-2. **Optimise** each admissible candidate with Ipopt (:class:`~gearopt.design.problem.Problem`): variable = the root
+2. **Optimise** each admissible candidate with Ipopt (:class:`~gearopt.nlp.problem.Problem`): variable = the root
    gear's profile shift x_root within its interval (the rest of the tree follows, :class:`GearTrain`), constraints =
    every mesh's :meth:`GearPair.constraints` (worst-case contact ratio, tip thickness, undercut, interference,
    bottom clearance, ISO/TR 4467 limits, backlash; per-gear limits once per gear), objective = the smallest
@@ -63,13 +63,14 @@ import numpy as np
 import pandas as pd
 
 from .. import numerics as nm
-from ..errors import GearoptInputError, GeometryError, SolveError, check_range
+from ..errors import GearoptInputError, GeometryError, SolveError
+from ..validation import check_range
 from ..geometry import involute as inv
 from ..geometry.shift import (check_centre_distance_reachable, iso_tr_4467_shift_limits, shift_split_iso_tr_4467,
                               sum_of_profile_shifts, working_pressure_angle_from_centre_distance)
 from ..geometry.train import GearTrain
 from ..units import DEG_PER_RAD, RAD_PER_DEG
-from .problem import Problem
+from ..nlp.problem import Problem
 
 OBJECTIVES = ("max_min_worst_case_contact_ratio", "max_min_tip_thickness")
 REFERENCES = ("teeth", "data", "helical_original")

@@ -46,9 +46,10 @@ from dataclasses import dataclass, field
 import numpy as np
 import pandas as pd
 
-from ..contact.stiffness import mesh_stiffness_table
+from ..rating.stiffness import mesh_stiffness_table
 from ..data import load_default_data, train_from_data, values
-from ..errors import GearoptInputError, check_range
+from ..errors import GearoptInputError
+from ..validation import check_range
 from .mesh import (
     DEFAULT_CONTACT_WIDTH_M,
     DEFAULT_DAMPING_WIDTH_M,

@@ -24,7 +24,8 @@ import math
 
 import numpy as np
 
-from ..errors import GearoptInputError, check_range
+from ..errors import GearoptInputError
+from ..validation import check_range
 from .mesh import DEFAULT_HARMONICS, MeshStiffnessShape
 
 

@@ -23,7 +23,7 @@ contact opens fast (the dashpot acts until ``delta`` returns to 0, as in the Kel
 report them as computed.
 
 Stiffness over the mesh phase: ``k(psi) = k_mean (1 + a v(psi))`` with ``k_mean`` the ISO 6336-1 mean mesh
-stiffness ``c_gamma_alpha b`` (:func:`gearopt.contact.stiffness.iso6336_stiffness`), ``a`` the variation amplitude
+stiffness ``c_gamma_alpha b`` (:func:`gearopt.rating.stiffness.iso6336_stiffness`), ``a`` the variation amplitude
 (1 = full shape, 0 = constant) and ``v`` a zero-mean, ``2 pi``-periodic shape of the mesh angle ``psi = z1 theta_1``
 (one period per tooth). Default shape (:meth:`MeshStiffnessShape.from_contact_ratios`): proportional to the total
 length of the contact lines in the plane of action -- the thesis' approach (sec. 3.6, Eqs. 3.22-3.23: stiffness =
@@ -40,7 +40,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from .. import numerics as nm
-from ..errors import GearoptInputError, check_range
+from ..errors import GearoptInputError
+from ..validation import check_range
 
 #: Default width of the smooth dead zone [m] (0.05 um; force error at first touch k w ln 2 ~ 20 N at 5.5e8 N/m).
 DEFAULT_CONTACT_WIDTH_M = 0.05e-6

@@ -23,7 +23,8 @@ import numpy as np
 import pandas as pd
 import scipy.linalg
 
-from ..errors import GearoptInputError, check_range
+from ..errors import GearoptInputError
+from ..validation import check_range
 
 _DEFAULT_SAMPLES = 720
 

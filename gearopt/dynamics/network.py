@@ -44,7 +44,8 @@ import casadi as ca
 import numpy as np
 
 from .. import numerics as nm
-from ..errors import GearoptInputError, check_range
+from ..errors import GearoptInputError
+from ..validation import check_range
 from .mesh import (
     DEFAULT_CONTACT_WIDTH_M,
     DEFAULT_DAMPING_WIDTH_M,

@@ -42,7 +42,8 @@ import pandas as pd
 from scipy.linalg import lu_factor as scipy_lu_factor
 from scipy.linalg import lu_solve as scipy_lu_solve
 
-from ..errors import GearoptInputError, SolveError, check_range
+from ..errors import GearoptInputError, SolveError
+from ..validation import check_range
 from .network import ANGLE_UNIT_RAD, OFFSET_PARAMETER, SPEED_PARAMETER, TorsionalNetwork
 
 INTEGRATORS = ("cvodes", "idas", "collocation", "rk")

@@ -21,12 +21,13 @@ from __future__ import annotations
 import numpy as np
 
 from .. import numerics as nm
-from ..errors import GearoptInputError, check_range
+from ..errors import GearoptInputError
+from ..validation import check_range
 
 
 def check_values(name: str, value, low: float | None = None, high: float | None = None, *,
                  low_inclusive: bool = True, high_inclusive: bool = True, unit: str = "") -> None:
-    """:func:`gearopt.errors.check_range` for scalars *and* numeric arrays (the worst element is reported).
+    """:func:`gearopt.validation.check_range` for scalars *and* numeric arrays (the worst element is reported).
 
     Symbolic CasADi values are not checked (the caller owns them as NLP constraints or integrator states).
     """

@@ -12,7 +12,8 @@ import math
 
 import pandas as pd
 
-from ..errors import GearoptInputError, check_range
+from ..errors import GearoptInputError
+from ..validation import check_range
 from .train import GearTrain
 
 

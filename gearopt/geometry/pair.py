@@ -19,7 +19,8 @@ from functools import cached_property
 from typing import Any
 
 from .. import numerics as nm
-from ..errors import GearoptInputError, GeometryError, check_range, per_gear
+from ..errors import GearoptInputError, GeometryError
+from ..validation import check_range, per_gear
 from ..units import DEG_PER_RAD, RAD_PER_DEG
 from . import involute as inv
 from .shift import (check_centre_distance_reachable, iso_tr_4467_shift_limits, shift_split_iso_tr_4467,

@@ -5,11 +5,11 @@ from __future__ import annotations
 import numpy as np
 
 from .. import numerics as nm
-from ..errors import check_range
+from ..validation import check_range
 
 
 def check_range_any(name: str, value, low=None, high=None, **kw) -> None:
-    """:func:`gearopt.errors.check_range` for a scalar, or for the smallest and largest element of an array."""
+    """:func:`gearopt.validation.check_range` for a scalar, or for the smallest and largest element of an array."""
     if isinstance(value, (np.ndarray, list, tuple)) and not nm.is_casadi(value):
         arr = np.asarray(value, dtype=float).reshape(-1)
         if arr.size == 0:

@@ -23,8 +23,9 @@ from __future__ import annotations
 import math
 
 from .. import numerics as nm
-from ..contact.tip_relief import hertz_half_width_mm
-from ..errors import GearoptInputError, check_range, per_gear
+from .hertz import hertz_half_width_mm
+from ..errors import GearoptInputError
+from ..validation import check_range, per_gear
 from ..units import RAD_PER_DEG
 from .materials import material_pair
 

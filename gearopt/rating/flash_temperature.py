@@ -32,8 +32,9 @@ import math
 from functools import lru_cache
 
 from .. import numerics as nm
-from ..contact.tip_relief import plane_strain_compliance_per_MPa
-from ..errors import GearoptInputError, check_range
+from .hertz import plane_strain_compliance_per_MPa
+from ..errors import GearoptInputError
+from ..validation import check_range
 from ..units import RAD_PER_DEG, rpm2rad_per_s
 from .materials import material_pair
 from .root_stress import _check_array

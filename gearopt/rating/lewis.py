@@ -17,7 +17,8 @@ from __future__ import annotations
 import numpy as np
 
 from .. import numerics as nm
-from ..errors import GearoptInputError, check_range
+from ..errors import GearoptInputError
+from ..validation import check_range
 from .root_stress import _load_point, critical_section_iso6336
 from .tooth_profile import GeneratedTooth
 

@@ -43,7 +43,8 @@ import math
 import numpy as np
 
 from .. import numerics as nm
-from ..errors import GearoptInputError, check_range, per_gear
+from ..errors import GearoptInputError
+from ..validation import check_range, per_gear
 from ..units import DEG_PER_RAD, RAD_PER_DEG
 from .contact_stress import _check_factors, nominal_tangential_force_N
 from .materials import material_pair

@@ -19,7 +19,7 @@ from gearopt.contact.potential_energy import (
     potential_energy_stiffness_profile,
     tooth_data,
 )
-from gearopt.contact.stiffness import StiffnessValidityWarning, iso6336_stiffness
+from gearopt.rating.stiffness import StiffnessValidityWarning, iso6336_stiffness
 from gearopt.errors import GearoptInputError
 
 E_STEEL = 206000.0

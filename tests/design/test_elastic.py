@@ -1,4 +1,4 @@
-"""Tests of gearopt.design.elastic: the least weighted relaxation of an infeasible problem, by name and in units.
+"""Tests of gearopt.nlp.elastic: the least weighted relaxation of an infeasible problem, by name and in units.
 
 References are analytic (derived next to each test) or a brute-force scan computed here; none comes from the code
 under test.
@@ -16,7 +16,7 @@ import pytest
 import gearopt as go
 from gearopt.design.shift_distribution import shift_split_problem as build_shift_split_problem
 from gearopt.design import Problem
-from gearopt.design.elastic import ELASTIC_COLUMNS, ElasticResult, solve_elastic
+from gearopt.nlp.elastic import ELASTIC_COLUMNS, ElasticResult, solve_elastic
 from gearopt.errors import GearoptInputError, InfeasibleProblemError, SolveError
 
 TOL = 1e-5   # phase 2 keeps the relaxation within 1e-6 (scaled) of phase 1; Ipopt tol 1e-8
@@ -286,7 +286,7 @@ def test_elastic_failure_of_a_nan_model_is_typed():
 def test_elastic_constraints_derivatives_match_finite_differences():
     """The elastic NLP (original constraints through one CasADi Function, scaling, relaxation selection) feeds
     Ipopt: its constraint Jacobian (ca.jacobian on the SX expansion) against central differences."""
-    from gearopt.design.elastic import _mirror, _weights
+    from gearopt.nlp.elastic import _mirror, _weights
 
     p = Problem("nonlinear")
     a = p.parameter("a", 1.5)

@@ -1,4 +1,4 @@
-"""Tests of gearopt.design.multistart: Latin-hypercube starts, typed failures kept, success rate, best optimum.
+"""Tests of gearopt.nlp.multistart: Latin-hypercube starts, typed failures kept, success rate, best optimum.
 
 Minima are analytic (roots of the stationarity condition, computed here with numpy.roots) or textbook (Rosenbrock).
 """
@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from gearopt.design import Problem
-from gearopt.design.multistart import MultiStartResult, latin_hypercube, multistart
+from gearopt.nlp.multistart import MultiStartResult, latin_hypercube, multistart
 from gearopt.errors import (
     BadInitialGuessError,
     GearoptInputError,

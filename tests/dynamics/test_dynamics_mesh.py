@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import gearopt as go
-from gearopt.contact.stiffness import contact_line_length_mm
+from gearopt.rating.stiffness import contact_line_length_mm
 from gearopt.dynamics.mesh import (
     MeshStiffnessShape,
     axial_force_N,
@@ -43,7 +43,7 @@ def test_contact_line_ratio_integer_overlap_is_constant():
 
 
 def test_contact_line_ratio_extremes_match_the_contact_module():
-    # independent implementation: gearopt.contact.stiffness.contact_line_length_mm (exact min/max over the cycle)
+    # independent implementation: gearopt.rating.stiffness.contact_line_length_mm (exact min/max over the cycle)
     pair = go.load_default_train("helical").pairs["crank-cam"]
     g = pair.geometry()
     eps_a, eps_b = g["transverse_contact_ratio"], g["overlap_contact_ratio"]

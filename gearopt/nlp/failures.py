@@ -5,7 +5,7 @@ Status strings are Ipopt's ``ApplicationReturnStatus`` names as CasADi reports t
 
 from __future__ import annotations
 
-from gearopt.design.result import ProblemResult
+from gearopt.nlp.result import ProblemResult
 from gearopt.errors import InfeasibleProblemError, IterationLimitError, NumericalSolveError, SolveError
 
 WORST_SHOWN = 5

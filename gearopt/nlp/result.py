@@ -1,4 +1,4 @@
-"""Plain-data result of a :class:`~gearopt.design.problem.Problem` solve: values, tables, report.
+"""Plain-data result of a :class:`~gearopt.nlp.problem.Problem` solve: values, tables, report.
 
 Sign convention of every multiplier reported here: it is the sensitivity of the optimal objective (``res.objective``,
 in the objective's units) to the bound that is active, per unit of the constrained quantity,
@@ -14,7 +14,7 @@ from typing import Any, Callable
 import numpy as np
 import pandas as pd
 
-from gearopt.design.entries import ConstraintEntry, VariableEntry, element_names
+from gearopt.nlp.entries import ConstraintEntry, VariableEntry, element_names
 from gearopt.errors import ViolatedConstraint
 
 Number = float | np.ndarray

@@ -16,7 +16,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from gearopt.design.entries import ConstraintEntry, VariableEntry, element_names
+from gearopt.nlp.entries import ConstraintEntry, VariableEntry, element_names
 from gearopt.errors import BadInitialGuessError, ViolatedConstraint
 
 IPOPT_BOUND_PUSH = 1e-2

@@ -39,11 +39,12 @@ import casadi as ca
 import numpy as np
 import pandas as pd
 
-from gearopt.design.result import ProblemResult
-from gearopt.errors import GearoptInputError, SolveError, check_range
+from gearopt.nlp.result import ProblemResult
+from gearopt.errors import GearoptInputError, SolveError
+from gearopt.nlp.entries import check_positive
 
 if TYPE_CHECKING:  # pragma: no cover
-    from gearopt.design.problem import Problem
+    Problem = Any  # the Problem class; elastic builds its mirror with ``type(problem)`` (no import cycle)
 
 MODES = ("lexicographic", "relaxation", "penalty")
 """Elastic modes, see the module docstring."""
@@ -160,9 +161,9 @@ def solve_elastic(problem: Problem, *, weights: Mapping[str, Any] | None = None,
     """
     if mode not in MODES:
         raise GearoptInputError(f"mode={mode!r} must be one of {MODES}")
-    check_range("penalty", penalty, 0.0, None, low_inclusive=False)
-    check_range("feasibility_tol", feasibility_tol, 0.0, None, low_inclusive=False)
-    check_range("relaxation_tol", relaxation_tol, 0.0, None, low_inclusive=False)
+    check_positive(penalty, owner="solve_elastic", what="penalty")
+    check_positive(feasibility_tol, owner="solve_elastic", what="feasibility_tol")
+    check_positive(relaxation_tol, owner="solve_elastic", what="relaxation_tol")
     problem._check_solvable()
     constraints = list(problem._constraints.values())
     if not constraints:
@@ -219,14 +220,12 @@ def _mirror(problem: Problem, constraints: list, w: list[np.ndarray], start: dic
     one CasADi Function of the original constraints and objective at the current parameter values; with ``relax``
     every finite bound gets a relaxation variable. Returns it, the weighted scaled relaxation (0 without
     ``relax``) and the original objective as Ipopt sees it (sense and scale applied)."""
-    from gearopt.design.problem import Problem  # late: problem.py delegates here
-
     variables = list(problem._variables.values())
     parameters = list(problem._parameters.values())
     model = ca.Function("elastic_model", [v.symbol for v in variables] + [p.symbol for p in parameters],
                         [ca.vertcat(*[c.expr for c in constraints]), problem._objective])
     g0 = np.nan_to_num(problem._evaluate(start)[0], nan=0.0, posinf=0.0, neginf=0.0)
-    ep = Problem(f"{problem.name} (elastic)", active_tol=problem._active_tol)
+    ep = type(problem)(f"{problem.name} (elastic)", active_tol=problem._active_tol)
     for v in variables:
         ep.variable(v.name, init=start[v.name] * v.scale, lower=_bound(v.lower), upper=_bound(v.upper),
                     scale=v.scale, unit=v.unit, n=v.size if v.vector else None)

@@ -10,7 +10,7 @@ import pytest
 import scipy.linalg
 
 import gearopt as go
-from gearopt.contact.stiffness import (StiffnessValidityWarning, contact_line_length_mm, equivalent_mass_kg,
+from gearopt.rating.stiffness import (StiffnessValidityWarning, contact_line_length_mm, equivalent_mass_kg,
                                        iso6336_blank_factor, iso6336_light_load_factor, iso6336_stiffness,
                                        iso6336_theoretical_single_stiffness, line_of_contact_stiffness,
                                        mesh_damping, mesh_stiffness_table, solid_disc_inertia_kgm2,

@@ -1,4 +1,4 @@
-"""Declaration records of a :class:`~gearopt.design.problem.Problem` and the checks on their inputs.
+"""Declaration records of a :class:`~gearopt.nlp.problem.Problem` and the checks on their inputs.
 
 A record keeps what the user declared (name, bounds, scale, unit, the source line of the declaration) next to the
 CasADi symbol or expression it produced, so that results and failures can be reported by name. Bounds are stored
@@ -19,7 +19,13 @@ from gearopt.errors import GearoptInputError
 
 ArrayLike = Union[float, int, np.ndarray, list, tuple]
 
-_DESIGN_DIR = os.path.dirname(os.path.abspath(__file__))
+_INTERNAL_DIRS: set[str] = {os.path.dirname(os.path.abspath(__file__))}
+
+
+def register_internal_package(module_file: str) -> None:
+    """Treat the package directory of ``module_file`` as library code: :func:`caller_source` skips its frames, so a
+    constraint declared by a client library (a design layer built on this framework) points at *its* caller."""
+    _INTERNAL_DIRS.add(os.path.dirname(os.path.abspath(module_file)))
 
 
 @dataclass
@@ -86,13 +92,14 @@ def element_names(name: str, size: int, vector: bool) -> list[str]:
 
 
 def caller_source() -> str:
-    """``file:line`` of the first stack frame outside the ``gearopt.design`` package (the user's declaration).
+    """``file:line`` of the first stack frame outside this package and the registered client packages (the user's
+    declaration).
 
     Paths below the current working directory are shown relative to it.
     """
     frame = inspect.currentframe()
     try:
-        while frame is not None and os.path.dirname(os.path.abspath(frame.f_code.co_filename)) == _DESIGN_DIR:
+        while frame is not None and os.path.dirname(os.path.abspath(frame.f_code.co_filename)) in _INTERNAL_DIRS:
             frame = frame.f_back
         if frame is None:
             return ""
@@ -148,11 +155,13 @@ def as_bound(value: ArrayLike | None, size: int, *, owner: str, what: str, unit:
 
 
 def check_positive(arr: np.ndarray, *, owner: str, what: str) -> None:
-    """Raise :class:`GearoptInputError` if any entry of ``arr`` is <= 0 (scales must be positive)."""
-    bad = arr <= 0.0
+    """Raise :class:`GearoptInputError` if any entry of ``arr`` is not a finite number > 0 (scales, tolerances)."""
+    arr = np.atleast_1d(np.asarray(arr, dtype=float))
+    bad = ~(np.isfinite(arr) & (arr > 0.0))
     if bad.any():
         i = int(np.flatnonzero(bad)[0])
-        raise GearoptInputError(f"{owner}: {what}={arr[i]:g} at element {i} is below its limit: must be > 0")
+        raise GearoptInputError(f"{owner}: {what}={arr[i]:g} at element {i} is outside its limit: must be > 0 "
+                                f"(and finite)")
 
 
 def check_ordered(lower: np.ndarray, upper: np.ndarray, *, owner: str, unit: str) -> None:

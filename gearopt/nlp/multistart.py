@@ -1,4 +1,4 @@
-"""Multi-start for any :class:`~gearopt.design.problem.Problem`: Latin-hypercube starting points, every start
+"""Multi-start for any :class:`~gearopt.nlp.problem.Problem`: Latin-hypercube starting points, every start
 recorded (typed failures included), success rate, best optimum.
 
 Ipopt finds a local optimum; which one depends on the start. :func:`multistart` solves the same (unchanged, not
@@ -30,12 +30,12 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 import pandas as pd
 
-from gearopt.design.entries import element_names
-from gearopt.design.result import ProblemResult
+from gearopt.nlp.entries import element_names
+from gearopt.nlp.result import ProblemResult
 from gearopt.errors import BadInitialGuessError, GearoptInputError, SolveError
 
 if TYPE_CHECKING:  # pragma: no cover
-    from gearopt.design.problem import Problem
+    Problem = Any  # gearopt.nlp.problem.Problem: it delegates here, so this module does not import it
 
 
 @dataclass

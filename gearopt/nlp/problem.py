@@ -25,25 +25,24 @@ from __future__ import annotations
 import time
 from dataclasses import dataclass
 from contextlib import contextmanager
-from typing import TYPE_CHECKING, Any, Callable, Iterator
+from typing import Any, Callable, Iterator
 
 import casadi as ca
 import numpy as np
 
-from gearopt.design import failures
-from gearopt.design.conflicts import SimpleRow, separate_conflicts
-from gearopt.design.entries import (ArrayLike, ConstraintEntry, ParameterEntry, VariableEntry, as_bound, as_elements,
+from gearopt.nlp import failures
+from gearopt.nlp.conflicts import SimpleRow, separate_conflicts
+from gearopt.nlp.entries import (ArrayLike, ConstraintEntry, ParameterEntry, VariableEntry, as_bound, as_elements,
                                     caller_source, check_name, check_ordered, check_positive)
-from gearopt.design.precheck import (IPOPT_BOUND_FRAC, IPOPT_BOUND_PUSH, InitialGuessReport, ipopt_start_point,
+from gearopt.nlp.precheck import (IPOPT_BOUND_FRAC, IPOPT_BOUND_PUSH, InitialGuessReport, ipopt_start_point,
                                      nonfinite, outside_bounds)
-from gearopt.design.result import (ProblemResult, constraint_table, multipliers_by_name, variable_table,
+from gearopt.nlp.elastic import ElasticResult, attach_elastic, solve_elastic
+from gearopt.nlp.multistart import MultiStartResult, multistart
+from gearopt.nlp.result import (ProblemResult, constraint_table, multipliers_by_name, variable_table,
                                    violations_from_tables)
 from gearopt.errors import (GearoptInputError, InfeasibleProblemError, NumericalSolveError,
                             ViolatedConstraint)
 
-if TYPE_CHECKING:  # pragma: no cover
-    from gearopt.design.elastic import ElasticResult
-    from gearopt.design.multistart import MultiStartResult
 
 DEFAULT_IPOPT_OPTIONS: dict[str, Any] = {
     "print_level": 0, "sb": "yes", "max_iter": 1000, "tol": 1e-8, "mu_strategy": "adaptive"}
@@ -297,7 +296,7 @@ class Problem:
             elastic_on_failure: when Ipopt fails, also run :meth:`solve_elastic` (default mode, same options and
                 start) and raise the typed error with the least relaxation in its message and as attributes
                 ``relaxations`` (DataFrame: name, element, bound_side, bound, relaxation, unit, ...; None if the
-                elastic solve failed too) and ``elastic`` (the :class:`~gearopt.design.elastic.ElasticResult`).
+                elastic solve failed too) and ``elastic`` (the :class:`~gearopt.nlp.elastic.ElasticResult`).
             **ipopt_options: Ipopt options by their Ipopt names (``max_iter=50``, ``tol=1e-6`` ...), overriding
                 :data:`DEFAULT_IPOPT_OPTIONS`.
 
@@ -344,7 +343,6 @@ class Problem:
         if not result.success:
             failure = failures.solve_error(result)
             if elastic_on_failure:
-                from gearopt.design.elastic import attach_elastic  # late: elastic builds a Problem
                 failure = attach_elastic(self, failure, warm_start=warm_start, verbose=verbose,
                                          casadi_options=casadi_options, **ipopt_options)
             raise failure from error
@@ -353,16 +351,14 @@ class Problem:
 
     def solve_elastic(self, **options: Any) -> ElasticResult:
         """Least weighted relaxation of the constraints that makes the problem feasible, by name and in units
-        (variable bounds stay hard); see :func:`gearopt.design.elastic.solve_elastic` for the options
+        (variable bounds stay hard); see :func:`gearopt.nlp.elastic.solve_elastic` for the options
         (``weights``, ``mode``, ``penalty``, tolerances, solve options). The problem itself is not modified."""
-        from gearopt.design.elastic import solve_elastic
         return solve_elastic(self, **options)
 
     def multistart(self, n: int, *, seed: int = 0, **options: Any) -> MultiStartResult:
         """Solve from ``n`` Latin-hypercube starting points inside the variable bounds; see
-        :func:`gearopt.design.multistart.multistart` (``variables``, ``span``, ``include_initial``, solve
+        :func:`gearopt.nlp.multistart.multistart` (``variables``, ``span``, ``include_initial``, solve
         options). The declared initial guesses are restored afterwards."""
-        from gearopt.design.multistart import multistart
         return multistart(self, n, seed=seed, **options)
 
     # ------------------------------------------------------------------ internals: declarations

@@ -28,7 +28,8 @@ import numpy as np
 import pandas as pd
 
 from .. import numerics as nm
-from ..errors import GearoptInputError, check_range
+from ..errors import GearoptInputError
+from ..validation import check_range
 from ..geometry.pair import GearPair
 from ..units import RAD_PER_DEG
 
