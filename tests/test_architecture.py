@@ -36,11 +36,11 @@ def _imports(package: pathlib.Path = PACKAGE) -> list[tuple[str, str, str, int]]
     for path in sorted(package.rglob("*.py")):
         rel = path.relative_to(package.parent).with_suffix("")
         module = ".".join(rel.parts)
-        package = module[: -len(".__init__")] if module.endswith(".__init__") else module.rsplit(".", 1)[0]
+        parent = module[: -len(".__init__")] if module.endswith(".__init__") else module.rsplit(".", 1)[0]
         for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
             if isinstance(node, ast.ImportFrom):
                 if node.level:
-                    base = package.split(".")[: len(package.split(".")) - (node.level - 1)]
+                    base = parent.split(".")[: len(parent.split(".")) - (node.level - 1)]
                     target = ".".join(base + ([node.module] if node.module else []))
                 else:
                     target = node.module or ""
