@@ -26,6 +26,7 @@ from . import involute as inv
 from .shift import (check_centre_distance_reachable, iso_tr_4467_shift_limits, shift_split_iso_tr_4467,
                     sum_of_profile_shifts, working_pressure_angle_from_centre_distance,
                     working_pressure_angle_from_shifts)
+from .record import PairGeometry
 from .tolerances import PairTolerances, transverse_backlash_mm
 
 Number = Any  # float, numpy scalar or CasADi expression
@@ -331,19 +332,24 @@ class GearPair:
             "worst_case_tip_diameter_mm": d_a_min,
         }
 
-    def geometry(self) -> dict:
-        """Every derived dimension as a dict (floats with numbers in; CasADi expressions with symbols in).
+    def geometry(self) -> PairGeometry:
+        """Every derived dimension as one frozen :class:`~gearopt.geometry.record.PairGeometry` record, computed
+        once per pair and shared by every model that reads it (floats with numbers in; CasADi expressions with
+        symbols in).
 
-        Scalars, or 2-tuples (gear 1, gear 2) for per-gear values. Units in the key names; angles in degrees;
+        Scalars, or 2-tuples (gear 1, gear 2) for per-gear values. Units in the field names; angles in degrees;
         ``profile_shifts``, ``sum_profile_shift``, ``centre_distance_modification`` (y), ``tip_shortening``
         (k = sum_x - y, ISO 21771's tip alteration with opposite sign) and the contact ratios are dimensionless.
         ``*_roll_deg`` are roll angles (rho / r_b) of SAP, EAP, LPSTC, HPSTC and the pitch point on each gear.
         ``specific_sliding_root`` are gear 1's specific sliding at A and gear 2's at E (their roots; negative).
+        Fields are read as attributes (``g.centre_distance_mm``) or, as a read-only mapping, by key.
         """
-        g = self._geometry
-        if self.is_symbolic:
-            return dict(g)
-        return {k: _to_number(v) for k, v in g.items()}
+        return self._record
+
+    @cached_property
+    def _record(self) -> PairGeometry:
+        record = PairGeometry(**self._geometry)
+        return record if self.is_symbolic else record.map_values(nm.to_float)
 
     # ------------------------------------------------------------------------------------------------------------
     # checks and constraints
@@ -474,11 +480,3 @@ def _check_scalars(module_mm, pressure_angle_deg, helix_angle_deg, face_width_mm
     check_range("helix_angle_deg", helix_angle_deg, 0.0, 45.0, high_inclusive=False, unit="deg")
     for i, b in enumerate(per_gear(face_width_mm, "face_width_mm")):
         check_range(f"face_width_mm[{i}]", b, 0.0, None, low_inclusive=False, unit="mm")
-
-
-def _to_number(v):
-    if isinstance(v, tuple):
-        return tuple(_to_number(e) for e in v)
-    if isinstance(v, (str, int)):
-        return v
-    return nm.to_float(v)
