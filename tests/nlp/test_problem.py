@@ -9,7 +9,7 @@ import casadi as ca
 import numpy as np
 import pytest
 
-from gearopt.design import InitialGuessWarning, Problem, ProblemResult
+from gearopt.nlp import InitialGuessWarning, Problem, ProblemResult
 from gearopt.errors import (BadInitialGuessError, GearoptInputError, InfeasibleProblemError, IterationLimitError,
                             SolveError)
 

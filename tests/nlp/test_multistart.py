@@ -11,7 +11,7 @@ import casadi as ca
 import numpy as np
 import pytest
 
-from gearopt.design import Problem
+from gearopt.nlp import Problem
 from gearopt.nlp.multistart import MultiStartResult, latin_hypercube, multistart
 from gearopt.errors import (
     BadInitialGuessError,
