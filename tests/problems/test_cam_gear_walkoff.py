@@ -34,7 +34,7 @@ def test_percentage_changes_close_to_thesis_table_3_4(run):
     import pandas as pd
 
     df = pd.read_csv(run / "table_3_4_percentage_change.csv", index_col=0)
-    # tooth thickness change = 4 x tan(20)/pi: exact for the gears whose shift is recovered from it (DESIGN.md s.6)
+    # tooth thickness change = 4 x tan(20)/pi: exact for the gears whose shift is recovered from it (docs/source-study.md sec. 1)
     for gear in ("crank", "cam", "ac", "fp"):
         assert df.loc[gear, "tooth_thickness_change_percent"] == pytest.approx(
             df.loc[gear, "thesis_tooth_thickness_change_percent"], abs=0.1)
