@@ -17,7 +17,8 @@ CSV tables, ``report.md`` and ``result.json`` (headline numbers with units). Sta
 6. dynamics: the torsional model of the timing train, helical vs spur, with and without backlash, at rated speed
    and overspeed (thesis Figs. 4.3-4.5), and the joints' torque and axial margins over a speed sweep.
 
-Usage: ``python problems/cam_gear_walkoff.py [--quick] [--out DIR]``.
+Usage: ``python problems/cam_gear_walkoff.py [--quick] [--out DIR] [--data FILE]`` (``--data``: your own train in
+the data-file format of the packaged default, ``gearopt/data/default_train.toml``).
 """
 
 from __future__ import annotations
@@ -507,11 +508,13 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="reduced settings (used by the tests)")
     parser.add_argument("--out", type=Path, default=DEFAULT_OUT, help=f"output directory (default {DEFAULT_OUT})")
+    parser.add_argument("--data", type=Path, default=None, metavar="FILE",
+                        help="train data file (TOML, docs/data-schema.md; default: the packaged default data)")
     args = parser.parse_args(argv)
 
     timings: dict[str, float] = {}
     t0 = time.perf_counter()
-    data, thesis = load_default_data(), load_thesis_tables()
+    data, thesis = load_default_data(args.data), load_thesis_tables()
     macro = macro_design(data, thesis)
     timings["macro_design"] = time.perf_counter() - t0
 

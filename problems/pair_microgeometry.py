@@ -46,9 +46,9 @@ def design_torque_Nm(data: dict, mesh: str) -> float:
     return float(loads[key])
 
 
-def run(mesh: str, quick: bool) -> dict:
+def run(mesh: str, quick: bool, data_path: Path | None = None) -> dict:
     """Optimise the pair's microgeometry over its torque range and compute the Harris maps (no files)."""
-    data = load_default_data()
+    data = load_default_data(data_path)
     values = data_values(data)
     pair = train_from_data(data, "spur").pairs[mesh]
     t_design = design_torque_Nm(data, mesh)
@@ -113,11 +113,13 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--mesh", default="crank-cam", help="mesh of the spur train (default crank-cam)")
     parser.add_argument("--quick", action="store_true", help="coarse settings (used by the tests)")
     parser.add_argument("--out", type=Path, default=DEFAULT_OUT, help=f"output directory (default {DEFAULT_OUT})")
+    parser.add_argument("--data", type=Path, default=None, metavar="FILE",
+                        help="train data file (TOML, docs/data-schema.md; default: the packaged default data)")
     args = parser.parse_args(argv)
-    meshes = list(train_from_data(load_default_data(), "spur").pairs)
+    meshes = list(train_from_data(load_default_data(args.data), "spur").pairs)
     if args.mesh not in meshes:
         parser.error(f"--mesh {args.mesh!r} is not a mesh of the spur train: {meshes}")
-    r = run(args.mesh, args.quick)
+    r = run(args.mesh, args.quick, args.data)
     s = write(args.out / args.mesh, r)
     print(f"{args.mesh}: microgeometry over {', '.join(f'{t:g}' for t in s['torque_range_Nm'])} N m "
           f"({s['solve_status']})")
