@@ -34,7 +34,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--quick", action="store_true", help="+-1 tooth per gear (used by the tests)")
     parser.add_argument("--out", type=Path, default=DEFAULT_OUT, help=f"output directory (default {DEFAULT_OUT})")
     parser.add_argument("--data", type=Path, default=None, metavar="FILE",
-                        help="train data file (TOML, docs/data-schema.md; default: the packaged default data)")
+                        help="train data file (TOML in the format of the packaged default data; default: that data)")
     parser.add_argument("--span", type=int, default=None, help="teeth +- span per gear (default 4, quick 1)")
     parser.add_argument("--lube-tolerance", type=float, default=3.0,
                         help="allowed crank-LPI speed-ratio error, percent (thesis accepted 2.7027)")
