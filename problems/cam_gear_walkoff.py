@@ -343,8 +343,9 @@ def write_contact(out: Path, studies: dict) -> tuple[list[str], dict]:
         fig_tt = figs.save(figs.plot_transmission_error(
             {f"{t:g} N m": r for t, r in sorted(opt.exact["optimised"].items())},
             title=f"{mesh}: optimised spur, static TE at the load cases"), out / "figures" / f"te_torques_{tag}.png")
-        fig_h = figs.save(figs.plot_harris_map(st.harris, title=f"{mesh}: Harris map"),
-                          out / "figures" / f"harris_{tag}.png")
+        fig_h = figs.save(figs.plot_harris_map(st.harris, title=f"{mesh}: Harris map",
+                                               design_range_Nm=(min(opt.torques_Nm), max(opt.torques_Nm)),
+                                               design_torque_Nm=st.torque_Nm), out / "figures" / f"harris_{tag}.png")
         fig_maps = figs.save(figs.plot_flank_grid({d: st.ltca[d] for d in DESIGNS},
                                                   title=f"{mesh}: load intensity, contact stress, contact "
                                                         f"temperature, root stress of gear 1 over its flank"),
@@ -352,6 +353,10 @@ def write_contact(out: Path, studies: dict) -> tuple[list[str], dict]:
         change = st.summary.set_index("design").drop(columns=["loaded_contact_ratio"])
         fig_c = figs.save(figs.plot_percentage_change(change, "helical", title=f"{mesh}: change against helical"),
                           out / "figures" / f"change_{tag}.png")
+        fig_cl = figs.save(figs.plot_percentage_change(
+            opt.table.set_index("design"), "unmodified", by="torque_Nm",
+            title=f"{mesh}: change against the unmodified spur pair at every load case (exact LTCA)"),
+            out / "figures" / f"change_load_cases_{tag}.png")
         lines += [f"### {mesh} at {st.torque_Nm:g} N m on the driving gear, {st.speed_rpm:g} rpm", "",
                   to_markdown(st.summary), "",
                   "Optimised microgeometry (linear tip relief blended over "
@@ -362,7 +367,7 @@ def write_contact(out: Path, studies: dict) -> tuple[list[str], dict]:
                   "", to_markdown(opt.table), "",
                   f"![TE]({fig_te.relative_to(out)}) ![TE over torque]({fig_tt.relative_to(out)}) "
                   f"![Harris]({fig_h.relative_to(out)}) "
-                  f"![change]({fig_c.relative_to(out)})", "",
+                  f"![change]({fig_c.relative_to(out)}) ![change at every load case]({fig_cl.relative_to(out)})", "",
                   f"![flank maps]({fig_maps.relative_to(out)})", ""]
         entry = st.headline()
         entry["optimised_microgeometry"] = {k: v for k, v in opt.values.items()}

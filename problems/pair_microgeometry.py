@@ -82,8 +82,9 @@ def write(out: Path, r: dict) -> dict:
     harris = r["maps"]["unmodified"].merge(r["maps"]["optimised"], on="torque_Nm",
                                            suffixes=("_unmodified", "_optimised"))
     harris.to_csv(out / "harris_map.csv", index=False)
-    figs.save(figs.plot_harris_map(r["maps"], title=f"{mesh}: PPTE against torque (exact LTCA)"),
-              out / "harris_map.png")
+    figs.save(figs.plot_harris_map(r["maps"], title=f"{mesh}: PPTE against torque (exact LTCA)",
+                                   design_range_Nm=(min(r["torques"]), max(r["torques"])),
+                                   design_torque_Nm=r["design_torque"]), out / "harris_map.png")
     te_results = {f"unmodified, {t:g} N m": design.exact["unmodified"][t],
                   f"optimised, {t:g} N m": design.exact["optimised"][t]}
     figs.save(figs.plot_transmission_error(te_results, title=f"{mesh}: transmission error at the design torque"),
