@@ -171,7 +171,7 @@ def dynamics_stage(data: dict, quick: bool = False) -> dict:
     run = dict(cycles=1, run_in_cycles=0 if quick else 1)
     out: dict = {"runs": {}, "sweeps": {}, "models": {}, "speeds_rpm": speeds}
     for kind in ("helical", "spur"):
-        model = default_timing_model(kind)
+        model = default_timing_model(kind, data=data)
         for speed in speeds:
             for lash in (False, True):
                 out["runs"][(kind, speed, lash)] = model.simulate(speed_rpm=speed, backlash=lash, **run)
@@ -501,9 +501,15 @@ def summary_inputs(data: dict, dynamics: dict | None, out: Path) -> dict:
              "contact": (f"exact LTCA at {', '.join(f'{f:g}' for f in loads['torque_range_fractions'])} x the design "
                          f"torque, {loads['speed_rpm']:g} rpm crank")}
     if dynamics:
-        runs = dynamics.get("run") or {}
-        basis["dynamics"] = (f"peak over {runs.get('cycles', 'the simulated')} cycle(s) at "
-                             + ", ".join(f"{s:g}" for s in sorted({k[1] for k in dynamics["runs"]})) + " rpm")
+        sims = list(dynamics["runs"].values())
+        changes = [float(s.cycle_change[-1]) for s in sims if len(s.cycle_change) and np.isfinite(s.cycle_change[-1])]
+        change = max(changes) if changes else float("nan")
+        basis["dynamics"] = (f"peaks over {min(s.cycles for s in sims)} recorded cycle(s) after "
+                             f"{min(s.run_in_cycles for s in sims)} run-in cycle(s) at "
+                             + ", ".join(f"{s:g}" for s in sorted({k[1] for k in dynamics["runs"]})) + " rpm; "
+                             + (f"largest cycle-to-cycle change {change:.2g}"
+                                + (" (not periodic: peaks may not have settled)" if change > 0.05 else "")
+                                if np.isfinite(change) else "cycle-to-cycle change not measured (one cycle)"))
     figures = [f"figures/{stem}.png" for stem in KEY_FIGURES if (out / "figures" / f"{stem}.png").exists()]
     return {"limits": {k: v for k, v in limits.items() if isinstance(v, (int, float))}, "load_basis": basis,
             "figures": figures}

@@ -170,7 +170,8 @@ def summary_markdown(summary: dict, title: str = "Summary") -> str:
     for r in summary["requirements"]:
         verdict = f"**{r['verdict']}**" if r["verdict"] == "FAIL" else r["verdict"]
         others = [f for f in r["failing"] if f != r["worst_case"]]
-        worst = r["worst_case"] + (f" (also fails: {', '.join(others)})" if others else "")
+        also = "also fails" if r["worst_case"] in r["failing"] else "fails"
+        worst = r["worst_case"] + (f" ({also}: {', '.join(others)})" if others else "")
         lines.append(f"| {r['requirement']} | {worst} | {eng(r['value'])} | {r['sense']} {eng(r['limit'])} | "
                      f"{r['unit']} | {verdict} |")
     lines.append("")
