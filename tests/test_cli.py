@@ -81,3 +81,13 @@ def test_scene_file_matches_the_python_scene():
     scene = scene_from_data(scenes, "crank_cam_ppte", train_data=tomllib.loads(default_data_path().read_text()))
     assert [lc.torque_Nm for lc in scene.load_cases] == [150.0, 300.0, 450.0]
     assert scene.limits[0] == Limit("max_contact_stress_MPa", "crank-cam", upper=1150.0)
+
+
+def test_dynamics_sweep_exits_1_when_a_joint_slips(capsys):
+    # the source study's finding: at overspeed the crank gear's press fit slips (margin < 1) with backlash
+    assert main(["dynamics", "--speeds", "3000", "--run-in-cycles", "0", "--joints", "crank", "cam"]) == 1
+    out = capsys.readouterr().out
+    crank = next(l for l in out.splitlines() if l.startswith("slip margin joint:crank"))
+    cam = next(l for l in out.splitlines() if l.startswith("slip margin joint:cam"))
+    assert crank.endswith("FAIL") and float(crank.split()[6]) < 1.0
+    assert cam.endswith("PASS")
