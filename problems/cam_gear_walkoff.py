@@ -41,7 +41,7 @@ from gearopt.report import ltca_figures as figs
 from gearopt.report import to_markdown, write_table
 from gearopt.report.joint_tables import blank_table, joint_table, web_table
 from gearopt.report.rating_tables import rating_table
-from gearopt.report.summary import build_summary, headlines_markdown, summary_markdown
+from gearopt.report.summary import build_summary, eng, headlines_markdown, summary_markdown
 from gearopt.studies import DESIGNS, mesh_contact_study
 from gearopt.report.macro_design import (change_table, conversion_table, mesh_check_table, shift_table,
                                          sum_shift_table)
@@ -579,9 +579,13 @@ def main(argv: list[str] | None = None) -> int:
           f"{split['profile_shifts'][1]:.4f}; ISO/TR 4467: {split['iso_tr_4467_profile_shifts'][0]:.4f} / "
           f"{split['iso_tr_4467_profile_shifts'][1]:.4f}")
     for mesh, st in contact.items():
-        h = st.summary.set_index("design")["ppte_um"]
-        print(f"  {mesh:10s} PPTE helical {h['helical']:.2f} um, spur unmodified {h['spur_unmodified']:.2f} um, "
-              f"spur optimised {h['spur_optimised']:.2f} um at {st.torque_Nm:g} N m")
+        rng = headlines.ppte_over_range(st.optimisation)
+        o, u = rng["by_design"]["optimised"], rng["by_design"]["unmodified"]
+        worse = rng["worse_than_unmodified_Nm"]
+        print(f"  {mesh:10s} PPTE over {min(rng['torques_Nm']):g}-{max(rng['torques_Nm']):g} N m (worst, exact LTCA): "
+              f"spur unmodified {eng(u['worst_ppte_um'])} um, spur optimised {eng(o['worst_ppte_um'])} um "
+              f"({eng(o['design_torque_ppte_um'])} um at {st.torque_Nm:g} N m)"
+              + (f"; optimised WORSE than unmodified at {', '.join(f'{t:g}' for t in worse)} N m" if worse else ""))
     for kind in ("helical", "spur"):
         j = joints[kind]["joints_nominal"].set_index("gear")
         print(f"  joints ({kind}): " + ", ".join(
@@ -591,6 +595,9 @@ def main(argv: list[str] | None = None) -> int:
             print(f"  joint {r['joint']:5s} (spur) present margin x{r['present_min_torque_margin']:.2f} over speed; "
                   f"for x{r['target_margin']:g}: {r['result']}{(' -- relax ' + r['must_relax']) if r['must_relax'] else ''}")
     print("stage times:", ", ".join(f"{k} {v:.2f} s" for k, v in timings.items()))
+    summary = json.loads((args.out / "result.json").read_text())["summary"]
+    print(f"verdict: {summary['verdict']}" + (f" ({len(summary['failed'])} requirements fail: "
+                                              + "; ".join(summary["failed"]) + ")" if summary["failed"] else ""))
     print(f"wrote {args.out}/report.md, result.json and CSV tables")
     return 0
 
