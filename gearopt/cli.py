@@ -1,19 +1,28 @@
-"""The ``gearopt`` command line: quick geometry of a pair and the packaged default train.
+"""The ``gearopt`` command line: geometry of a pair, and the studies on a train data file (yours or the packaged one).
 
     gearopt pair --teeth 38 76 --module-mm 3 --centre-distance-mm 172.24 [--profile-shift1 0.3124]
     gearopt pair --teeth 12 24 --module-mm 3 --profile-shifts 0.6 0.36
-    gearopt train spur            # or helical
+    gearopt train spur [--data FILE]                  # or helical
+    gearopt rate [--data FILE] [--train spur]         # ISO 6336 S_H / S_F of every mesh at the design loads
+    gearopt microgeometry --mesh crank-cam [--data FILE] [--quick]   # robust PPTE design over the torque range
+    gearopt dynamics [--data FILE] [--speeds 750 3000] # speed sweep: joint slip and walk-off margins
+    gearopt scene FILE [--scene NAME] [--data FILE]   # a scene declared in FILE ([scenes.NAME], docs/scenes.md)
+
+Exit codes: 0 every requirement met, 1 a requirement fails (a check, a safety factor, a margin), 2 bad input or a
+failed solve. ``--data FILE``: a train data file in the format of ``gearopt/data/default_train.toml``.
 """
 
 from __future__ import annotations
 
 import argparse
 import sys
+from pathlib import Path
 
 import pandas as pd
 
-from .data import load_default_train
-from .errors import GearoptError
+from .data import load_default_data, train_from_data
+from .data import values as data_values
+from .errors import GearoptError, GearoptInputError
 from .geometry.pair import GearPair
 
 
@@ -38,12 +47,13 @@ def _pair_command(args) -> int:
         pair.check(min_contact_ratio=args.min_contact_ratio)
         print("check: ok")
     except GearoptError as err:
-        print(f"check: {err}")
+        print(f"check: FAIL: {err}")
+        return 1
     return 0
 
 
 def _train_command(args) -> int:
-    train = load_default_train(args.kind)
+    train = train_from_data(load_default_data(args.data), args.kind)
     with pd.option_context("display.width", 200, "display.max_columns", 30):
         print(train.gear_table().round(4))
         print()
@@ -51,8 +61,132 @@ def _train_command(args) -> int:
     return 0
 
 
+def _verdict(rows: list[tuple[str, float, float, str, str]]) -> int:
+    """Print ``(requirement, value, limit, sense, unit)`` rows with PASS/FAIL; 1 if any fails, else 0."""
+    from .report.summary import eng
+
+    failed = 0
+    for name, value, limit, sense, unit in rows:
+        ok = value >= limit if sense == ">=" else value <= limit
+        failed += not ok
+        print(f"{name:48s} {eng(value):>9s} {sense} {eng(limit):<7s} {unit:4s} {'PASS' if ok else 'FAIL'}")
+    print(f"verdict: {'FAIL' if failed else 'PASS'} ({failed} of {len(rows)} requirements fail)")
+    return 1 if failed else 0
+
+
+def _rate_command(args) -> int:
+    from .report.rating_tables import rating_table
+
+    data = load_default_data(args.data)
+    loads = data_values(data)["design_loads"]
+    train = train_from_data(data, args.train)
+    torques = {m: loads[m.replace("-", "_") + "_torque_Nm"] for m in train.pairs
+               if m.replace("-", "_") + "_torque_Nm" in loads}
+    table = rating_table(train, torques, K_A=loads.get("application_factor_K_A", 1.0))
+    with pd.option_context("display.width", 200, "display.max_columns", 30):
+        print(table[["mesh", "torque_Nm", "sigma_H_MPa", "S_H", "sigma_F_1_MPa", "sigma_F_2_MPa", "S_F_1",
+                     "S_F_2"]].round(3).to_string(index=False))
+    print(f"ISO 6336-2/-3 method B at the [design_loads] torques, K_A {loads.get('application_factor_K_A', 1.0):g}, "
+          "other load factors and life factors 1")
+    rows = []
+    for _, r in table.iterrows():
+        rows.append((f"S_H {r['mesh']}", float(r["S_H"]), args.min_s_h, ">=", "-"))
+        rows.append((f"S_F {r['mesh']}", float(min(r["S_F_1"], r["S_F_2"])), args.min_s_f, ">=", "-"))
+    return _verdict(rows)
+
+
+def _microgeometry_command(args) -> int:
+    from .design.microgeometry_nlp import optimise_microgeometry
+    from .report.contact_headlines import ppte_over_range, tip_relief_drawing, verified_margins
+
+    data = load_default_data(args.data)
+    v = data_values(data)
+    train = train_from_data(data, "spur")
+    if args.mesh not in train.pairs:
+        raise GearoptInputError(f"--mesh {args.mesh!r} is not a mesh of the spur train: {sorted(train.pairs)}")
+    key = args.mesh.replace("-", "_") + "_torque_Nm"
+    if key not in v["design_loads"]:
+        raise GearoptInputError(f"[design_loads] has no {key} (the design torque of mesh {args.mesh})")
+    t0 = float(v["design_loads"][key])
+    torques = [t0] + [t0 * f for f in v["design_loads"].get("torque_range_fractions", [1.0]) if f != 1.0]
+    limits = v.get("design_limits", {})
+    opts = dict(positions=20, check_positions=160) if args.quick else {}
+    design = optimise_microgeometry(train.pairs[args.mesh], torques, max_root_stress_MPa=limits.get("max_root_stress_MPa"),
+                                    min_loaded_contact_ratio=limits.get("min_loaded_contact_ratio", 1.2), **opts)
+    rng = ppte_over_range(design)
+    o, u = rng["by_design"]["optimised"], rng["by_design"]["unmodified"]
+    print(f"{args.mesh}: optimised microgeometry over {', '.join(f'{t:g}' for t in rng['torques_Nm'])} N m")
+    for name, value in design.values.items():
+        print(f"  {name:34s} {value:.3f}")
+    for gear, d in tip_relief_drawing(train.pairs[args.mesh], design.values).items():
+        print(f"  {gear}: tip relief {d.get('amount_um', 0):.1f} um from d = {d['start_diameter_mm']:.2f} mm, "
+              f"length {d['relief_length_mm']:.2f} mm on the line of action")
+    print(f"  PPTE worst over the range: optimised {o['worst_ppte_um']:.3g} um (at {o['worst_torque_Nm']:g} N m), "
+          f"unmodified {u['worst_ppte_um']:.3g} um; at the design torque {o['design_torque_ppte_um']:.3g} um")
+    rows = [(f"PPTE {t} N m, optimised vs unmodified", o["ppte_um_by_torque"][t], u["ppte_um_by_torque"][t], "<=",
+             "um") for t in o["ppte_um_by_torque"]]
+    rows += [(f"{name} (exact LTCA, worst load case)", m["margin"], 0.0, ">=", m["unit"] or "-")
+             for name, m in verified_margins(design).items()]
+    return _verdict(rows)
+
+
+def _dynamics_command(args) -> int:
+    from .dynamics import default_timing_model, speed_sweep
+
+    data = load_default_data(args.data)
+    model = default_timing_model(args.train, data=data)
+    joints = tuple(args.joints)
+    sweep = speed_sweep(model, args.speeds, backlash=(args.backlash,), joints=joints, cycles=args.cycles,
+                        run_in_cycles=args.run_in_cycles)
+    rows_j = sweep[sweep["element_type"] == "joint"]
+    cols = [c for c in ("element", "speed_rpm", "peak_torque_Nm", "peak_axial_force_N", "min_torque_margin",
+                        "min_axial_margin", "cycle_change") if c in rows_j.columns]
+    with pd.option_context("display.width", 200, "display.max_columns", 30):
+        print(rows_j[cols].round(3).to_string(index=False))
+    rows = []
+    for _, r in rows_j.iterrows():
+        rows.append((f"slip margin {r['element']} at {r['speed_rpm']:g} rpm", float(r["min_torque_margin"]),
+                     args.min_margin, ">=", "-"))
+        rows.append((f"walk-off margin {r['element']} at {r['speed_rpm']:g} rpm", float(r["min_axial_margin"]),
+                     args.min_margin, ">=", "-"))
+    return _verdict(rows)
+
+
+def _scene_command(args) -> int:
+    import tomllib
+
+    from .design.scene_file import scene_from_data, scene_names
+
+    with open(args.file, "rb") as fh:
+        scenes = tomllib.load(fh)
+    names = scene_names(scenes)
+    if not names:
+        raise GearoptInputError(f"{args.file} declares no [scenes.<name>] table (docs/scenes.md)")
+    name = args.scene or names[0]
+    train_data = scenes if "trains" in scenes else load_default_data(args.data)
+    scene = scene_from_data(scenes, name, train_data=train_data)
+    result = scene.build().solve(starts=args.starts)
+    print(f"scene {name!r}: {result.solve.status}")
+    for key, value in result.values.items():
+        print(f"  {key:44s} {value:.4g}")
+    q = result.quantities
+    with pd.option_context("display.width", 200, "display.max_columns", 30):
+        print(q.to_string(index=False))
+    # margins of the limits; Ipopt meets an active bound to its tolerance (1e-8 scaled), so -1e-6 of the bound passes
+    rows = [(f"{r['quantity']} {r['target']} @{r['load_case']}", float(r["margin"]),
+             -1e-6 * max(1.0, abs(float(r["lower"] if pd.notna(r["lower"]) else r["upper"]))), ">=", str(r["unit"]))
+            for _, r in q.iterrows() if r.get("role") == "limit" and pd.notna(r["margin"])]
+    return _verdict(rows)
+
+
+def _add_data(p) -> None:
+    p.add_argument("--data", type=Path, default=None, metavar="FILE",
+                   help="train data file (default: the packaged default data)")
+
+
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(prog="gearopt", description="gear geometry from the command line")
+    parser = argparse.ArgumentParser(prog="gearopt", description="gear geometry and design studies from the command "
+                                                                 "line (exit 1 when a requirement fails)")
     sub = parser.add_subparsers(dest="command", required=True)
     p = sub.add_parser("pair", help="macro geometry and checks of one pair")
     p.add_argument("--teeth", type=int, nargs=2, required=True)
@@ -66,9 +200,37 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--shift-split", type=float, default=0.5, help="ISO/TR 4467 lambda")
     p.add_argument("--min-contact-ratio", type=float, default=1.0)
     p.set_defaults(run=_pair_command)
-    t = sub.add_parser("train", help="the packaged default timing train")
+    t = sub.add_parser("train", help="gears and meshes of a train of the data")
     t.add_argument("kind", choices=["spur", "helical"])
+    _add_data(t)
     t.set_defaults(run=_train_command)
+    r = sub.add_parser("rate", help="ISO 6336 contact and root safety of every mesh at the design loads")
+    _add_data(r)
+    r.add_argument("--train", choices=["spur", "helical"], default="spur")
+    r.add_argument("--min-s-h", type=float, default=1.0, help="minimum contact safety S_H (default 1.0)")
+    r.add_argument("--min-s-f", type=float, default=1.4, help="minimum root safety S_F (default 1.4)")
+    r.set_defaults(run=_rate_command)
+    m = sub.add_parser("microgeometry", help="PPTE-minimising tip relief of one spur mesh over its torque range")
+    _add_data(m)
+    m.add_argument("--mesh", default="crank-cam")
+    m.add_argument("--quick", action="store_true", help="coarse NLP and check resolution")
+    m.set_defaults(run=_microgeometry_command)
+    d = sub.add_parser("dynamics", help="speed sweep of the timing train: joint slip and walk-off margins")
+    _add_data(d)
+    d.add_argument("--train", choices=["spur", "helical"], default="spur")
+    d.add_argument("--speeds", type=float, nargs="+", default=[750.0, 3000.0], help="crank speeds [rpm]")
+    d.add_argument("--joints", nargs="+", default=["crank", "cam", "ac", "fp"])
+    d.add_argument("--backlash", action=argparse.BooleanOptionalAction, default=True)
+    d.add_argument("--cycles", type=int, default=1)
+    d.add_argument("--run-in-cycles", type=int, default=1)
+    d.add_argument("--min-margin", type=float, default=1.0, help="required slip and walk-off margin (default 1)")
+    d.set_defaults(run=_dynamics_command)
+    s = sub.add_parser("scene", help="solve a scene declared in a file ([scenes.NAME], docs/scenes.md)")
+    s.add_argument("file", type=Path)
+    s.add_argument("--scene", default=None, help="scene name (default: the first in the file)")
+    _add_data(s)
+    s.add_argument("--starts", type=int, default=1, help="multi-start count (default 1)")
+    s.set_defaults(run=_scene_command)
     args = parser.parse_args(argv)
     try:
         return args.run(args)

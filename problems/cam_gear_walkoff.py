@@ -17,7 +17,8 @@ CSV tables, ``report.md`` and ``result.json`` (headline numbers with units). Sta
 6. dynamics: the torsional model of the timing train, helical vs spur, with and without backlash, at rated speed
    and overspeed (thesis Figs. 4.3-4.5), and the joints' torque and axial margins over a speed sweep.
 
-Usage: ``python problems/cam_gear_walkoff.py [--quick] [--out DIR]``.
+Usage: ``python problems/cam_gear_walkoff.py [--quick] [--out DIR] [--data FILE]`` (``--data``: your own train in
+the data-file format of the packaged default, ``gearopt/data/default_train.toml``).
 """
 
 from __future__ import annotations
@@ -35,10 +36,12 @@ import gearopt as go
 from gearopt.data import load_default_data, load_thesis_tables, train_from_data
 from gearopt.design.shift_distribution import optimise_shift_split
 from gearopt.data import values as data_values
+from gearopt.report import contact_headlines as headlines
 from gearopt.report import ltca_figures as figs
 from gearopt.report import to_markdown, write_table
 from gearopt.report.joint_tables import blank_table, joint_table, web_table
 from gearopt.report.rating_tables import rating_table
+from gearopt.report.summary import build_summary, eng, headlines_markdown, summary_markdown
 from gearopt.studies import DESIGNS, mesh_contact_study
 from gearopt.report.macro_design import (change_table, conversion_table, mesh_check_table, shift_table,
                                          sum_shift_table)
@@ -140,7 +143,8 @@ def write_joints(out: Path, joints: dict) -> tuple[list[str], dict]:
                     "torque_capacity_Nm": float(row["torque_capacity_Nm"]),
                     "axial_capacity_N": float(row["axial_capacity_N"]),
                     "torque_margin": _json_number(row["torque_margin"]),
-                    "axial_margin": _json_number(row["axial_margin"])}
+                    "axial_margin": _json_number(row["axial_margin"]),
+                    "hub_yield_safety": _json_number(row.get("hub_yield_safety", float("inf")))}
     return lines, result
 
 
@@ -167,7 +171,7 @@ def dynamics_stage(data: dict, quick: bool = False) -> dict:
     run = dict(cycles=1, run_in_cycles=0 if quick else 1)
     out: dict = {"runs": {}, "sweeps": {}, "models": {}, "speeds_rpm": speeds}
     for kind in ("helical", "spur"):
-        model = default_timing_model(kind)
+        model = default_timing_model(kind, data=data)
         for speed in speeds:
             for lash in (False, True):
                 out["runs"][(kind, speed, lash)] = model.simulate(speed_rpm=speed, backlash=lash, **run)
@@ -339,8 +343,9 @@ def write_contact(out: Path, studies: dict) -> tuple[list[str], dict]:
         fig_tt = figs.save(figs.plot_transmission_error(
             {f"{t:g} N m": r for t, r in sorted(opt.exact["optimised"].items())},
             title=f"{mesh}: optimised spur, static TE at the load cases"), out / "figures" / f"te_torques_{tag}.png")
-        fig_h = figs.save(figs.plot_harris_map(st.harris, title=f"{mesh}: Harris map"),
-                          out / "figures" / f"harris_{tag}.png")
+        fig_h = figs.save(figs.plot_harris_map(st.harris, title=f"{mesh}: Harris map",
+                                               design_range_Nm=(min(opt.torques_Nm), max(opt.torques_Nm)),
+                                               design_torque_Nm=st.torque_Nm), out / "figures" / f"harris_{tag}.png")
         fig_maps = figs.save(figs.plot_flank_grid({d: st.ltca[d] for d in DESIGNS},
                                                   title=f"{mesh}: load intensity, contact stress, contact "
                                                         f"temperature, root stress of gear 1 over its flank"),
@@ -348,6 +353,10 @@ def write_contact(out: Path, studies: dict) -> tuple[list[str], dict]:
         change = st.summary.set_index("design").drop(columns=["loaded_contact_ratio"])
         fig_c = figs.save(figs.plot_percentage_change(change, "helical", title=f"{mesh}: change against helical"),
                           out / "figures" / f"change_{tag}.png")
+        fig_cl = figs.save(figs.plot_percentage_change(
+            opt.table.set_index("design"), "unmodified", by="torque_Nm",
+            title=f"{mesh}: change against the unmodified spur pair at every load case (exact LTCA)"),
+            out / "figures" / f"change_load_cases_{tag}.png")
         lines += [f"### {mesh} at {st.torque_Nm:g} N m on the driving gear, {st.speed_rpm:g} rpm", "",
                   to_markdown(st.summary), "",
                   "Optimised microgeometry (linear tip relief blended over "
@@ -358,14 +367,19 @@ def write_contact(out: Path, studies: dict) -> tuple[list[str], dict]:
                   "", to_markdown(opt.table), "",
                   f"![TE]({fig_te.relative_to(out)}) ![TE over torque]({fig_tt.relative_to(out)}) "
                   f"![Harris]({fig_h.relative_to(out)}) "
-                  f"![change]({fig_c.relative_to(out)})", "",
+                  f"![change]({fig_c.relative_to(out)}) ![change at every load case]({fig_cl.relative_to(out)})", "",
                   f"![flank maps]({fig_maps.relative_to(out)})", ""]
         entry = st.headline()
         entry["optimised_microgeometry"] = {k: v for k, v in opt.values.items()}
         entry["optimised_microgeometry"]["relief_shape"] = opt.microgeometry.relief_shape
         entry["optimised_microgeometry"]["relief_smoothing_deg"] = opt.microgeometry.relief_smoothing_deg
-        entry["constraint_margins"] = {str(r["name"]): float(r["margin"]) for _, r in margins.iterrows()
-                                       if not str(r["name"]).startswith("te_")}
+        entry["constraint_margins"] = headlines.nlp_constraint_margins(margins)
+        entry["verified_margins"] = headlines.verified_margins(opt)
+        entry["ppte_over_range"] = headlines.ppte_over_range(opt)
+        entry["smooth_exact_gap"] = headlines.smooth_exact_gap(opt)
+        entry["tip_relief_drawing"] = headlines.tip_relief_drawing(st.ltca["spur_unmodified"].layout.pair,
+                                                                 opt.values)
+        lines += headlines_markdown(entry)
         entry["design_torque_Nm"] = st.torque_Nm
         entry["driving_gear_speed_rpm"] = st.speed_rpm
         entry["stage_time_s"] = st.times_s
@@ -388,11 +402,12 @@ def write_rating(out: Path, ratings: dict) -> tuple[list[str], dict]:
 def write_outputs(out: Path, macro: dict, split: dict, timings: dict, contact: dict | None = None,
                   ratings: dict | None = None, joints: dict | None = None, dynamics: dict | None = None,
                   design_torques: pd.DataFrame | None = None, teeth: dict | None = None,
-                  sizing: dict | None = None) -> None:
+                  sizing: dict | None = None, data: dict | None = None) -> None:
     out.mkdir(parents=True, exist_ok=True)
-    lines = ["# Cam gear walk-off: spur redesign of the timing train", "",
-             "Generated by `problems/cam_gear_walkoff.py` on the packaged default data. Thesis columns are the "
-             "thesis' own (normalised where the thesis normalised); see DESIGN.md section 6.", ""]
+    lines = []
+    appendix = ["## Appendix: reproductions of the source study's tables", "",
+                "Thesis columns are the thesis' own (normalised where the thesis normalised); see "
+                "docs/source-study.md sec. 1.", ""]
     titles = {
         "table_3_1_helical_to_spur": "Helical -> standard spur gears (thesis Table 3.1)",
         "table_3_2_sum_profile_shift": "Sum of profile shifts at the fixed centre distances (thesis Table 3.2)",
@@ -405,7 +420,7 @@ def write_outputs(out: Path, macro: dict, split: dict, timings: dict, contact: d
     }
     for key, df in macro["tables"].items():
         write_table(df, out, key)
-        lines += [f"## {titles[key]}", "", to_markdown(df), ""]
+        (appendix if key.startswith("table_3_") else lines).extend([f"## {titles[key]}", "", to_markdown(df), ""])
     if teeth is not None:
         ranked = teeth["study"].table
         write_table(ranked, out, "tooth_count_candidates")
@@ -434,9 +449,8 @@ def write_outputs(out: Path, macro: dict, split: dict, timings: dict, contact: d
                         "and axial force of the speed sweep (with backlash), at the weakest interference / nut "
                         "factor (`gearopt.design.joint_sizing`); `present_min_*` are the margins of the present "
                         "design over the same sweep.", "", to_markdown(sizing["table"]), ""]
-    lines += contact_lines + rating_lines + joint_lines + dyn_lines + sizing_lines + ["## Run time per stage", ""]
-    lines += [f"- {k}: {v:.3f} s" for k, v in timings.items()]
-    (out / "report.md").write_text("\n".join(lines) + "\n")
+    lines += contact_lines + rating_lines + joint_lines + dyn_lines + sizing_lines + appendix
+    lines += ["## Run time per stage", ""] + [f"- {k}: {v:.3f} s" for k, v in timings.items()]
     result = {
         "units": {"centre_distance": "mm", "tip_thickness": "mm", "time": "s", "ppte": "um", "stress": "MPa",
                   "temperature": "C", "torque": "N m", "microgeometry": "um and deg as in the key names"},
@@ -462,18 +476,56 @@ def write_outputs(out: Path, macro: dict, split: dict, timings: dict, contact: d
         "joint_sizing": (sizing["table"].replace({np.inf: "inf"}).to_dict(orient="records") if sizing else []),
         "stage_time_s": timings,
     }
+    summary = build_summary(result, **summary_inputs(data or load_default_data(), dynamics, out))
+    result = {"summary": summary, **result}
+    head = ["# Cam gear walk-off: spur redesign of the timing train", "",
+            "Generated by `problems/cam_gear_walkoff.py`; every table below is also a CSV file in this folder.", "",
+            summary_markdown(summary)]
+    (out / "report.md").write_text("\n".join(head + lines) + "\n")
     (out / "result.json").write_text(json.dumps(result, indent=2) + "\n")
+
+
+KEY_FIGURES = ("te_crank_cam", "te_torques_crank_cam", "harris_crank_cam", "dynamics_crank_cam_force", "campbell_spur")
+
+
+def summary_inputs(data: dict, dynamics: dict | None, out: Path) -> dict:
+    """Limits, load basis and key figures of the verdict-first summary (:func:`gearopt.report.summary.build_summary`)
+    from the data's ``[design_loads]``/``[design_limits]`` and what the run drew."""
+    values = data_values(data)
+    loads, limits = values["design_loads"], dict(values.get("design_limits", {}))
+    basis = {"rating": (f"ISO 6336 method B at the static design torques ("
+                        + ", ".join(f"{m} {loads[k]:g} N m" for m, k in RATED_MESHES.items())
+                        + f"), K_A {loads['application_factor_K_A']:g}, K_v = K_Hbeta = K_Halpha = K_Fbeta = K_Falpha "
+                          "= 1, life factors Z_NT = Y_NT = 1 (endurance: unlimited load cycles)"),
+             "joints at design load": "static design torques on each gear",
+             "contact": (f"exact LTCA at {', '.join(f'{f:g}' for f in loads['torque_range_fractions'])} x the design "
+                         f"torque, {loads['speed_rpm']:g} rpm crank")}
+    if dynamics:
+        sims = list(dynamics["runs"].values())
+        changes = [float(s.cycle_change[-1]) for s in sims if len(s.cycle_change) and np.isfinite(s.cycle_change[-1])]
+        change = max(changes) if changes else float("nan")
+        basis["dynamics"] = (f"peaks over {min(s.cycles for s in sims)} recorded cycle(s) after "
+                             f"{min(s.run_in_cycles for s in sims)} run-in cycle(s) at "
+                             + ", ".join(f"{s:g}" for s in sorted({k[1] for k in dynamics["runs"]})) + " rpm; "
+                             + (f"largest cycle-to-cycle change {change:.2g}"
+                                + (" (not periodic: peaks may not have settled)" if change > 0.05 else "")
+                                if np.isfinite(change) else "cycle-to-cycle change not measured (one cycle)"))
+    figures = [f"figures/{stem}.png" for stem in KEY_FIGURES if (out / "figures" / f"{stem}.png").exists()]
+    return {"limits": {k: v for k, v in limits.items() if isinstance(v, (int, float))}, "load_basis": basis,
+            "figures": figures}
 
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="reduced settings (used by the tests)")
     parser.add_argument("--out", type=Path, default=DEFAULT_OUT, help=f"output directory (default {DEFAULT_OUT})")
+    parser.add_argument("--data", type=Path, default=None, metavar="FILE",
+                        help="train data file (TOML in the format of the packaged default data; default: that data)")
     args = parser.parse_args(argv)
 
     timings: dict[str, float] = {}
     t0 = time.perf_counter()
-    data, thesis = load_default_data(), load_thesis_tables()
+    data, thesis = load_default_data(args.data), load_thesis_tables()
     macro = macro_design(data, thesis)
     timings["macro_design"] = time.perf_counter() - t0
 
@@ -508,7 +560,7 @@ def main(argv: list[str] | None = None) -> int:
 
     t0 = time.perf_counter()
     write_outputs(args.out, macro, split, timings, contact, ratings, joints, dynamics, design_torques, teeth,
-                  sizing)
+                  sizing, data=data)
     timings["write_outputs"] = time.perf_counter() - t0
 
     spur = macro["tables"]["table_3_3_profile_shift"]
@@ -527,9 +579,13 @@ def main(argv: list[str] | None = None) -> int:
           f"{split['profile_shifts'][1]:.4f}; ISO/TR 4467: {split['iso_tr_4467_profile_shifts'][0]:.4f} / "
           f"{split['iso_tr_4467_profile_shifts'][1]:.4f}")
     for mesh, st in contact.items():
-        h = st.summary.set_index("design")["ppte_um"]
-        print(f"  {mesh:10s} PPTE helical {h['helical']:.2f} um, spur unmodified {h['spur_unmodified']:.2f} um, "
-              f"spur optimised {h['spur_optimised']:.2f} um at {st.torque_Nm:g} N m")
+        rng = headlines.ppte_over_range(st.optimisation)
+        o, u = rng["by_design"]["optimised"], rng["by_design"]["unmodified"]
+        worse = rng["worse_than_unmodified_Nm"]
+        print(f"  {mesh:10s} PPTE over {min(rng['torques_Nm']):g}-{max(rng['torques_Nm']):g} N m (worst, exact LTCA): "
+              f"spur unmodified {eng(u['worst_ppte_um'])} um, spur optimised {eng(o['worst_ppte_um'])} um "
+              f"({eng(o['design_torque_ppte_um'])} um at {st.torque_Nm:g} N m)"
+              + (f"; optimised WORSE than unmodified at {', '.join(f'{t:g}' for t in worse)} N m" if worse else ""))
     for kind in ("helical", "spur"):
         j = joints[kind]["joints_nominal"].set_index("gear")
         print(f"  joints ({kind}): " + ", ".join(
@@ -539,6 +595,9 @@ def main(argv: list[str] | None = None) -> int:
             print(f"  joint {r['joint']:5s} (spur) present margin x{r['present_min_torque_margin']:.2f} over speed; "
                   f"for x{r['target_margin']:g}: {r['result']}{(' -- relax ' + r['must_relax']) if r['must_relax'] else ''}")
     print("stage times:", ", ".join(f"{k} {v:.2f} s" for k, v in timings.items()))
+    summary = json.loads((args.out / "result.json").read_text())["summary"]
+    print(f"verdict: {summary['verdict']}" + (f" ({len(summary['failed'])} requirements fail: "
+                                              + "; ".join(summary["failed"]) + ")" if summary["failed"] else ""))
     print(f"wrote {args.out}/report.md, result.json and CSV tables")
     return 0
 

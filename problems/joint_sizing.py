@@ -140,8 +140,10 @@ def main(argv: list[str] | None = None) -> int:
                         help="torque factor of the overspeed case over the design loads (default 1)")
     parser.add_argument("--quick", action="store_true", help="accepted for uniformity (the sizing is fast)")
     parser.add_argument("--out", type=Path, default=DEFAULT_OUT, help=f"output directory (default {DEFAULT_OUT})")
+    parser.add_argument("--data", type=Path, default=None, metavar="FILE",
+                        help="train data file (TOML in the format of the packaged default data; default: that data)")
     args = parser.parse_args(argv)
-    data = load_default_data()
+    data = load_default_data(args.data)
     unknown = [j for j in args.joints if j not in data_values(data)["joints"]]
     if unknown:
         parser.error(f"--joints {unknown}: not in [joints] ({sorted(data_values(data)['joints'])})")

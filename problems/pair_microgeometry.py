@@ -46,9 +46,9 @@ def design_torque_Nm(data: dict, mesh: str) -> float:
     return float(loads[key])
 
 
-def run(mesh: str, quick: bool) -> dict:
+def run(mesh: str, quick: bool, data_path: Path | None = None) -> dict:
     """Optimise the pair's microgeometry over its torque range and compute the Harris maps (no files)."""
-    data = load_default_data()
+    data = load_default_data(data_path)
     values = data_values(data)
     pair = train_from_data(data, "spur").pairs[mesh]
     t_design = design_torque_Nm(data, mesh)
@@ -82,8 +82,9 @@ def write(out: Path, r: dict) -> dict:
     harris = r["maps"]["unmodified"].merge(r["maps"]["optimised"], on="torque_Nm",
                                            suffixes=("_unmodified", "_optimised"))
     harris.to_csv(out / "harris_map.csv", index=False)
-    figs.save(figs.plot_harris_map(r["maps"], title=f"{mesh}: PPTE against torque (exact LTCA)"),
-              out / "harris_map.png")
+    figs.save(figs.plot_harris_map(r["maps"], title=f"{mesh}: PPTE against torque (exact LTCA)",
+                                   design_range_Nm=(min(r["torques"]), max(r["torques"])),
+                                   design_torque_Nm=r["design_torque"]), out / "harris_map.png")
     te_results = {f"unmodified, {t:g} N m": design.exact["unmodified"][t],
                   f"optimised, {t:g} N m": design.exact["optimised"][t]}
     figs.save(figs.plot_transmission_error(te_results, title=f"{mesh}: transmission error at the design torque"),
@@ -113,11 +114,13 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--mesh", default="crank-cam", help="mesh of the spur train (default crank-cam)")
     parser.add_argument("--quick", action="store_true", help="coarse settings (used by the tests)")
     parser.add_argument("--out", type=Path, default=DEFAULT_OUT, help=f"output directory (default {DEFAULT_OUT})")
+    parser.add_argument("--data", type=Path, default=None, metavar="FILE",
+                        help="train data file (TOML in the format of the packaged default data; default: that data)")
     args = parser.parse_args(argv)
-    meshes = list(train_from_data(load_default_data(), "spur").pairs)
+    meshes = list(train_from_data(load_default_data(args.data), "spur").pairs)
     if args.mesh not in meshes:
         parser.error(f"--mesh {args.mesh!r} is not a mesh of the spur train: {meshes}")
-    r = run(args.mesh, args.quick)
+    r = run(args.mesh, args.quick, args.data)
     s = write(args.out / args.mesh, r)
     print(f"{args.mesh}: microgeometry over {', '.join(f'{t:g}' for t in s['torque_range_Nm'])} N m "
           f"({s['solve_status']})")

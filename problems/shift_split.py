@@ -113,8 +113,10 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--mesh", default=None, help="one mesh of the spur train (default: all)")
     parser.add_argument("--quick", action="store_true", help="coarser sweep (used by the tests)")
     parser.add_argument("--out", type=Path, default=DEFAULT_OUT, help=f"output directory (default {DEFAULT_OUT})")
+    parser.add_argument("--data", type=Path, default=None, metavar="FILE",
+                        help="train data file (TOML in the format of the packaged default data; default: that data)")
     args = parser.parse_args(argv)
-    train = train_from_data(load_default_data(), "spur")
+    train = train_from_data(load_default_data(args.data), "spur")
     meshes = list(train.pairs) if args.mesh is None else [args.mesh]
     unknown = [m for m in meshes if m not in train.pairs]
     if unknown:

@@ -23,7 +23,7 @@ from pathlib import Path
 
 import casadi as ca
 
-from gearopt.data import load_default_train
+from gearopt.data import load_default_data, train_from_data
 from gearopt.design.tooth_counts import bonmin_cross_check, enumerate_tooth_counts, tooth_count_study
 
 DEFAULT_OUT = Path("out") / "tooth_counts"
@@ -33,6 +33,8 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="+-1 tooth per gear (used by the tests)")
     parser.add_argument("--out", type=Path, default=DEFAULT_OUT, help=f"output directory (default {DEFAULT_OUT})")
+    parser.add_argument("--data", type=Path, default=None, metavar="FILE",
+                        help="train data file (TOML in the format of the packaged default data; default: that data)")
     parser.add_argument("--span", type=int, default=None, help="teeth +- span per gear (default 4, quick 1)")
     parser.add_argument("--lube-tolerance", type=float, default=3.0,
                         help="allowed crank-LPI speed-ratio error, percent (thesis accepted 2.7027)")
@@ -43,9 +45,10 @@ def main(argv: list[str] | None = None) -> int:
     out = args.out
     out.mkdir(parents=True, exist_ok=True)
 
-    train = load_default_train("spur")
+    data = load_default_data(args.data)
+    train = train_from_data(data, "spur")
     t0 = time.perf_counter()
-    enumeration = enumerate_tooth_counts(train, reference="helical_original", span=span,
+    enumeration = enumerate_tooth_counts(train, reference="helical_original", data=data, span=span,
                                          default_tolerance_percent=args.tolerance,
                                          ratio_tolerance_percent={"crank-lpi": args.lube_tolerance})
     t_enum = time.perf_counter() - t0

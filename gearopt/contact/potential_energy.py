@@ -27,7 +27,7 @@ up to the load point, plus a root section between the root circle and the involu
   above the base circle), and between the root circle and the involute start the tooth is a straight section of
   the constant half thickness h_0 of the involute start, from the height sqrt(r_f^2 - h_0^2) where its corners
   meet the root circle (``constant_section_start="chord"``) or from y = r_f (``"root_radius"``). Gauss-Legendre
-  integrates it exactly. With ``ANCHOR_CONVENTIONS`` this reproduces REFERENCE-DATA 1.2's [C] anchor values.
+  integrates it exactly. With ``ANCHOR_CONVENTIONS`` this reproduces docs/default-data.md sec. 1.2's [C] anchor values.
 
 Hertz (line contact, load independent): k_h = pi E L / (4 (1 - nu^2)) (Yang & Lin 1987).
 
@@ -64,7 +64,7 @@ Accuracy against ISO 6336-1 method B (whose c_gamma_alpha includes the empirical
 C_M = 0.8): the mean mesh stiffness over a base pitch lies within -10 %/+15 % of c_gamma_alpha when both gears have
 z >= 38 (default crank-cam: +1.7 %), and within -10 %/+25 % for all pairs tested (z 20..76, x -0.1..0.88,
 beta 0 and 6 deg; 20/20: +21 %): the potential-energy model is a theoretical stiffness like ISO's c'_th and grows
-stiffer relative to ISO for few teeth. Against REFERENCE-DATA 1.2's independent [C] implementation with its
+stiffer relative to ISO for few teeth. Against docs/default-data.md sec. 1.2's independent [C] implementation with its
 conventions (``ANCHOR_CONVENTIONS``) it agrees to the quoted rounding; the default model is 1-3 % stiffer.
 
 Units: lengths mm, E in MPa, stiffness per unit face width N/(mm*um) (numerically GN/m^2).
@@ -82,7 +82,7 @@ from ..errors import GearoptInputError
 from ..validation import check_range
 from ..geometry.pair import GearPair
 
-#: Sainsot, Velex & Duverger (2004) coefficients (A, B, C, D, E, F) of L*, M*, P*, Q* (REFERENCE-DATA 1.2; identical
+#: Sainsot, Velex & Duverger (2004) coefficients (A, B, C, D, E, F) of L*, M*, P*, Q* (docs/default-data.md sec. 1.2; identical
 #: in petrobras/ross ``gear_mesh_TVMS.py`` and two other public TVMS codes).
 SAINSOT_COEFFICIENTS = {
     "L": (-5.574e-5, -1.9986e-3, -2.3015e-4, 4.7702e-3, 0.0271, 6.8045),
@@ -149,7 +149,7 @@ class PotentialEnergyOptions:
         return cls(**options)
 
 
-#: The conventions of REFERENCE-DATA 1.2's [C] anchor values (someone else's implementation): constant section from
+#: The conventions of docs/default-data.md sec. 1.2's [C] anchor values (someone else's implementation): constant section from
 #: y = r_f, the ross root half angle, Sainsot's u_f; with the default bore r_int = 0.5 r_f.
 ANCHOR_CONVENTIONS = {"root_section": "constant", "constant_section_start": "root_radius",
                       "root_half_angle": "addendum"}
@@ -262,7 +262,7 @@ def tooth_data(pair: GearPair, options: PotentialEnergyOptions | None = None) ->
         b_c = (0.25 * math.pi * m_n + (h_fp - rho_fp) * math.tan(alpha_n) + rho_fp / math.cos(alpha_n)) / math.cos(beta)
         if opt.root_half_angle == "generated":
             theta_f = b_c / r
-        else:  # ross gear_mesh_TVMS / REFERENCE-DATA 1.2 formula with the gear addendum
+        else:  # ross gear_mesh_TVMS / docs/default-data.md sec. 1.2 formula with the gear addendum
             theta_f = ((0.25 * math.pi * m_n + (h_ap - rho_fp) * math.tan(alpha_n) + rho_fp / math.cos(alpha_n))
                        / math.cos(beta) / r)
         out.append(ToothData(
@@ -427,7 +427,7 @@ def potential_energy_single_stiffness(pair: GearPair, roll_length_1_mm, *, E_MPa
     array. ``E_MPa`` Young's modulus [MPa] and ``poisson`` of both gears. ``fillet``: include Sainsot's gear-body
     term. ``options``: the other fields of :class:`PotentialEnergyOptions` (``root_section``,
     ``constant_section_start``, ``root_half_angle``, ``fillet_height``, ``bore_diameter_mm``,
-    ``quadrature_nodes``); ``**ANCHOR_CONVENTIONS`` reproduces REFERENCE-DATA 1.2's conventions.
+    ``quadrature_nodes``); ``**ANCHOR_CONVENTIONS`` reproduces docs/default-data.md sec. 1.2's conventions.
 
     Returns an array shaped like ``roll_length_1_mm``; with ``parts=True`` a dict of arrays [N/(mm*um)]:
     ``k_h`` (Hertz), ``k_b1``, ``k_s1``, ``k_a1``, ``k_f1`` (gear 1: bending, shear, axial, gear body; ``inf`` without

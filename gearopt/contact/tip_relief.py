@@ -10,7 +10,7 @@ The minimum tip relief of gear i is the part of the loaded pair's deflection tha
 Vrcan's fit) and ``delta_H`` the Hertzian approach of the two flanks, split equally; C_t,1 + C_t,2 is the total
 deflection of one loaded tooth pair, comparable with ISO 6336-1's w/c' at the pitch point (tested).
 
-What differs from the thesis as printed (see each function and DESIGN.md section 7):
+What differs from the thesis as printed (see each function and docs/source-study.md sec. 2):
 
 * Eq. 3.36 drops the pi/(2z) term of the base-circle half tooth angle. The correct angle (ISO 21771) is
   ``psi_b = s_t/d + inv(alpha_t) = pi/(2z) + 2 x tan(alpha_n)/z + inv(alpha_t)``; the printed one describes a tooth
@@ -65,7 +65,7 @@ def base_half_tooth_angle_rad(teeth, profile_shift, pressure_angle_deg=20.0):
         psi_b = s/d + inv(alpha) = pi/(2 z) + 2 x tan(alpha)/z + inv(alpha)
 
     with s = m (pi/2 + 2 x tan alpha) the reference-circle tooth thickness (zero thickness allowance). This is the
-    corrected thesis Eq. 3.36, which omits pi/(2z) (DESIGN.md section 7). Dual-typed in ``profile_shift`` x and
+    corrected thesis Eq. 3.36, which omits pi/(2z) (docs/source-study.md sec. 2). Dual-typed in ``profile_shift`` x and
     ``pressure_angle_deg`` alpha [deg].
     """
     alpha = pressure_angle_deg * RAD_PER_DEG

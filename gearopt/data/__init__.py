@@ -1,4 +1,4 @@
-"""Packaged default data: the representative diesel engine and its timing gear train (DESIGN.md section 6).
+"""Packaged default data: the representative diesel engine and its timing gear train (docs/source-study.md sec. 1).
 
 ``default_train.toml`` gives every number a sibling ``<key>_source`` string with its provenance ([V] public source,
 [T] thesis, [C] computed, [E] estimate). :func:`load_default_data` returns the parsed file; :func:`values` strips the

@@ -1,6 +1,6 @@
 """The packaged default timing-system model: crankshaft chain with viscous damper, six throws and speed-controlled
 flywheel; camshaft chain; fuel pump, air compressor and lube pump drives; the five gear meshes of the default train
-(DESIGN.md sec. 6; thesis sec. 3.6, Fig. 3.10), as a :class:`~gearopt.dynamics.network.TorsionalNetwork`.
+(docs/source-study.md sec. 1; thesis sec. 3.6, Fig. 3.10), as a :class:`~gearopt.dynamics.network.TorsionalNetwork`.
 
 Data (``default_train.toml``, provenance there): ``engine.crankshaft`` (10-node chain, damper ring coupled by
 ``damper_viscous_damping_Nms_per_rad``, throw absolute damping, shaft loss factor), ``engine.camshaft`` (cam gear

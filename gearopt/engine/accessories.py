@@ -1,6 +1,5 @@
 """Accessory load torques over each accessory's own shaft angle: valve train (camshaft), common-rail fuel pump,
-single-cylinder air compressor, lube pump. **All estimates [E]**: no public measurements exist (REFERENCE-DATA.md
-sec. 2.6); shapes come from first-principles models, then mean and peak are set to the data's [E] numbers
+single-cylinder air compressor, lube pump. **All estimates [E]**: no public measurements exist (docs/default-data.md sec. 2.6); shapes come from first-principles models, then mean and peak are set to the data's [E] numbers
 (``engine.camshaft``, ``engine.fuel_pump``, ``engine.air_compressor``, ``engine.lube_pump``).
 
 Sign convention: the torque is the **load** the accessory puts on its drive shaft, positive resisting the rotation
@@ -94,7 +93,7 @@ class AccessoryTorque:
 
         Model [E]: each lobe lifts its tappet ``h = H ((1 + cos(pi psi / beta)) / 2)^2`` (C2 profile) over
         ``|psi| < beta`` (cam half-width ``beta`` = 60 deg), H set by the maximum lift slope of 12 mm/rad
-        (REFERENCE-DATA sec. 2.6; H = 6.2 mm);
+        (docs/default-data.md sec. 2.6; H = 6.2 mm);
         spring force ``F = F_max (f0 + (1 - f0) h / H)`` with ``F_max`` = ``tappet_load_at_max_lift_N`` and
         preload fraction f0 = 0.4; lobe torque ``F dh/dpsi`` (resisting on the opening flank, driving on the
         closing flank). Exhaust and intake lobes of cylinder c are centred 250 and 470 crank deg after its firing
@@ -108,7 +107,7 @@ class AccessoryTorque:
         order = list(e["firing_order"])
         interval = float(e["firing_interval_deg"])
         f_max = float(cam["tappet_load_at_max_lift_N"])
-        slope_m = 12.0e-3                                   # m/rad, REFERENCE-DATA sec. 2.6 (lift slope <= 12 mm/rad)
+        slope_m = 12.0e-3                                   # m/rad, docs/default-data.md sec. 2.6 (lift slope <= 12 mm/rad)
         beta = math.radians(VALVE_EVENT_HALF_WIDTH_CAM_DEG)
         lift = slope_m * beta / (math.pi * 0.75 * math.sin(math.pi / 3.0))   # max of c sin u is at u = pi/3
         centres = []
@@ -205,7 +204,7 @@ class AccessoryTorque:
     @classmethod
     def lube_pump(cls, data: dict | None = None) -> AccessoryTorque:
         """Gerotor lube-pump load torque over the pump angle [rad]: ``engine.lube_pump.torque_mean_Nm`` with a
-        +-5 % ripple at the 7-tooth inner-rotor order [E] ("low ripple", REFERENCE-DATA sec. 2.6)."""
+        +-5 % ripple at the 7-tooth inner-rotor order [E] ("low ripple", docs/default-data.md sec. 2.6)."""
         mean = float(_engine(data)["lube_pump"]["torque_mean_Nm"])
         z = LUBE_PUMP_ROTOR_TEETH
         return cls.from_model("lube_pump", lambda x: mean * (1.0 + LUBE_PUMP_RIPPLE_FRACTION * np.sin(z * x)), z,

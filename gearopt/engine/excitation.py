@@ -1,6 +1,6 @@
 """Crank torques of an inline engine: gas and reciprocating-inertia torque per cylinder, firing order and phasing.
 
-Per cylinder (REFERENCE-DATA.md sec. 2.4; DESIGN.md sec. 7 replaces the thesis' garbled Eqs. 3.20/3.21), with the
+Per cylinder (docs/default-data.md sec. 2.4; docs/source-study.md sec. 2 replaces the thesis' garbled Eqs. 3.20/3.21), with the
 exact slider-crank ``s'``, ``s''`` of :mod:`gearopt.engine.kinematics` and the cylinder's crank angle ``theta`` from
 its TDC:
 
@@ -70,8 +70,8 @@ def crank_torque(crank_angle_deg, speed_rpm, bore_mm, stroke_mm, rod_length_mm, 
     Returns:
         ``(gas_torque_Nm, inertia_torque_Nm)``, same type as the inputs (dual-typed, smooth in angle and speed).
 
-    Source: exact slider-crank dynamics (REFERENCE-DATA.md sec. 2.4; Heywood ch. 2; Den Hartog, *Mechanical
-    Vibrations*, sec. 5.5), not the thesis' Eqs. 3.20/3.21 (garbled, DESIGN.md sec. 7).
+    Source: exact slider-crank dynamics (docs/default-data.md sec. 2.4; Heywood ch. 2; Den Hartog, *Mechanical
+    Vibrations*, sec. 5.5), not the thesis' Eqs. 3.20/3.21 (garbled, docs/source-study.md sec. 2).
     """
     check_values("speed_rpm", speed_rpm, 0.0, unit="rpm")
     check_values("bore_mm", bore_mm, 0.0, low_inclusive=False, unit="mm")

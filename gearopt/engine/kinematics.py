@@ -9,7 +9,7 @@ stroke). With ``lambda = r / l`` (crank radius over connecting-rod length, ``0 <
     s''(theta) = r [cos theta + lambda (cos 2 theta + lambda^2 sin^4 theta) / (1 - lambda^2 sin^2 theta)^(3/2)]
 
 (derivatives with respect to the crank angle in rad). These are exact: they replace the thesis' garbled Eq. 3.20/3.21
-(DESIGN.md sec. 7; REFERENCE-DATA.md sec. 2.4). The connecting-rod angle is ``beta = asin(lambda sin theta)`` and
+(docs/source-study.md sec. 2; docs/default-data.md sec. 2.4). The connecting-rod angle is ``beta = asin(lambda sin theta)`` and
 ``s' = r sin(theta + beta) / cos(beta)`` (the classical force-transmission identity, tested).
 
 Every function is dual-typed (floats, numpy arrays, CasADi SX/MX) through :mod:`gearopt.numerics` and is smooth
@@ -60,7 +60,7 @@ def check_crank_geometry(crank_radius_mm, rod_length_mm) -> None:
 
 
 def slider_crank(crank_angle_rad, crank_radius_mm, rod_length_mm) -> dict:
-    """Exact slider-crank kinematics with zero pin offset (REFERENCE-DATA.md sec. 2.4; DESIGN.md sec. 7).
+    """Exact slider-crank kinematics with zero pin offset (docs/default-data.md sec. 2.4; docs/source-study.md sec. 2).
 
     Args:
         crank_angle_rad: crank angle from this cylinder's TDC [rad], any real value (2 pi periodic).

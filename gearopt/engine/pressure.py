@@ -1,6 +1,6 @@
 """Cylinder pressure over the four-stroke cycle: measured table or double-Wiebe model, as a smooth periodic function.
 
-Crank-angle convention of a pressure trace (the data's, REFERENCE-DATA.md sec. 2.2): ``0..720 deg`` over one cycle
+Crank-angle convention of a pressure trace (the data's, docs/default-data.md sec. 2.2): ``0..720 deg`` over one cycle
 with the cylinder's **firing TDC at 360 deg** (gas-exchange TDC at 0/720 deg). Pressures are absolute [bar].
 
 Both sources end as a :class:`CylinderPressure`: a truncated Fourier series in the cycle angle (period 720 deg),
@@ -183,7 +183,7 @@ def double_wiebe_cycle(start_of_combustion_deg_atdc: float | None = None, premix
                        samples: int = _DENSE_SAMPLES, data: dict | None = None, **extra) -> dict:
     """Single-zone closed-cycle pressure with double-Wiebe heat release, closed by a simple gas exchange.
 
-    Model (REFERENCE-DATA.md sec. 2.5; Heywood, *Internal Combustion Engine Fundamentals*, ch. 9 single-zone
+    Model (docs/default-data.md sec. 2.5; Heywood, *Internal Combustion Engine Fundamentals*, ch. 9 single-zone
     analysis): ideal gas, constant ``gamma``, no wall heat loss, no blow-by; from IVC to EVO
     ``dp/dtheta = (gamma - 1)/V dQ/dtheta - gamma p/V dV/dtheta`` with
     ``Q(theta) = Q_eff [f x_p + (1 - f) x_d]``, ``x = 1 - exp(-a ((theta - SOC)/D)^(m+1))`` for each Wiebe

@@ -1,7 +1,7 @@
 """Cylindrical press (interference) fit of a gear hub on a solid or hollow shaft: elastic Lame theory, dual-typed.
 
 Model (Shigley's Mechanical Engineering Design, "Press and shrink fits", Eqs. 3-56/3-57; DIN 7190 elastic case;
-thesis Eqs. 3.45-3.47 with the sign error of Eq. 3.45 corrected, DESIGN.md sec. 7)::
+thesis Eqs. 3.45-3.47 with the sign error of Eq. 3.45 corrected, docs/source-study.md sec. 2)::
 
     p = delta / [ d/E_h ((D_o^2 + d^2)/(D_o^2 - d^2) + nu_h) + d/E_s ((d^2 + d_i^2)/(d^2 - d_i^2) - nu_s) ]
     F_f = mu p pi d l        (friction force the joint can hold, axial or circumferential or their resultant)
@@ -40,7 +40,7 @@ def lame_compliance_mm_per_MPa(shaft_diameter_mm, shaft_bore_mm, hub_outer_diame
     """Diametral interference per unit contact pressure [mm/MPa] of a hub on a (hollow) shaft (Lame, plane stress).
 
     ``d/E_h ((D_o^2+d^2)/(D_o^2-d^2) + nu_h) + d/E_s ((d^2+d_i^2)/(d^2-d_i^2) - nu_s)`` -- Shigley Eq. 3-56 in
-    diametral form; the minus sign on ``nu_s`` is the correction of thesis Eq. 3.45 (DESIGN.md sec. 7).
+    diametral form; the minus sign on ``nu_s`` is the correction of thesis Eq. 3.45 (docs/source-study.md sec. 2).
     """
     d, di, do = shaft_diameter_mm, shaft_bore_mm, hub_outer_diameter_mm
     hub = d / hub_E_MPa * ((do ** 2 + d ** 2) / (do ** 2 - d ** 2) + hub_nu)

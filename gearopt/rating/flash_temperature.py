@@ -1,6 +1,6 @@
 """Blok flash temperature of gear teeth and the contact temperature, dual-typed and vectorised.
 
-Blok's flash temperature (Blok 1937; ISO/TR 13989-1, AGMA 925-A03 in the form of REFERENCE-DATA section 3) for a
+Blok's flash temperature (Blok 1937; ISO/TR 13989-1, AGMA 925-A03 in the form of docs/default-data.md sec. 3) for a
 semi-elliptical (Hertzian) frictional heat source of half-width b_H moving over both surfaces at high Peclet
 number::
 
@@ -13,7 +13,7 @@ splits so that both surfaces reach the same maximum temperature). For one materi
 1-D transient conduction into each surface: 2 max_xi int_{-1}^{xi} sqrt(1 - s^2)/sqrt(xi - s) ds / pi^1.5 = 0.7860
 = 1.1115/sqrt(2) (tested by quadrature).
 
-Units (REFERENCE-DATA section 3): w [N/mm], b_H [mm], v [m/s], B_M [N/(mm s^0.5 K)] -> the SI formula times
+Units (docs/default-data.md sec. 3): w [N/mm], b_H [mm], v [m/s], B_M [N/(mm s^0.5 K)] -> the SI formula times
 sqrt(1000). theta [K]; temperatures [C].
 
 Smoothness for NLPs: |v1 - v2| has a kink at the pitch point (pure rolling). The default is the exact ``fabs``
@@ -41,7 +41,7 @@ from .root_stress import _check_array
 
 #: Blok's constant for a semi-elliptical heat source (Blok 1937; ISO/TR 13989-1).
 BLOK_CONSTANT = 1.11
-#: sqrt(1000): the formula in w [N/mm], b_H [mm], B_M [N/(mm s^0.5 K)], v [m/s] (REFERENCE-DATA section 3).
+#: sqrt(1000): the formula in w [N/mm], b_H [mm], B_M [N/(mm s^0.5 K)], v [m/s] (docs/default-data.md sec. 3).
 _UNIT_FACTOR = math.sqrt(1000.0)
 _SPEED_FLOOR_M_S = 1e-9
 

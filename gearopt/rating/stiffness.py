@@ -34,7 +34,7 @@ from ..geometry.pair import GearPair
 from ..units import RAD_PER_DEG
 
 #: ISO 6336-1 method B coefficients C1..C9 of q' [mm*um/N] (identical in python-gearbox and the MATLAB class
-#: ``ISO_6336``/``Gear_Set`` of gfsReboucas/Drivetrain; REFERENCE-DATA 1.1).
+#: ``ISO_6336``/``Gear_Set`` of gfsReboucas/Drivetrain; docs/default-data.md sec. 1.1).
 Q_PRIME_COEFFICIENTS = (0.04723, 0.15551, 0.25791, -0.00635, -0.11654, -0.00193, -0.24188, 0.00529, 0.00182)
 #: ISO 6336-1 correction from theoretical to measured stiffness of solid-disc steel gears.
 THEORY_CORRECTION_FACTOR_C_M = 0.8
@@ -100,7 +100,7 @@ def iso6336_blank_factor(web_thickness_mm, rim_thickness_mm, face_width_mm, modu
     ``web_thickness_mm`` b_s, ``rim_thickness_mm`` s_R (below the root circle), ``face_width_mm`` b, ``module_mm``
     m_n. s_R/m_n enters the exponent once (two public codes divide by m_n twice -- a bug avoided here). Solid disc
     gears: C_R = 1. Validity: 0.2 <= b_s/b <= 1.2 and s_R/m_n >= 1; outside, the ratios are held at those limits
-    (as the public codes do; the exponent form itself is tagged [M] in REFERENCE-DATA 1.1) -- the caller reports it
+    (as the public codes do; the exponent form itself is tagged [M] in docs/default-data.md sec. 1.1) -- the caller reports it
     (:func:`iso6336_stiffness`). Dual-typed.
     """
     web_ratio = nm.clip(web_thickness_mm / face_width_mm, WEB_RATIO_RANGE[0], WEB_RATIO_RANGE[1])
@@ -111,7 +111,7 @@ def iso6336_blank_factor(web_thickness_mm, rim_thickness_mm, face_width_mm, modu
 def iso6336_light_load_factor(line_load_N_per_mm):
     """Light-load reduction of c', (min(w, 100)/100)^0.25 with w = F_t K_A / b [N/mm] (dimensionless, <= 1).
 
-    **Unverified** (REFERENCE-DATA 1.1 tags it [M]: quoted for ISO 6336-1 / DIN 3990 but not found in a public
+    **Unverified** (docs/default-data.md sec. 1.1 tags it [M]: quoted for ISO 6336-1 / DIN 3990 but not found in a public
     source here). Applied only when asked for (``line_load_N_per_mm`` of :func:`iso6336_stiffness`). Dual-typed;
     w must be > 0.
     """
@@ -196,7 +196,7 @@ def iso6336_stiffness(pair: GearPair, *, solid_blanks: bool = True, rim_thicknes
     Returns a dict, all stiffnesses per unit face width in N/(mm*um) (= N/mm of face width per um of deflection
     along the line of action):
 
-    - ``q_prime`` [mm*um/N]: minimum flexibility of a tooth pair (method-B regression, REFERENCE-DATA 1.1);
+    - ``q_prime`` [mm*um/N]: minimum flexibility of a tooth pair (method-B regression, docs/default-data.md sec. 1.1);
     - ``theoretical_single_stiffness`` (alias ``single_stiffness_theoretical``) c'_th = 1/q';
     - ``single_stiffness`` c' = c'_th C_M C_R C_B cos(beta) (E/E_st) (light-load factor if asked for): the maximum
       stiffness of one tooth pair;

@@ -18,6 +18,7 @@ import numpy as np  # noqa: E402
 import pandas as pd  # noqa: E402
 
 from ..dynamics.modes import campbell_diagram, mode_shapes  # noqa: E402
+from ..dynamics.order_strength import crossing_excitation_Nm  # noqa: E402
 from ..errors import GearoptInputError  # noqa: E402
 
 #: Engine orders of a four-stroke engine's Campbell diagram by default: 0.5 ... 12 in half orders.
@@ -41,23 +42,31 @@ def campbell_table(model, speeds_rpm, orders=DEFAULT_ORDERS, *, max_frequency_Hz
     ``orders`` engine orders (cycles per crank revolution; 0.5 = once per engine cycle of a four-stroke);
     ``max_frequency_Hz`` drops higher modes; ``boundary`` as :func:`gearopt.dynamics.modes.linear_matrices`.
     Returns a DataFrame with ``mode`` (1-based, ascending frequency, rigid-body modes left out),
-    ``frequency_Hz``, ``order``, ``speed_rpm`` = 60 f / order, and ``dominant_node`` (largest |angle| of the
-    undamped mode shape), sorted by speed.
+    ``frequency_Hz``, ``order``, ``speed_rpm`` = 60 f / order, ``dominant_node`` (largest |angle| of the
+    undamped mode shape), ``modal_excitation_Nm`` (how hard the order drives the mode at that speed,
+    :func:`gearopt.dynamics.order_strength.crossing_excitation_Nm`; only with ``boundary="network"``) and
+    ``relative_strength`` (that over the table's largest), sorted by speed.
     """
     net = _network(model)
     camp = campbell_diagram(net, speeds_rpm, orders, boundary=boundary, max_frequency_Hz=max_frequency_Hz)
     crossings = camp["crossings"].copy()
     shapes = mode_shapes(net, boundary=boundary).drop(index="frequency_Hz")
     crossings["dominant_node"] = [str(shapes[f"mode_{int(m)}"].abs().idxmax()) for m in crossings["mode"]]
+    if boundary == "network" and len(crossings):
+        strength = crossing_excitation_Nm(net, crossings)
+        crossings["modal_excitation_Nm"] = strength
+        crossings["relative_strength"] = strength / max(float(strength.max()), 1e-300)
     return crossings.sort_values(["speed_rpm", "mode"]).reset_index(drop=True)
 
 
 def plot_campbell(model, speeds_rpm, orders=DEFAULT_ORDERS, *, max_frequency_Hz: float | None = None,
-                  label_orders=(0.5, 1.5, 3.0, 4.5, 6.0, 7.5, 9.0, 12.0), title: str = "", ax=None):
+                  label_orders=(0.5, 1.5, 3.0, 4.5, 6.0, 7.5, 9.0, 12.0), annotate_above: float = 0.2,
+                  title: str = "", ax=None):
     """Campbell diagram of the linearised model: natural frequencies [Hz] (horizontal lines, labelled with mode
     number and dominant node) against engine speed [rpm], engine-order lines ``f = order n / 60`` for ``orders``
     (those in ``label_orders`` drawn darker and labelled), and a marker at every crossing inside the speed range
-    (:func:`campbell_table`). ``max_frequency_Hz`` (default: 1.1 x the highest order's frequency at the top speed)
+    (:func:`campbell_table`) sized and coloured by how hard its order drives its mode (modal excitation, N m); the
+    strongest crossings (``relative_strength`` >= ``annotate_above``) are labelled with their order. ``max_frequency_Hz`` (default: 1.1 x the highest order's frequency at the top speed)
     limits modes and axis. Returns the matplotlib ``Figure``."""
     speeds = np.asarray(speeds_rpm, dtype=float).reshape(-1)
     orders = np.asarray(orders, dtype=float).reshape(-1)
@@ -88,8 +97,16 @@ def plot_campbell(model, speeds_rpm, orders=DEFAULT_ORDERS, *, max_frequency_Hz:
         ax.annotate(f"mode {int(mode['mode'])} ({node}) {mode['frequency_Hz']:.0f} Hz", (n[0], mode["frequency_Hz"]),
                     xytext=(3, 2), textcoords="offset points", fontsize=7, color="tab:blue")
     if len(table):
-        ax.scatter(table["speed_rpm"], table["frequency_Hz"], s=18, color="tab:red", zorder=3,
-                   label=f"{len(table)} crossings in {speeds.min():.0f}-{speeds.max():.0f} rpm")
+        strength = table["relative_strength"].to_numpy()
+        points = ax.scatter(table["speed_rpm"], table["frequency_Hz"], s=8 + 160 * strength,
+                            c=table["modal_excitation_Nm"], cmap="Reds", vmin=0.0, edgecolors="0.3",
+                            linewidths=0.4, zorder=3,
+                            label=f"{len(table)} crossings in {speeds.min():.0f}-{speeds.max():.0f} rpm "
+                                  "(size, colour: modal excitation)")
+        fig.colorbar(points, ax=ax, label="modal excitation of the crossing [N m]", shrink=0.8)
+        for _, r in table[table["relative_strength"] >= annotate_above].iterrows():
+            ax.annotate(f"{r['order']:g}", (r["speed_rpm"], r["frequency_Hz"]), xytext=(4, 4),
+                        textcoords="offset points", fontsize=7, color="darkred")
         ax.legend(loc="upper left", fontsize=8)
     ax.set_xlim(n[0], n[1] * 1.04)
     ax.set_ylim(0.0, f_top)

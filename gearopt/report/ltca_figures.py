@@ -19,6 +19,18 @@ import pandas as pd  # noqa: E402
 
 from ..errors import GearoptInputError  # noqa: E402
 
+#: Line styles cycled with the colours so that overlapping curves stay distinguishable.
+LINE_STYLES = ("-", "--", "-.", ":")
+MARKERS = ("o", "s", "^", "D", "v")
+
+#: Readable names of result columns for chart labels (unit in brackets).
+COLUMN_LABELS = {"ppte_um": "PPTE [µm]", "max_contact_stress_MPa": "max contact stress [MPa]",
+                 "max_root_stress_1_MPa": "max root stress, gear 1 [MPa]",
+                 "max_root_stress_2_MPa": "max root stress, gear 2 [MPa]",
+                 "max_flash_temperature_C": "max contact temperature [°C]",
+                 "max_load_intensity_N_per_mm": "max load intensity [N/mm]",
+                 "loaded_contact_ratio": "loaded contact ratio"}
+
 FLANK_QUANTITIES = {
     "load_intensity": ("load intensity [N/mm]", lambda r: r.load_intensity_N_per_mm),
     "contact_stress": ("contact stress [MPa]", lambda r: r.contact_stress_MPa),
@@ -28,15 +40,23 @@ FLANK_QUANTITIES = {
 }
 
 
-def plot_transmission_error(results: dict, *, title: str = "", ax=None):
-    """Static TE [um] over one mesh cycle, one line per labelled result (e.g. several torques or designs)."""
+def plot_transmission_error(results: dict, *, align: str = "mean", title: str = "", ax=None):
+    """Static TE [um] over one mesh cycle, one line per labelled result (e.g. several torques or designs).
+
+    ``align="mean"`` (default) removes each curve's mean, so curves of different mean deflection share one scale and
+    their PPTE compares at a glance; ``"none"`` draws the absolute TE. The cycle is drawn once, from its first to its
+    last position (no segment back to the start)."""
+    if align not in ("mean", "none"):
+        raise GearoptInputError(f"align={align!r} must be 'mean' or 'none'")
     fig, ax = _axes(ax, (6.4, 3.8))
-    for label, r in results.items():
+    for i, (label, r) in enumerate(results.items()):
         x = np.asarray(r.position_roll_deg) - r.position_roll_deg[0]
-        te = np.asarray(r.transmission_error_um)
-        ax.plot(np.append(x, x[-1] + (x[1] - x[0])), np.append(te, te[0]), marker=".", ms=3,
-                label=f"{label}: PPTE {r.ppte_um:.2f} µm")
-    return _finish_line_plot(fig, ax, "mesh position, roll angle of gear 1 [deg]", "transmission error [µm]", title)
+        te = np.asarray(r.transmission_error_um, dtype=float)
+        if align == "mean":
+            te = te - te.mean()
+        ax.plot(x, te, lw=1.4, ls=LINE_STYLES[i % len(LINE_STYLES)], label=f"{label}: PPTE {r.ppte_um:.2f} µm")
+    ylabel = "TE minus its mean [µm]" if align == "mean" else "transmission error [µm]"
+    return _finish_line_plot(fig, ax, "mesh position, roll angle of gear 1 [deg]", ylabel, title)
 
 
 def flank_map(result, quantity: str = "load_intensity", gear: int = 1, points: int = 200):
@@ -79,60 +99,98 @@ def plot_flank_map(result, quantity: str = "load_intensity", *, gear: int = 1, t
 
 def plot_flank_grid(results: dict, quantities=("load_intensity", "contact_stress", "flash_temperature",
                                                 "root_stress_1"), *, gear: int = 1, title: str = ""):
-    """One row per labelled result, one column per quantity: flank maps side by side with a shared colour scale per
-    quantity (so designs compare at a glance, as the thesis' Figs. 4.10-4.15)."""
-    rows, cols = len(results), len(quantities)
-    fig, axes = plt.subplots(rows, cols, figsize=(3.4 * cols, 2.1 * rows + 0.6), squeeze=False, layout="constrained")
+    """Flank maps side by side: one row per quantity, one column per labelled result (design). Every panel has the
+    same roll-angle and face axes, and each row one colour scale with its own colour bar, so designs compare at a
+    glance (as the thesis' Figs. 4.10-4.15)."""
+    rows, cols = len(quantities), len(results)
+    fig, axes = plt.subplots(rows, cols, figsize=(3.3 * cols + 1.0, 2.0 * rows + 0.6), squeeze=False,
+                             sharex=True, sharey=True, layout="constrained")
     data = {label: [flank_map(r, q, gear) for q in quantities] for label, r in results.items()}
-    for j, q in enumerate(quantities):
-        lo = min(float(np.min(d[j][2])) for d in data.values())
-        hi = max(float(np.max(d[j][2])) for d in data.values())
-        for i, (label, maps) in enumerate(data.items()):
-            x, y, z = maps[j]
+    for i, q in enumerate(quantities):
+        lo = min(float(np.min(d[i][2])) for d in data.values())
+        hi = max(float(np.max(d[i][2])) for d in data.values())
+        for j, (label, maps) in enumerate(data.items()):
+            x, y, z = maps[i]
             mesh = axes[i, j].pcolormesh(x, y, z, shading="auto", cmap="viridis", vmin=lo, vmax=hi)
-            axes[i, j].set_title(f"{label}", fontsize=8)
+            if i == 0:
+                axes[i, j].set_title(label, fontsize=9)
             axes[i, j].tick_params(labelsize=7)
             if i == rows - 1:
                 axes[i, j].set_xlabel(f"roll angle, gear {gear} [deg]", fontsize=7)
             if j == 0:
                 axes[i, j].set_ylabel("face [mm]", fontsize=7)
-        cb = fig.colorbar(mesh, ax=axes[:, j].tolist(), shrink=0.9)
+        cb = fig.colorbar(mesh, ax=axes[i, :].tolist(), shrink=0.95, aspect=12, pad=0.01)
         cb.set_label(FLANK_QUANTITIES[q][0], fontsize=7)
         cb.ax.tick_params(labelsize=7)
     fig.suptitle(title, fontsize=9)
     return fig
 
 
-def plot_harris_map(maps: dict[str, pd.DataFrame], *, title: str = "", ax=None):
+def plot_harris_map(maps: dict[str, pd.DataFrame], *, design_range_Nm: tuple[float, float] | None = None,
+                    design_torque_Nm: float | None = None, title: str = "", ax=None):
     """PPTE [um] against torque [N m], one line per labelled Harris map (DataFrame from
-    :func:`gearopt.contact.harris.harris_map`)."""
+    :func:`gearopt.contact.harris.harris_map`). ``design_range_Nm`` (low, high) is shaded and ``design_torque_Nm``
+    marked, so the map shows where the design has to work; each curve has its own line style and marker, so curves
+    that lie on top of each other stay visible."""
     fig, ax = _axes(ax, (6.4, 3.8))
-    for label, df in maps.items():
-        ax.plot(df["torque_Nm"], df["ppte_um"], marker="o", ms=3, label=label)
+    if design_range_Nm is not None:
+        lo, hi = sorted(float(v) for v in design_range_Nm)
+        ax.axvspan(lo, hi, color="0.85", zorder=0, label=f"design range {lo:g}-{hi:g} N m")
+    if design_torque_Nm is not None:
+        ax.axvline(float(design_torque_Nm), color="0.4", lw=0.8, ls="--", zorder=1,
+                   label=f"design torque {float(design_torque_Nm):g} N m")
+    n = len(maps)
+    for i, (label, df) in enumerate(maps.items()):
+        ax.plot(df["torque_Nm"], df["ppte_um"], ls=LINE_STYLES[i % len(LINE_STYLES)], marker=MARKERS[i % len(MARKERS)],
+                ms=7 - 4 * i / max(n - 1, 1), lw=2.6 - 1.4 * i / max(n - 1, 1), mfc="none" if i == 0 else None,
+                label=label, zorder=2 + i)
     return _finish_line_plot(fig, ax, "torque on the driving gear [N m]", "PPTE [µm]", title)
 
 
-def plot_percentage_change(table: pd.DataFrame, baseline: str, *, title: str = "", ax=None):
-    """Bar chart of the percentage change of every numeric column of ``table`` (rows = designs, indexed by name)
-    relative to the row ``baseline`` (thesis Figs. 4.22/4.29 style)."""
-    if baseline not in table.index:
-        raise GearoptInputError(f"baseline={baseline!r} is not a row of the table {list(table.index)}")
-    numeric = table.select_dtypes("number")
-    change = (numeric / numeric.loc[baseline] - 1.0) * 100.0
-    change = change.drop(index=baseline)
-    fig, ax = _axes(ax, (7.0, 3.8))
-    n = len(change.index)
-    width = 0.8 / max(n, 1)
-    xs = np.arange(len(change.columns))
-    for i, name in enumerate(change.index):
-        ax.bar(xs + i * width, change.loc[name].to_numpy(), width, label=name)
-    ax.axhline(0.0, color="k", lw=0.8)
-    ax.set_xticks(xs + 0.4 - width / 2)
-    ax.set_xticklabels(change.columns, rotation=20, ha="right", fontsize=7)
-    ax.set_ylabel(f"change against {baseline} [%]")
-    ax.set_title(title)
-    ax.legend(fontsize=7)
-    fig.tight_layout()
+def plot_percentage_change(table: pd.DataFrame, baseline: str, *, by: str | None = None, title: str = "", ax=None):
+    """Horizontal bar chart of the percentage change of every numeric column of ``table`` (rows = designs, indexed
+    by name) relative to the row ``baseline`` (thesis Figs. 4.22/4.29 style), each bar labelled with its value.
+
+    ``by``: a column of ``table`` (e.g. ``"torque_Nm"``) whose every value gets its own panel -- the change at each
+    load case; ``table`` then holds one row per design and value of ``by``."""
+    groups = [(None, table)] if by is None else [(v, g.drop(columns=[by])) for v, g in table.groupby(by, sort=True)]
+    if by is not None and ax is not None:
+        raise GearoptInputError("by= draws one panel per value; give no ax")
+    if ax is None:
+        n_cols = len(table.select_dtypes("number").columns) - (by is not None)
+        fig, axes = plt.subplots(1, len(groups), figsize=(4.6 * len(groups) + 1.4, 0.55 * n_cols * 1.6 + 1.4),
+                                 squeeze=False, sharey=True, layout="constrained")
+        axes = axes[0]
+    else:
+        fig, axes = ax.figure, [ax]
+    extent = [0.0, 0.0]
+    for panel, (value, group) in zip(axes, groups):
+        if baseline not in group.index:
+            raise GearoptInputError(f"baseline={baseline!r} is not a row of the table {list(group.index)}")
+        numeric = group.select_dtypes("number")
+        change = ((numeric / numeric.loc[baseline] - 1.0) * 100.0).drop(index=baseline)
+        labels = [COLUMN_LABELS.get(c, c.replace("_", " ")) for c in change.columns]
+        ys = np.arange(len(labels))
+        height = 0.8 / max(len(change.index), 1)
+        for i, name in enumerate(change.index):
+            vals = change.loc[name].to_numpy(dtype=float)
+            bars = panel.barh(ys + (i - (len(change.index) - 1) / 2) * height, vals, height, label=name)
+            panel.bar_label(bars, labels=[f"{v:+.1f} %" if abs(v) >= 0.05 else "0" for v in vals], fontsize=7,
+                            padding=2)
+        panel.axvline(0.0, color="k", lw=0.8)
+        panel.set_yticks(ys)
+        panel.set_yticklabels(labels, fontsize=8)
+        panel.invert_yaxis()
+        panel.set_xlabel(f"change against {baseline.replace('_', ' ')} [%]", fontsize=8)
+        panel.grid(axis="x", alpha=0.3)
+        extent[0], extent[1] = min(extent[0], float(np.min(change.to_numpy()))), max(extent[1], float(np.max(change.to_numpy())))
+        if value is not None:
+            panel.set_title(f"{by.replace('_Nm', '')} {value:g}{' N m' if by.endswith('_Nm') else ''}", fontsize=9)
+    pad = 0.22 * max(extent[1] - extent[0], 1.0)        # room for the value labels on both sides
+    for panel in axes:
+        panel.set_xlim(extent[0] - (pad if extent[0] < 0 else 0.3 * pad), extent[1] + pad)
+    axes[0].legend(fontsize=7, loc="best")
+    fig.suptitle(title, fontsize=10)
     return fig
 
 
@@ -162,5 +220,5 @@ def _axes(ax, size):
     return ax.figure, ax
 
 
-__all__ = ["plot_transmission_error", "flank_map", "plot_flank_map", "plot_flank_grid", "plot_harris_map", "plot_percentage_change",
-           "save", "FLANK_QUANTITIES"]
+__all__ = ["plot_transmission_error", "flank_map", "plot_flank_map", "plot_flank_grid", "plot_harris_map",
+           "plot_percentage_change", "save", "FLANK_QUANTITIES", "COLUMN_LABELS"]

@@ -1,7 +1,7 @@
 """The macro-design tables of the thesis (Tables 3.1-3.4) and a per-mesh check table, from gearopt trains.
 
 Each table carries gearopt's own numbers next to the thesis' (normalised where the thesis normalised them), so the
-comparison is a shape check as DESIGN.md section 6 explains. Columns carry units or say ``normalised``.
+comparison is a shape check as docs/source-study.md sec. 1 explains. Columns carry units or say ``normalised``.
 """
 
 from __future__ import annotations

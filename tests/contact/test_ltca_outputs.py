@@ -29,7 +29,7 @@ def test_max_root_stress_equals_iso_6336_3_method_b_at_the_outer_single_contact_
 
 
 def test_flash_temperature_matches_agma_925_form_and_vanishes_at_the_pitch_point(crank_cam):
-    # AGMA 925 / REFERENCE-DATA 3 identity: theta = 0.785 mu w |sqrt(v1) - sqrt(v2)| / (B_M sqrt(b_H)) (coherent
+    # AGMA 925 / docs/default-data.md sec. 3 identity: theta = 0.785 mu w |sqrt(v1) - sqrt(v2)| / (B_M sqrt(b_H)) (coherent
     # SI), evaluated here independently from the LTCA's own load, radii and speeds
     r = ltca(crank_cam, 300.0, speed_rpm=2500.0, friction_coefficient=0.06)
     lay = r.layout

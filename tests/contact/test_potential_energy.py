@@ -1,4 +1,4 @@
-"""Potential-energy single-pair and mesh stiffness: REFERENCE-DATA 1.2 anchor values (an independent implementation),
+"""Potential-energy single-pair and mesh stiffness: docs/default-data.md sec. 1.2 anchor values (an independent implementation),
 ISO 6336-1 method B, analytic limits, geometry identities, symmetry, convergence and bad input."""
 
 import math
@@ -52,7 +52,7 @@ def _swapped(pair):
 
 
 # ---------------------------------------------------------------------------------------------------------------
-# (1) REFERENCE-DATA 1.2 [C] anchor values: someone else's implementation with stated conventions (constant section
+# (1) docs/default-data.md sec. 1.2 [C] anchor values: someone else's implementation with stated conventions (constant section
 #     from the root radius, ross' root half angle, Sainsot u_f from the load line, r_int = 0.5 r_f, E 206 GPa,
 #     nu 0.3, standard rack 1/1.25/0.38, x = 0). With the same conventions only the rounding of the quoted numbers
 #     (2 decimals; 3 significant figures in the breakdown) separates the results.

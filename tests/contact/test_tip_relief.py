@@ -189,7 +189,7 @@ def test_deflection_grows_towards_the_tip():
             < d["tip"]["load_height_modules"][i]
 
 
-# ISO 6336-1 Method B coefficients C1..C9 of q' [mm um/N] (REFERENCE-DATA.md 1.1, [V])
+# ISO 6336-1 Method B coefficients C1..C9 of q' [mm um/N] (docs/default-data.md sec. 1.1, [V])
 _ISO_C = (0.04723, 0.15551, 0.25791, -0.00635, -0.11654, -0.00193, -0.24188, 0.00529, 0.00182)
 
 

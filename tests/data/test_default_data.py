@@ -27,7 +27,7 @@ def test_default_trains_are_sound(kind):
     for name, pair in train.pairs.items():
         pair.check(min_contact_ratio=1.2)  # raises GeometryError naming the limit if the default is unsound
         g = pair.geometry()
-        # Cummins service data: timing-gear backlash roughly 0.08-0.33 mm (DESIGN.md section 6)
+        # Cummins service data: timing-gear backlash roughly 0.08-0.33 mm (docs/source-study.md sec. 1)
         assert 0.08 <= g["normal_backlash_min_mm"] <= g["normal_backlash_max_mm"] <= 0.33, name
     if kind == "helical":
         assert float(train.helix_angle_deg) > 0 and all(p.helix_hands for p in train.pairs.values())

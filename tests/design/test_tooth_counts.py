@@ -1,9 +1,9 @@
 """Integer tooth-count enumeration at fixed centre distances (gearopt.design.tooth_counts).
 
 Sources used as references (not written here):
-- thesis (shared/reference/cam-gear-walk-off-thesis.txt) section 3.4.1, Table 3.1: the spur tooth counts keep every
+- thesis (docs/source-study.md) section 3.4.1, Table 3.1: the spur tooth counts keep every
   speed ratio except crank-LPI, whose error is 2.7027 % (= 1/37); Tables 3.3/3.4: the thesis' shifts, whose sums
-  per mesh are crank+cam 0.3124+0.1118, cam+AC 0.1118+0.8777, cam+FP 0.1118+0.6652 (DESIGN.md section 6);
+  per mesh are crank+cam 0.3124+0.1118, cam+AC 0.1118+0.8777, cam+FP 0.1118+0.6652 (docs/source-study.md sec. 1);
 - ISO 21771 eqs. 44/46 (inv alpha_w = inv alpha + 2 tan(alpha)(x1+x2)/(z1+z2), a cos alpha_w = a_d cos alpha),
   coded again independently in the tests below;
 - ISO/TR 4467 limits as quoted by the thesis Eqs. 3.8-3.12;
@@ -139,7 +139,7 @@ def test_sum_of_shifts_of_thesis_candidate(train, exact):
         z1, z2 = (THESIS_TEETH[g] for g in train.meshes[name].gears)
         by_hand = _sum_of_shifts_by_hand(z1, z2, float(train.meshes[name].centre_distance_mm))
         assert row[f"sum_profile_shift_{name}"] == pytest.approx(by_hand, abs=1e-12)
-    # thesis Tables 3.3/3.4 sums (from the printed percentages; 4 decimals, DESIGN.md s.6)
+    # thesis Tables 3.3/3.4 sums (from the printed percentages; 4 decimals, docs/source-study.md sec. 1)
     for name, thesis in {"crank-cam": 0.3124 + 0.1118, "cam-ac": 0.1118 + 0.8777, "cam-fp": 0.1118 + 0.6652}.items():
         assert row[f"sum_profile_shift_{name}"] == pytest.approx(thesis, abs=2e-3)
     # the train's own root shift 0.3124 lies in the admissible interval

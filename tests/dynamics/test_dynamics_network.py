@@ -19,7 +19,7 @@ from gearopt.dynamics.modes import (
 from gearopt.errors import GearoptInputError
 
 # Mendes, Meirelles & Zampieri (2008), Proc. IMechE K 222:155, Fig. 4 chain as in openTorsion
-# examples/ICE_example.py (REFERENCE-DATA.md sec. 2.2): pulley, gear-train node, six throws, flywheel.
+# examples/ICE_example.py (docs/default-data.md sec. 2.2): pulley, gear-train node, six throws, flywheel.
 MENDES_J = [0.0170, 0.0090, 0.0467, 0.0327, 0.0467, 0.0467, 0.0327, 0.0487, 2.0750]
 MENDES_K = [1.106e6, 1.631e6, 1.253e6, 1.253e6, 1.678e6, 1.253e6, 1.253e6, 1.976e6]
 
@@ -60,7 +60,7 @@ def test_chain_eigenfrequencies_match_numpy_eig_of_the_same_matrices():
 
 
 def test_mendes_chain_modes_and_published_resonance_speed():
-    # [C] REFERENCE-DATA 2.2: free-free modes 216.6, 592.7, 984.9 Hz (computed for this data set, not published)
+    # [C] docs/default-data.md sec. 2.2: free-free modes 216.6, 592.7, 984.9 Hz (computed for this data set, not published)
     f = mendes_chain().natural_frequencies_Hz()
     assert f[0] == pytest.approx(0.0, abs=1e-6)
     np.testing.assert_allclose(f[1:4], [216.6, 592.7, 984.9], atol=0.05)
@@ -76,7 +76,7 @@ def test_mendes_chain_modes_and_published_resonance_speed():
 
 
 def test_viscous_damper_mode_and_its_limits():
-    # [C] REFERENCE-DATA 2.3: chain + housing 0.03 on the pulley + ring 0.08 by c = 80: mode 1 174.3 Hz, zeta 0.120
+    # [C] docs/default-data.md sec. 2.3: chain + housing 0.03 on the pulley + ring 0.08 by c = 80: mode 1 174.3 Hz, zeta 0.120
     net = mendes_chain(ring=(0.08, 80.0), hub_extra=0.03)
     modes = damped_modes(net, boundary="free")
     assert modes["frequency_Hz"].iloc[0] == pytest.approx(174.3, abs=0.1)

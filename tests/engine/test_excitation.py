@@ -58,7 +58,7 @@ def test_inertia_torque_general_form_is_the_power_balance_of_the_reciprocating_m
     # constant speed: the textbook T_i = -m r^2 w^2 (s'/r)(s''/r), zero mean over a revolution
     _, ti0 = crank_torque(np.arange(360.0), 2500.0, B, S, L, M, 0.0)
     assert abs(ti0.mean()) < 1e-9 * np.max(np.abs(ti0))
-    # peak reciprocating torque, REFERENCE-DATA 2.5 ([C]): ~450 N m at 2500 rpm, ~650 N m at 3000 rpm (m 2.5 kg)
+    # peak reciprocating torque, docs/default-data.md sec. 2.5 ([C]): ~450 N m at 2500 rpm, ~650 N m at 3000 rpm (m 2.5 kg)
     assert np.max(np.abs(ti0)) == pytest.approx(450.0, rel=0.03)
     _, ti3 = crank_torque(np.arange(360.0), 3000.0, B, S, L, M, 0.0)
     assert np.max(np.abs(ti3)) == pytest.approx(650.0, rel=0.03)

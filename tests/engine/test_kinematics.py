@@ -62,7 +62,7 @@ def test_piston_acceleration_series_coefficients():
 
 
 def test_inertia_torque_fourier_coefficients_reference_data():
-    # REFERENCE-DATA.md sec. 2.4 (lambda 0.3): sine coefficients of T_i / (m r^2 w^2) = -(s'/r)(s''/r) are
+    # docs/default-data.md sec. 2.4 (lambda 0.3): sine coefficients of T_i / (m r^2 w^2) = -(s'/r)(s''/r) are
     # +0.0768, -0.5003, -0.2330, -0.0236, +0.0046 (k = 1..5), against the common approximation
     # lambda/4, -1/2, -3 lambda/4, -lambda^2/4 = 0.075, -0.5, -0.225, -0.0225 (Den Hartog).
     n = 1024

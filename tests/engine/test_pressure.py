@@ -91,7 +91,7 @@ def test_peak_scaling_is_exact_and_proportional(table):
 
 
 def test_wiebe_reproduces_data_expected_values_within_stated_tolerance(wiebe_cycle):
-    # Data (engine.combustion, [C] REFERENCE-DATA 2.5): p_max ~167 bar at ~10 deg ATDC, closed-cycle IMEP ~20.7 bar.
+    # Data (engine.combustion, [C] docs/default-data.md sec. 2.5): p_max ~167 bar at ~10 deg ATDC, closed-cycle IMEP ~20.7 bar.
     # This model with IVC/EVO at BDC gives 180.1 bar at 9.1 deg ATDC, closed-cycle IMEP 21.00 bar and net IMEP 20.74
     # bar (after the blowdown loss). Stated tolerance: peak within 10 %, IMEP within 3 %. The 8 % peak gap is the
     # data's approximate [C] figure (details of its calculation are not recorded); see the report to the lead.

@@ -1,6 +1,6 @@
 """GearTrain: tree checks, shift propagation at fixed centre distances, speeds, helix hands, helical->spur table.
 
-Shape checks against the thesis' Tables 3.1-3.3 (DESIGN.md section 6: shifts recovered from Table 3.4).
+Shape checks against the thesis' Tables 3.1-3.3 (docs/source-study.md sec. 1: shifts recovered from Table 3.4).
 """
 
 
@@ -41,7 +41,7 @@ def test_shift_propagation_closes_every_mesh():
 
 def test_shape_check_against_thesis_tables_3_3_and_3_2():
     t = train()
-    # actual shifts recovered from thesis Table 3.4 (DESIGN.md s.6); crank is the given root shift
+    # actual shifts recovered from thesis Table 3.4 (docs/source-study.md sec. 1); crank is the given root shift
     thesis = {"cam": 0.1118, "ac": 0.8777, "fp": 0.6652}
     for gear, x in thesis.items():
         assert t.profile_shifts[gear] == pytest.approx(x, abs=0.001)

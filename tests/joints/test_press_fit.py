@@ -109,7 +109,7 @@ def test_default_data_joint_values_reproduced():
 
 
 def test_thesis_eq_3_45_sign_error_matters():
-    # DESIGN.md sec. 7: the inner-member term takes -nu_i; the thesis' +nu_i overestimates the compliance and so
+    # docs/source-study.md sec. 2: the inner-member term takes -nu_i; the thesis' +nu_i overestimates the compliance and so
     # underestimates the pressure, by 2 nu_i d/E_i in the denominator.
     d, do = 42.0, 70.0
     c = lame_compliance_mm_per_MPa(d, 0.0, do, 210e3, 0.3, 206e3, 0.3)

@@ -34,7 +34,7 @@ def test_percentage_changes_close_to_thesis_table_3_4(run):
     import pandas as pd
 
     df = pd.read_csv(run / "table_3_4_percentage_change.csv", index_col=0)
-    # tooth thickness change = 4 x tan(20)/pi: exact for the gears whose shift is recovered from it (DESIGN.md s.6)
+    # tooth thickness change = 4 x tan(20)/pi: exact for the gears whose shift is recovered from it (docs/source-study.md sec. 1)
     for gear in ("crank", "cam", "ac", "fp"):
         assert df.loc[gear, "tooth_thickness_change_percent"] == pytest.approx(
             df.loc[gear, "thesis_tooth_thickness_change_percent"], abs=0.1)
@@ -134,3 +134,38 @@ def test_joints_are_sized_against_the_dynamic_demands(run):
             assert r["min_margin"] == pytest.approx(r["target_margin"], rel=1e-6)   # the sizing is active
         else:
             assert r["must_relax"]                                                # typed failure, named
+
+
+def test_report_opens_with_the_verdict(run):
+    # issue 17: the summary first (value, limit, unit, PASS/FAIL per requirement), the thesis tables in an appendix
+    report = (run / "report.md").read_text()
+    first_section = report.split("\n## ")[1]
+    assert first_section.startswith("Summary: ")
+    assert "| requirement | worst case | value | limit | unit | verdict |" in first_section
+    assert report.index("## Appendix") < report.index("thesis Table 3.4") < report.index("## Run time per stage")
+    summary = json.loads((run / "result.json").read_text())["summary"]
+    names = " ".join(r["requirement"] for r in summary["requirements"])
+    for word in ("slip", "Walk-off", "Hub yield", "S_H", "S_F", "temperature", "contact ratio", "PPTE"):
+        assert word in names, word
+    for r in summary["requirements"]:
+        value, limit = float(r["value"]), float(r["limit"])   # "inf": a spur gear has no thrust
+        ok = value >= limit if r["sense"] == ">=" else value <= limit
+        assert (r["verdict"] == "PASS") == (ok and not r["failing"]), r
+    assert summary["verdict"] == ("FAIL" if summary["failed"] else "PASS")
+
+
+def test_ppte_headlines_are_worst_over_the_range(run):
+    pairs = json.loads((run / "result.json").read_text())["pairs"]
+    for mesh, entry in pairs.items():
+        rng = entry["ppte_over_range"]["by_design"]
+        for design in ("unmodified", "optimised"):
+            assert rng[design]["worst_ppte_um"] == max(rng[design]["ppte_um_by_torque"].values())
+        flagged = [float(t) for t, v in rng["optimised"]["ppte_um_by_torque"].items()
+                   if v > rng["unmodified"]["ppte_um_by_torque"][t]]
+        assert entry["ppte_over_range"]["worse_than_unmodified_Nm"] == flagged
+        # tip relief on the drawing: a start diameter between base and tip, a positive length
+        for dims in entry["tip_relief_drawing"].values():
+            assert dims["start_diameter_mm"] < dims["tip_diameter_mm"] and dims["relief_length_mm"] > 0
+        # named, aggregated margins in their own units, not ~800 per-position entries
+        assert set(entry["constraint_margins"]) <= {"contact_stress_MPa", "root_stress_1_MPa", "root_stress_2_MPa",
+                                                    "loaded_contact_ratio", "flash_temperature_rise_K"}

@@ -1,4 +1,4 @@
-"""Blok flash temperature: the REFERENCE-DATA section 3 example, Blok's constant and heat partition re-derived by
+"""Blok flash temperature: the docs/default-data.md sec. 3 example, Blok's constant and heat partition re-derived by
 quadrature of 1-D transient conduction, kinematics identities, smoothing, vectorisation, errors and CasADi
 derivatives."""
 
@@ -20,7 +20,7 @@ def pair_38_76(x=(0.0, 0.0), b=25.0):
 
 
 def test_reference_data_example_at_the_pinion_tip():
-    # REFERENCE-DATA sec. 3 [C] example: crank 38 -> cam 76, m 3, b 25 mm, 2500 rpm, cam torque 300 N m
+    # docs/default-data.md sec. 3 [C] example: crank 38 -> cam 76, m 3, b 25 mm, 2500 rpm, cam torque 300 N m
     # (w_n = 112 N/mm), mu 0.06, X_Gamma 0.5, B_M 13.44: at the pinion tip rho 27.04/31.45 mm, v_r 7.08/4.12 m/s,
     # b_H 0.0957 mm, theta_fl = 12.9 K, 0 at the pitch point
     pair = pair_38_76()
@@ -32,8 +32,8 @@ def test_reference_data_example_at_the_pinion_tip():
     assert r["v1_m_s"] == pytest.approx(7.08, abs=0.005) and r["v2_m_s"] == pytest.approx(4.12, abs=0.005)
     assert r["load_N_per_mm"] / 0.5 == pytest.approx(112.0, abs=0.05)
     assert r["half_width_mm"] == pytest.approx(0.0957, abs=5e-5)
-    # REFERENCE-DATA's 12.9 K uses AGMA 925's rounded constant 0.80 in place of 1.11/sqrt(2) = 0.785 (its own
-    # identity): with Blok's 1.11 the same inputs give 12.67 K; rescaled to 0.80 they give REFERENCE-DATA's 12.9 K
+    # The reference's 12.9 K uses AGMA 925's rounded constant 0.80 in place of 1.11/sqrt(2) = 0.785 (its own
+    # identity): with Blok's 1.11 the same inputs give 12.67 K; rescaled to 0.80 they give the reference's 12.9 K
     theta = r["flash_temperature_K"]
     assert theta == pytest.approx(12.67, abs=0.01)
     assert theta * 0.80 / (1.11 / math.sqrt(2)) == pytest.approx(12.9, abs=0.05)
@@ -80,7 +80,7 @@ def test_blok_partition_gives_equal_surface_maxima():
 def test_formula_forms_and_symmetry():
     w, b, v1, v2 = 80.0, 0.1, 6.0, 4.0
     theta = ft.flash_temperature_blok_K(w, b, v1, v2, 0.06, 13.44)
-    # one material: 1.11/sqrt(2) mu w |sqrt(v1) - sqrt(v2)| / (B sqrt(b)) (REFERENCE-DATA sec. 3 identity)
+    # one material: 1.11/sqrt(2) mu w |sqrt(v1) - sqrt(v2)| / (B sqrt(b)) (docs/default-data.md sec. 3 identity)
     alt = 1.11 / math.sqrt(2) * 0.06 * w * abs(math.sqrt(v1) - math.sqrt(v2)) / (13.44 * math.sqrt(b)) * math.sqrt(1000)
     assert theta == pytest.approx(alt, rel=1e-13)
     assert ft.flash_temperature_blok_K(w, b, v2, v1, 0.06, 13.44) == pytest.approx(theta, rel=1e-14)

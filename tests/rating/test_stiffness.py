@@ -58,7 +58,7 @@ def test_iso_tr_6336_30_example_1():
     ((38, 76), 0.05472, 18.28, 14.26, 1.761, 22.39),
 ])
 def test_reference_data_recomputation_x0(teeth, q, c_th, c_single, eps, c_gamma):
-    # REFERENCE-DATA.md 1.1 [C] table: an independent recomputation from the standard's formula (x = 0, solid,
+    # docs/default-data.md sec. 1.1 [C] table: an independent recomputation from the standard's formula (x = 0, solid,
     # standard rack, beta = 0, full-depth addendum), NOT a published example.
     pair = _spur(teeth, tip_shortening=False)
     r = iso6336_stiffness(pair)
@@ -70,7 +70,7 @@ def test_reference_data_recomputation_x0(teeth, q, c_th, c_single, eps, c_gamma)
 
 
 def test_reference_data_rack_row():
-    # REFERENCE-DATA 1.1 [C] row 17/rack: q' 0.05638, c'_th 17.74, c' 13.84, c_gamma_alpha 21.59 at eps 1.748
+    # docs/default-data.md sec. 1.1 [C] row 17/rack: q' 0.05638, c'_th 17.74, c' 13.84, c_gamma_alpha 21.59 at eps 1.748
     r = iso6336_theoretical_single_stiffness((17.0, math.inf), (0.0, 0.0))
     assert r["q_prime"] == pytest.approx(0.05638, abs=6e-6)
     c_single = r["theoretical_single_stiffness"] * 0.8 * 0.975
@@ -79,7 +79,7 @@ def test_reference_data_rack_row():
 
 
 def test_c9_multiplies_the_wheel_shift_squared():
-    # REFERENCE-DATA 1.1: C9 belongs to x2^2 (the MATLAB code's C9*x1^2 is a typo); with x1 = 0 only x2 terms remain
+    # docs/default-data.md sec. 1.1: C9 belongs to x2^2 (the MATLAB code's C9*x1^2 is a typo); with x1 = 0 only x2 terms remain
     base = iso6336_theoretical_single_stiffness((30.0, 60.0), (0.0, 0.0))["q_prime"]
     q = iso6336_theoretical_single_stiffness((30.0, 60.0), (0.0, 0.5))["q_prime"]
     assert q - base == pytest.approx(-0.00193 * 0.5 - 0.24188 * 0.5 / 60.0 + 0.00182 * 0.25, rel=1e-12)
@@ -108,7 +108,7 @@ def test_equal_teeth_use_the_larger_shift_as_pinion_numeric_and_symbolic():
 
 
 def test_mesh_stiffness_derivative_matches_finite_differences():
-    # DESIGN.md sec. 4: every NLP kernel's CasADi derivative is checked against finite differences
+    # project standard: every NLP kernel's CasADi derivative is checked against finite differences
     x = ca.SX.sym("x", 2)
     pair = go.GearPair.from_profile_shifts(teeth=(38, 76), profile_shifts=(x[0], x[1]), module_mm=3.0,
                                            face_width_mm=25.0)
@@ -177,7 +177,7 @@ def test_light_load_material_and_rack_factors():
     with pytest.raises(GearoptInputError, match="line_load_N_per_mm"):
         iso6336_light_load_factor(0.0)
     assert iso6336_stiffness(pair, E_MPa=103000.0)["mesh_stiffness"] == pytest.approx(0.5 * ref["mesh_stiffness"])
-    # C_B: standard rack 0.975 (REFERENCE-DATA 1.1); h_fP = 1.2 m_n and 20 deg give exactly 1
+    # C_B: standard rack 0.975 (docs/default-data.md sec. 1.1); h_fP = 1.2 m_n and 20 deg give exactly 1
     assert ref["C_B"] == pytest.approx(0.975, rel=1e-12)
     assert iso6336_stiffness(_spur((38, 76), dedendum_coefficient=1.2))["C_B"] == pytest.approx(1.0)
     assert iso6336_stiffness(pair, basic_rack_factor=1.0)["single_stiffness"] == pytest.approx(

@@ -1,7 +1,7 @@
 """Stability of the profile-shift split NLP (gearopt.design.shift_distribution.optimise_shift_split) over random
 scenes and at the edges of feasibility around the default crank-cam pair.
 
-Contract (DESIGN.md sec. 5): every case either solves, and the exact re-check of GearPair.constraints at the
+Contract (project standard): every case either solves, and the exact re-check of GearPair.constraints at the
 returned split meets every limit within 1e-6, or raises a typed gearopt error whose message names a constraint or
 parameter. References for "feasible"/"infeasible" are brute-force scans over the split computed in
 stability_cases.py (grid 1e-4 in x1), not the solver.

@@ -42,7 +42,7 @@ def _normalised_inertia(lam, deg):
 
 
 def test_thesis_table_3_5_inertia_column_shape():
-    # Thesis Table 3.5 (normalised per column; DESIGN.md sec. 6: fits lambda ~0.295). Our exact constant-speed
+    # Thesis Table 3.5 (normalised per column; docs/source-study.md sec. 1: fits lambda ~0.295). Our exact constant-speed
     # inertia torque, normalised by its maximum over the cycle on a 1 deg grid, against the column.
     ti = np.array(T35["inertia_torque_normalised"])
     assert np.max(np.abs(_normalised_inertia(0.295, DEG) - ti)) < 0.015          # 0.0118 measured
@@ -56,7 +56,7 @@ def test_thesis_table_3_5_inertia_column_shape():
 def test_thesis_table_3_5_gas_torque_is_pressure_times_exact_lever_arm():
     # Gas torque / pressure in the table must be proportional to the exact s'(theta) (T_g = p A s'): one constant
     # fits all 13 non-dead-centre rows to 0.3 % of the peak; the printed (garbled) Eq. 3.21 lever arm
-    # [sin t + q sin t cos t]/(1 - q^2 sin^2 t) cannot (residual 0.059) -- DESIGN.md sec. 7.
+    # [sin t + q sin t cos t]/(1 - q^2 sin^2 t) cannot (residual 0.059) -- docs/source-study.md sec. 2.
     p = np.array(T35["cylinder_pressure_normalised"])
     g = np.array(T35["gas_torque_normalised"])
     mask = DEG % 360.0 != 0.0

@@ -80,7 +80,7 @@ def test_blok_coefficient_of_the_default_gear_steel():
 
 
 def test_blok_flash_temperature_reference_example():
-    # REFERENCE-DATA sec. 3 [C] example (12.9 K with AGMA 925's 0.80; 12.67 K with Blok's 1.11/sqrt(2))
+    # docs/default-data.md sec. 3 [C] example (12.9 K with AGMA 925's 0.80; 12.67 K with Blok's 1.11/sqrt(2))
     pair = go.GearPair.from_profile_shifts(teeth=(38, 76), profile_shifts=(0, 0), module_mm=3.0, face_width_mm=25.0)
     tip = pair.geometry()["eap_roll_length_mm"][0]
     theta = ft.flash_temperature_pair_K(pair, 300.0, 2500.0, tip, driving_gear=2, load_share=0.5, friction=0.06)

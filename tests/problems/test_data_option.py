@@ -1,0 +1,30 @@
+"""Every problem script takes the user's own train: ``--data FILE``."""
+
+import pytest
+
+import importlib.util
+from pathlib import Path
+
+PROBLEMS = Path(__file__).resolve().parents[2] / "problems"
+
+
+def load_script(name: str):
+    spec = importlib.util.spec_from_file_location(f"problem_{name}_data", PROBLEMS / f"{name}.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+SCRIPTS = sorted(p.stem for p in PROBLEMS.glob("*.py"))
+
+
+@pytest.mark.parametrize("name", SCRIPTS)
+def test_script_takes_data_file(name, capsys):
+    with pytest.raises(SystemExit) as exit_:
+        load_script(name).main(["--help"])
+    assert exit_.value.code == 0
+    assert "--data FILE" in capsys.readouterr().out
+
+
+def test_missing_data_file_is_named(tmp_path):
+    with pytest.raises(FileNotFoundError, match="no_such_train.toml"):
+        load_script("shift_split").main(["--quick", "--out", str(tmp_path), "--data", str(tmp_path / "no_such_train.toml")])
