@@ -15,6 +15,7 @@ from .size_factors import RatingValidityWarning
 from .deflection import ShaftSupport, beam_shaft_misalignment_um, iso6336_shaft_misalignment_um
 from .scuffing import scuffing_safety_factors
 from .iso6336 import ISO6336Rating, rate_iso6336
+from .train_rating import iso6336_train_table
 
 __all__ = [
     "contact_stress_iso6336", "hertz_contact_stress_pair_MPa", "hertz_line_contact_stress_MPa",
@@ -23,5 +24,5 @@ __all__ = [
     "lewis_form_factor_from_geometry", "Material", "material", "material_names", "critical_section_iso6336",
     "root_stress_at_load_point", "root_stress_iso6336", "Lubricant", "default_lubricant", "RatingValidityWarning",
     "ShaftSupport", "beam_shaft_misalignment_um", "iso6336_shaft_misalignment_um", "scuffing_safety_factors",
-    "ISO6336Rating", "rate_iso6336",
+    "ISO6336Rating", "rate_iso6336", "iso6336_train_table",
 ]

@@ -167,3 +167,23 @@ def test_main_resonance_warns_naming_the_clause():
     with pytest.warns(RatingValidityWarning, match="cl. 6.3.4"):
         r = rate_iso6336(pair, 300.0, n_e1)
     assert r.details["resonance_range"] == "main resonance"
+
+
+def test_train_table_rows_equal_single_ratings():
+    from gearopt.rating import iso6336_train_table
+
+    train = go.load_default_train("spur")
+    torques = {"crank-cam": 300.0, "cam-ac": 240.0}
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        df = iso6336_train_table(train, torques, 2500.0, application_factor=1.25, accuracy_grades={"ac": 7})
+    assert list(df["mesh"]) == ["crank-cam", "cam-ac"]
+    pair = train.pairs["cam-ac"]
+    ref = rate_iso6336(pair, 240.0, train.gear_speed_rpm("cam", 2500.0), application_factor=1.25,
+                       accuracy_grade=(6, 7))
+    row = df.set_index("mesh").loc["cam-ac"]
+    assert row["S_H_1"] == pytest.approx(float(ref.safety_factors["S_H"][0]))
+    assert row["K_v"] == pytest.approx(float(ref.factors["K_v"]))
+    assert row["N_L_1"] == pytest.approx(1e10)
+    with pytest.raises(GearoptInputError, match="unknown mesh"):
+        iso6336_train_table(train, {"x-y": 1.0}, 2500.0)
