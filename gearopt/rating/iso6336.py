@@ -30,8 +30,8 @@ from .load_factors import (dynamic_factor, face_load_factor_contact, face_load_f
                            resonance_speed_rpm, running_in_allowance_alpha_um, running_in_allowance_beta_um,
                            running_in_tip_relief_um, transverse_load_factors)
 from .deflection import iso6336_shaft_misalignment_um
-from .lubrication import (Lubricant, default_lubricant, lubricant_factor, relative_radius_of_curvature_mm,
-                          roughness_factor, velocity_factor, work_hardening_factor)
+from .lubrication import (Lubricant, default_lubricant, equivalent_roughness_Rz_um, lubricant_factor,
+                          relative_radius_of_curvature_mm, roughness_factor, velocity_factor, work_hardening_factor)
 from .material_groups import iso6336_material_group
 from .materials import material_pair
 from .root_stress import root_stress_iso6336
@@ -292,9 +292,10 @@ def rate_iso6336(pair, torque_Nm, speed_rpm, *, driving_gear=1, application_fact
         zv = velocity_factor(v, s_hlim[i])
         zr = roughness_factor(rz_mean, rho_red, s_hlim[i])
         hard_other = groups[1 - i] in ("Eh", "NT")
-        hb = getattr(m, "brinell_hardness_HB", None)
+        hb = m.brinell_hardness_HB
         if groups[i] in ("V", "GGG", "GG", "St") and hard_other and hb is not None:
-            zw = work_hardening_factor(hb, rz[1 - i])
+            zw = work_hardening_factor(hb, equivalent_roughness_Rz_um(rz[1 - i], rz[i], rho_red,
+                                                                      lub.viscosity_40C_mm2_s, v))
         else:
             zw = 1.0
             if groups[i] in ("V", "GGG", "GG", "St") and hard_other:

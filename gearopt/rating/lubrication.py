@@ -123,10 +123,18 @@ def roughness_factor(flank_roughness_Rz_um, relative_radius_mm, sigma_Hlim_MPa):
     return (3.0 / rz10) ** c
 
 
+def equivalent_roughness_Rz_um(hard_flank_Rz_um, soft_flank_Rz_um, relative_radius_mm, viscosity_40C_mm2_s,
+                               pitch_line_velocity_m_s):
+    """ISO 6336-2:2006 clause 12 equivalent roughness of Z_W, R_zH = R_zH1 (10/rho_red)^0.33 (R_zH1/R_zH2)^0.66 /
+    (nu_40 v/1500)^0.33 [um], index 1 the hard gear. Dual-typed."""
+    return (hard_flank_Rz_um * (10.0 / relative_radius_mm) ** 0.33 * (hard_flank_Rz_um / soft_flank_Rz_um) ** 0.66
+            / (viscosity_40C_mm2_s * pitch_line_velocity_m_s / 1500.0) ** 0.33)
+
+
 def work_hardening_factor(brinell_hardness_HB, equivalent_roughness_Rz_um=3.0):
-    """ISO 6336-2:2006 clause 12 Z_W of the through-hardened gear meshing with a surface-hardened (ground) one:
-    Z_W = (1.2 - (HB - 130)/1700) (3/R_zH)^0.15, HB held to [130, 470], R_zH to [3, 16] um. 1 for two gears of
-    like hardness (apply this only to the softer gear). Dual-typed."""
+    """ISO 6336-2:2006 clause 12 Z_W of the through-hardened gear meshing with a surface-hardened one:
+    Z_W = (1.2 - (HB - 130)/1700) (3/R_zH)^0.15, HB held to [130, 470], R_zH (:func:`equivalent_roughness_Rz_um`)
+    to [3, 16] um. 1 for two gears of like hardness (apply this only to the softer gear). Dual-typed."""
     check_range("brinell_hardness_HB", brinell_hardness_HB, 0.0, None, low_inclusive=False, unit="HB")
     hb = nm.clip(brinell_hardness_HB, 130.0, 470.0)
     rz = nm.clip(equivalent_roughness_Rz_um, 3.0, 16.0)
@@ -134,7 +142,8 @@ def work_hardening_factor(brinell_hardness_HB, equivalent_roughness_Rz_um=3.0):
 
 
 __all__ = ["BASE_OILS", "LUBRICATION_TYPES", "FZG_TESTS", "Lubricant", "lubricant_factor", "velocity_factor",
-           "relative_radius_of_curvature_mm", "roughness_factor", "work_hardening_factor"]
+           "relative_radius_of_curvature_mm", "roughness_factor", "equivalent_roughness_Rz_um",
+           "work_hardening_factor"]
 
 
 def default_lubricant() -> Lubricant:

@@ -187,3 +187,14 @@ def test_train_table_rows_equal_single_ratings():
     assert row["N_L_1"] == pytest.approx(1e10)
     with pytest.raises(GearoptInputError, match="unknown mesh"):
         iso6336_train_table(train, {"x-y": 1.0}, 2500.0)
+
+
+def test_work_hardening_factor_limits_and_rating():
+    # ISO 6336-2 cl. 12: Z_W = 1.2 at 130 HB and 1.0 at 470 HB for R_zH = 3 um; R_zH held to [3, 16]
+    assert float(lub.work_hardening_factor(130.0, 3.0)) == pytest.approx(1.2)
+    assert float(lub.work_hardening_factor(470.0, 1.0)) == pytest.approx(1.0)
+    assert float(lub.work_hardening_factor(130.0, 16.0)) == pytest.approx(1.2 * (3 / 16) ** 0.15)
+    # a case-carburised pinion hardens the through-hardened 42CrMo4 wheel (300 HV ~ 285 HB); the pinion keeps 1
+    r = rate_iso6336(spur_pair(), 300.0, 2500.0, materials=("20MnCr5", "42CrMo4"))
+    assert r.factors["Z_W"][0] == 1.0
+    assert float(r.factors["Z_W"][1]) == pytest.approx(1.2 - (0.95 * 300.0 - 130.0) / 1700.0)  # R_zH at its floor
