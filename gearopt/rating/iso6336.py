@@ -74,7 +74,8 @@ class ISO6336Rating:
     """Result of :func:`rate_iso6336`. ``factors``: ISO symbol -> number (or CasADi) or per-gear 2-tuple;
     ``safety_factors``: ``S_H``, ``S_F`` (2-tuples), ``S_B``, ``S_intS``; ``stresses``: sigma_H, sigma_HP,
     sigma_F, sigma_FP per gear [MPa]; ``details``: intermediate values (resonance ratio, F_betax, y_alpha, ...);
-    ``load_cycles`` per gear; ``lubricant``; ``notes`` (validity remarks); ``table`` (pandas, one row per factor:
+    ``load_cycles`` per gear; ``lubricant``; ``notes`` (validity remarks; those starting with "ISO" are also
+    warned as :class:`RatingValidityWarning`); ``table`` (pandas, one row per factor:
     ``factor``, ``gear_1``, ``gear_2``, ``unit``, ``clause``)."""
 
     factors: dict
@@ -349,9 +350,14 @@ def rate_iso6336(pair, torque_Nm, speed_rpm, *, driving_gear=1, application_fact
                                     materials=mats, flank_roughness_Ra_um=ra, tip_relief_um=tip_relief_um,
                                     K_A=K_A * K_g, K_v=k_v, K_Bbeta=k_hb, K_Balpha=k_ha, mesh_stiffness=c_ga)
     safety = {"S_H": tuple(s_h), "S_F": tuple(s_f), "S_B": scuff["S_B"], "S_intS": scuff["S_intS"]}
-    notes.extend(scuff.get("notes", ()))
+    for i, key in enumerate(("gear1", "gear2")):
+        q_s = rs[key]["q_s"]
+        if nm.is_numeric(q_s) and not 1.0 <= nm.to_float(q_s) < 8.0:
+            notes.append(f"ISO 6336-3:2006 cl. 7.2: notch parameter q_s={nm.to_float(q_s):.3f} of gear {i + 1} "
+                         f"outside the Y_S fit's range 1 <= q_s < 8")
+    notes.extend(scuff["notes"])
     for note in notes:
-        if "cl." in note and "Z_W" not in note:
+        if note.startswith("ISO"):
             warnings.warn(note, RatingValidityWarning, stacklevel=2)
     return ISO6336Rating(factors=factors, safety_factors=safety, stresses=stresses, details=details,
                          load_cycles=tuple(n_l), lubricant=lub, notes=tuple(notes), scuffing=scuff)

@@ -207,13 +207,20 @@ def scuffing_safety_factors(pair, torque_Nm, speed_rpm, *, driving_gear=1, lubri
         raise GearoptInputError(f"oil_temperature_C={nm.to_float(theta_oil):g} C is at or above the integral "
                                 f"scuffing temperature {theta_sint:.1f} C (ISO/TS 6336-21)")
     S_intS = theta_sint / theta_int
+    notes = []
+    if nm.is_numeric(eps_a) and nm.to_float(eps_a) >= 2.0:
+        notes.append(f"ISO/TS 6336-21 (ISO/TR 13989-2) X_eps: transverse contact ratio {nm.to_float(eps_a):.3f} >= 2 "
+                     f"is outside the three cases implemented (eps_alpha < 2)")
+    if nm.is_numeric(c_a, c_eff) and nm.to_float(c_a) > nm.to_float(c_eff):
+        notes.append(f"ISO/TS 6336-21 (ISO/TR 13989-2) X_Ca: tip relief {nm.to_float(c_a):.1f} um exceeds C_eff="
+                     f"{nm.to_float(c_eff):.1f} um; X_Ca uses C_a/C_eff = 1")
     return {"S_B": S_B, "S_intS": S_intS, "w_Bt_N_per_mm": w_bt, "X_M": X_M, "X_alphabeta": X_ab, "X_R": X_R,
             "X_L": X_L, "mu_m": mu_m, "theta_fl_max_C": theta_fl_max, "theta_flm_C": theta_flm,
             "theta_M_C": theta_m, "theta_B_C": theta_b, "theta_S_C": theta_s, "K_Bgamma": k_bg, "mu_mC": mu_mc,
             "X_BE": X_BE, "X_Ca": X_Ca, "C_eff_um": c_eff, "C_a_um": c_a, "X_Q": X_Q, "X_eps": X_eps,
             "eps_1": eps_1, "eps_2": eps_2, "theta_flaE_C": theta_flae, "theta_flaint_C": theta_flaint,
             "theta_MC_C": theta_mc, "theta_int_C": theta_int, "theta_Sint_C": theta_sint,
-            "dynamic_viscosity_mPa_s": eta, "notes": ()}
+            "dynamic_viscosity_mPa_s": eta, "notes": tuple(notes)}
 
 
 __all__ = ["FZG_PINION_TORQUE_NM", "BASE_OIL_FACTOR", "helical_load_factor", "contact_ratio_factor_integral",

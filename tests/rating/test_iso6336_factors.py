@@ -198,3 +198,9 @@ def test_work_hardening_factor_limits_and_rating():
     r = rate_iso6336(spur_pair(), 300.0, 2500.0, materials=("20MnCr5", "42CrMo4"))
     assert r.factors["Z_W"][0] == 1.0
     assert float(r.factors["Z_W"][1]) == pytest.approx(1.2 - (0.95 * 300.0 - 130.0) / 1700.0)  # R_zH at its floor
+
+
+def test_tip_relief_beyond_the_effective_relief_warns_naming_the_standard():
+    with pytest.warns(RatingValidityWarning, match="ISO/TS 6336-21"):
+        r = rate_iso6336(spur_pair(), 50.0, 2500.0, tip_relief_um=80.0)
+    assert any("X_Ca" in n for n in r.notes)
