@@ -19,7 +19,7 @@ def _outputs(r):
 def _rate(b, torque, x1, speed=2500.0):
     pair = go.GearPair.from_profile_shifts(teeth=(38, 76), profile_shifts=(x1, 0.1), module_mm=3.0,
                                            face_width_mm=b)
-    return rate_iso6336(pair, torque, speed, accuracy_grade=7, tip_relief_um=12.0, life_h=5000.0)
+    return rate_iso6336(pair, torque, speed, accuracy_grade=7, tip_relief_um=6.0, life_h=5000.0)
 
 
 @pytest.fixture(scope="module")
