@@ -106,7 +106,10 @@ def beam_shaft_misalignment_um(pair, torque_Nm, shafts, *, driving_gear: int = 1
     """Mesh misalignment f_sh [um] across the face of ``pair`` from the bending of both shafts and the torsion of
     both gear bodies (module docstring). ``shafts``: 2-tuple of :class:`ShaftSupport` (gear 1, gear 2);
     ``torque_Nm`` on gear ``driving_gear``. Returns ``f_sh_um``, ``bending_um``, ``torsion_um``, ``slopes_rad``
-    (signed, per gear) and ``normal_force_N``. Dual-typed in the torque and pair dimensions."""
+    (signed, per gear), ``bending_signed_um`` (the gap growth across the face, positive where the axial coordinate
+    grows: the LTCA's ``Microgeometry(misalignment_um=...)``) and ``normal_force_N``. Dual-typed in the torque and
+    pair dimensions. For K_Hbeta pass ``mesh_misalignment_um`` = 1.33 f_sh + f_ma to
+    :func:`~gearopt.rating.rate_iso6336`."""
     if len(shafts) != 2:
         raise GearoptInputError(f"shafts={shafts!r} must be a 2-tuple of ShaftSupport (gear 1, gear 2)")
     check_range("torque_Nm", torque_Nm, 0.0, None, low_inclusive=False, unit="N m")
@@ -124,8 +127,9 @@ def beam_shaft_misalignment_um(pair, torque_Nm, shafts, *, driving_gear: int = 1
         body = s.body_diameter_mm if s.body_diameter_mm is not None else s.shaft_diameter_mm
         polar = math.pi * body ** 4 / 32.0
         torsion = torsion + 0.5 * d_b[i] * torques[i] * b / (2.0 * s.G_MPa * polar) * 1000.0
-    bending = 1000.0 * b * nm.fabs(slopes[0] + slopes[1])
-    return {"f_sh_um": bending + torsion, "bending_um": bending, "torsion_um": torsion,
+    signed = 1000.0 * b * (slopes[0] + slopes[1])
+    bending = nm.fabs(signed)
+    return {"f_sh_um": bending + torsion, "bending_um": bending, "bending_signed_um": signed, "torsion_um": torsion,
             "slopes_rad": tuple(slopes), "normal_force_N": f_bt}
 
 
