@@ -151,7 +151,7 @@ def rate_iso6336(pair, torque_Nm, speed_rpm, *, driving_gear=1, application_fact
         mesh_misalignment_um: F_betax of ISO 6336-1 method C (before running-in); default from f_ma and f_sh.
         tip_relief_um: design tip relief C_a [um] (0: none; a relief above the running-in amount C_ay counts as a
             profile modification for K_Halpha, which then uses f_pb instead of max(f_pb, f_falpha)).
-        mesh_load_factor: K_gamma (planetary meshes); Y_M: mean-stress factor (0.7 for an idler).
+        mesh_load_factor: K_gamma (planetary meshes); Y_M: mean-stress factor per gear (0.7 for an idler).
         solid_blanks, rim_thickness_mm, web_thickness_mm: gear blank of c' (as :func:`iso6336_stiffness`); the rim
             thickness also gives Y_B (s_R/h_t). bore_diameters_mm: per gear, for the reduced mass of K_v.
         K_v, K_Hbeta, K_Halpha: given numbers override the computed factors (K_Falpha follows K_Halpha).
@@ -168,7 +168,9 @@ def rate_iso6336(pair, torque_Nm, speed_rpm, *, driving_gear=1, application_fact
     check_range("speed_rpm", speed_rpm, 0.0, None, low_inclusive=False, unit="rpm")
     check_range("application_factor", application_factor, 1.0, None)
     check_range("mesh_load_factor", mesh_load_factor, 1.0, None)
-    check_range("Y_M", Y_M, 0.0, 1.0, low_inclusive=False)
+    y_m = per_gear(Y_M, "Y_M")
+    for i in range(2):
+        check_range(f"Y_M[{i}]", y_m[i], 0.0, 1.0, low_inclusive=False)
     check_range("tip_relief_um", tip_relief_um, 0.0, None, unit="um")
     for grade in (accuracy_grade if isinstance(accuracy_grade, (tuple, list)) else (accuracy_grade,)):
         check_accuracy_grade(grade)
@@ -319,7 +321,7 @@ def rate_iso6336(pair, torque_Nm, speed_rpm, *, driving_gear=1, application_fact
         root_factors = (finite_life_value(n_l[i], yd_static, yd, n_static, n_ref)
                         * finite_life_value(n_l[i], 1.0, yr * yx, n_static, n_ref))
         y_d.append(yd), y_r.append(yr), y_x.append(yx)
-        strength_f = m.sigma_Flim_MPa * Y_ST * y_nt[i] * root_factors * Y_M
+        strength_f = m.sigma_Flim_MPa * Y_ST * y_nt[i] * root_factors * y_m[i]
         sigma_fp.append(strength_f)
         s_f.append(strength_f / gear["sigma_F_MPa"])
 
@@ -331,7 +333,7 @@ def rate_iso6336(pair, torque_Nm, speed_rpm, *, driving_gear=1, application_fact
         "Y_F": (rs["gear1"]["Y_F"], rs["gear2"]["Y_F"]), "Y_S": (rs["gear1"]["Y_S"], rs["gear2"]["Y_S"]),
         "Y_beta": rs["gear1"]["Y_beta"], "Y_B": (rs["gear1"]["Y_B"], rs["gear2"]["Y_B"]),
         "Y_DT": rs["gear1"]["Y_DT"], "Y_NT": tuple(y_nt), "Y_deltarelT": tuple(y_d), "Y_RrelT": tuple(y_r),
-        "Y_X": tuple(y_x), "Y_ST": Y_ST, "Y_M": Y_M,
+        "Y_X": tuple(y_x), "Y_ST": Y_ST, "Y_M": y_m,
     }
     details = {
         "F_t_N": F_t, "pitch_line_velocity_m_s": v, "pinion": p + 1, "speeds_rpm": tuple(speeds),
