@@ -350,7 +350,9 @@ def rate_iso6336(pair, torque_Nm, speed_rpm, *, driving_gear=1, application_fact
                 "sigma_FG_MPa": tuple(sigma_fp)}
     scuff = scuffing_safety_factors(pair, torque_Nm, speed_rpm, driving_gear=driving_gear, lubricant=lub,
                                     materials=mats, flank_roughness_Ra_um=ra, tip_relief_um=tip_relief_um,
-                                    K_A=K_A * K_g, K_v=k_v, K_Bbeta=k_hb, K_Balpha=k_ha, mesh_stiffness=c_ga)
+                                    K_A=K_A * K_g, K_v=k_v, K_Bbeta=k_hb, K_Balpha=k_ha, mesh_stiffness=c_ga,
+                                    single_stiffness=c1, accuracy_grade=max(grade_tuple) if all(
+                                        nm.is_numeric(x) for x in grade_tuple) else 6)
     safety = {"S_H": tuple(s_h), "S_F": tuple(s_f), "S_B": scuff["S_B"], "S_intS": scuff["S_intS"]}
     for i, key in enumerate(("gear1", "gear2")):
         q_s = rs[key]["q_s"]
