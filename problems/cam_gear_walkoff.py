@@ -103,10 +103,18 @@ RATED_MESHES = {"crank-cam": "crank_cam_torque_Nm", "cam-ac": "cam_ac_torque_Nm"
 def rating_stage(data: dict, trains: dict) -> dict:
     """Stage 4: ISO 6336-2/-3 method B contact and root stresses with safety factors per mesh at the design torques,
     helical baseline and spur redesign (K_A from the data, other load factors 1)."""
+    from gearopt.rating import iso6336_train_table
+
     loads = data_values(data)["design_loads"]
     torques = {mesh: loads[key] for mesh, key in RATED_MESHES.items()}
-    return {kind: rating_table(trains[kind], torques, K_A=loads["application_factor_K_A"])
-            for kind in ("helical", "spur")}
+    out = {kind: rating_table(trains[kind], torques, K_A=loads["application_factor_K_A"])
+           for kind in ("helical", "spur")}
+    grades = {g: v["accuracy_grade_iso1328"] for g, v in data_values(data)["gears"].items()}
+    for kind in ("helical", "spur"):  # every factor computed (ISO 6336-1/-2/-3, ISO/TS 6336-20/-21), endurance
+        out[f"{kind}_computed_factors"] = iso6336_train_table(trains[kind], torques, loads["speed_rpm"],
+                                                              application_factor=loads["application_factor_K_A"],
+                                                              accuracy_grades=grades)
+    return out
 
 
 def joint_stage(data: dict) -> dict:
@@ -394,6 +402,12 @@ def write_rating(out: Path, ratings: dict) -> tuple[list[str], dict]:
         write_table(df, out, f"rating_{kind}")
         cols = [c for c in ("mesh", "torque_Nm", "sigma_H_MPa", "S_H", "sigma_F_1_MPa", "sigma_F_2_MPa", "S_F_1",
                             "S_F_2") if c in df.columns]
+        if kind.endswith("_computed_factors"):
+            cols = ["mesh", "torque_Nm", "speed_1_rpm", "N_L_1", "N_L_2", "K_v", "K_Hbeta", "K_Fbeta", "K_Halpha",
+                    "Z_NT_1", "Z_L_1", "Z_v_1", "Z_R_1", "Y_NT_1", "Y_deltarelT_1", "Y_RrelT_1", "Y_X_1", "S_H_1",
+                    "S_H_2", "S_F_1", "S_F_2", "S_B", "S_intS"]
+            lines += [f"{kind}: every factor computed (`gearopt.rating.rate_iso6336`), K_A from the data, endurance "
+                      f"(N_L = 1e10), lubricant {df['lubricant'].iloc[0]}.", ""]
         lines += [f"### {kind}", "", to_markdown(df[cols]), ""]
         result[kind] = {str(r["mesh"]): {c: float(r[c]) for c in cols if c != "mesh"} for _, r in df.iterrows()}
     return lines, result

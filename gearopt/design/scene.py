@@ -397,6 +397,20 @@ class BuiltScene:
 
         return self._model(f"iso6336:{mesh}@{lc.name}", build, f"ISO 6336-2/-3 method B at {lc.name}")
 
+    def _rating(self, mesh: str, lc: LoadCase):
+        """ISO 6336 rating with computed factors (``rate_iso6336``; its keywords from ``iso6336_options``)."""
+        import inspect
+
+        from ..rating import rate_iso6336
+
+        if lc.speed_rpm is None:
+            raise GearoptInputError(f"load case {lc.name!r} needs speed_rpm for the ISO 6336 rating of {mesh!r}")
+        allowed = set(inspect.signature(rate_iso6336).parameters) - {"pair", "torque_Nm", "speed_rpm", "driving_gear"}
+        opts = {k: v for k, v in self.scene.iso6336_options.items() if k in allowed}
+        return self._model(f"iso6336_rating:{mesh}@{lc.name}", lambda: rate_iso6336(
+            self._pair(mesh), lc.mesh_torque_Nm(mesh), self._driver_speed_rpm(mesh, lc.speed_rpm),
+            driving_gear=self._driving_gear(mesh), **opts), f"ISO 6336 rating (computed factors) at {lc.name}")
+
     def _joint(self, joint: str, lc: LoadCase | None) -> dict:
         from ..joints import joint_capacity
 
@@ -435,6 +449,11 @@ class BuiltScene:
                 return nm.vcat([_on_path(r, model, l_idx) for r in res.root_stress_MPa])
             if name == "max_contact_temperature_C":
                 return res.bulk_temperature_C + _on_path(res.flash_temperature_rise_K, model, l_idx)
+        if kind.target_kind == "mesh" and "iso6336_rating" in kind.needs:
+            sf = self._rating(target, lc).safety_factors
+            if name in ("contact_safety_factor", "root_safety_factor"):
+                return nm.vcat(list(sf["S_H" if name == "contact_safety_factor" else "S_F"]))
+            return sf["S_B" if name == "scuffing_safety_factor_flash" else "S_intS"]
         if kind.target_kind == "mesh" and "iso6336" in kind.needs:
             iso = self._iso(target, lc)
             if name.startswith("root_"):

@@ -5,6 +5,8 @@ quantity needs it:
 
 - ``geometry``: the :class:`~gearopt.geometry.pair.GearPair` of a mesh (symbolic when macro variables are free);
 - ``iso6336``: ISO 6336-2/-3 method B contact and root stress (:mod:`gearopt.rating`);
+- ``iso6336_rating``: the complete rating with computed factors (:func:`gearopt.rating.rate_iso6336`; needs the load
+  case's speed);
 - ``ltca``: the smooth CasADi LTCA (:class:`~gearopt.contact.ltca_smooth.LTCAModel`), built once per mesh with one
   face slice for a spur pair without lead modifications; ``ltca_root_stress`` / ``ltca_temperature`` switch on its
   root-stress and flash-temperature outputs;
@@ -73,7 +75,7 @@ def _vars() -> dict[str, VariableKind]:
 
 
 def _quantities() -> dict[str, QuantityKind]:
-    geo, iso = ("geometry",), ("geometry", "iso6336")
+    geo, iso, rate = ("geometry",), ("geometry", "iso6336"), ("geometry", "iso6336_rating")
     q = [QuantityKind("transverse_contact_ratio", "mesh", geo, "", False, scale=0.1),
          QuantityKind("worst_case_transverse_contact_ratio", "mesh", geo, "", False, scale=0.1),
          QuantityKind("tip_thickness_1_mm", "mesh", geo, "mm", False),
@@ -84,6 +86,10 @@ def _quantities() -> dict[str, QuantityKind]:
          QuantityKind("root_stress_iso6336_MPa", "mesh", iso, "MPa", True, shape="max", scale=100.0),
          QuantityKind("contact_safety_factor_iso6336", "mesh", iso, "", True, shape="min", scale=0.1),
          QuantityKind("root_safety_factor_iso6336", "mesh", iso, "", True, shape="min", scale=0.1),
+         QuantityKind("contact_safety_factor", "mesh", rate, "", True, shape="min", scale=0.1),
+         QuantityKind("root_safety_factor", "mesh", rate, "", True, shape="min", scale=0.1),
+         QuantityKind("scuffing_safety_factor_flash", "mesh", rate, "", True, scale=0.1),
+         QuantityKind("scuffing_safety_factor_integral", "mesh", rate, "", True, scale=0.1),
          QuantityKind("ppte_um", "mesh", ("geometry", "ltca"), "um", True, shape="ppte", scale=5.0),
          QuantityKind("max_contact_stress_MPa", "mesh", ("geometry", "ltca"), "MPa", True, shape="max",
                       squared=True, scale=100.0),

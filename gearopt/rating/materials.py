@@ -26,7 +26,7 @@ TREATMENTS = ("case_carburised", "through_hardened", "nitrided", "cast_iron")
 
 _NUMERIC_FIELDS = ("E_MPa", "poisson_ratio", "density_kg_m3", "thermal_conductivity_W_mK", "specific_heat_J_kgK",
                    "sigma_Hlim_MPa", "sigma_Flim_MPa", "yield_strength_MPa", "tensile_strength_MPa",
-                   "endurance_limit_MPa")
+                   "endurance_limit_MPa", "surface_hardness_HV")
 _REQUIRED = ("E_MPa", "poisson_ratio", "density_kg_m3", "thermal_conductivity_W_mK", "specific_heat_J_kgK")
 
 
@@ -58,6 +58,7 @@ class Material:
     yield_strength_MPa: float | None = None
     tensile_strength_MPa: float | None = None
     endurance_limit_MPa: float | None = None
+    surface_hardness_HV: float | None = None
     sources: dict = field(default_factory=dict, compare=False, hash=False)
 
     @property
@@ -65,6 +66,12 @@ class Material:
         """B_M = sqrt(lambda rho c) [N/(mm s^0.5 K)] (computed, see :func:`thermal_contact_coefficient`)."""
         return thermal_contact_coefficient(self.thermal_conductivity_W_mK, self.density_kg_m3,
                                            self.specific_heat_J_kgK)
+
+    @property
+    def brinell_hardness_HB(self) -> float | None:
+        """Brinell hardness estimated from the Vickers surface hardness, HB ~ 0.95 HV (ISO 18265 steel table
+        trend below ~450 HV; an approximation), or None without a hardness."""
+        return None if self.surface_hardness_HV is None else 0.95 * self.surface_hardness_HV
 
     @property
     def shear_modulus_MPa(self) -> float:
