@@ -308,7 +308,7 @@ class JointSimulator:
         self.min_speed_rpm = float(min_speed_rpm)
         self.base = simulator(network, lash=self.lash, rtol=rtol, min_speed_rpm=min_speed_rpm)
         self.eq = joint_equations(network, self.joints, self.lash)
-        self.n_out = int(round(n_out))
+        self.n_out = round(n_out)
         self.cycle_rad = math.radians(network.cycle_deg)
         self.grid_rad = np.radians(output_step_deg * np.arange(1, self.n_out + 1))
         self.output_step_deg = float(output_step_deg)
@@ -439,12 +439,27 @@ def joint_simulator(network: TorsionalNetwork, joints, **options) -> JointSimula
 def walked_distance_mm(creep_um_per_cycle, speed_rpm, hours, cycle_deg: float = 720.0):
     """Distance a gear walks [mm] at a constant creep per engine cycle [um] after ``hours`` at ``speed_rpm``:
     ``creep x cycles``, cycles = speed x 60 x hours x 360 / cycle_deg (720 for a four-stroke)."""
-    check_range("hours", hours, 0.0, None, unit="h")
-    check_range("speed_rpm", speed_rpm, 0.0, None, unit="rpm")
-    cycles = np.asarray(speed_rpm, dtype=float) * 60.0 * np.asarray(hours, dtype=float) * 360.0 / cycle_deg
+    hours, speed = np.asarray(hours, dtype=float), np.asarray(speed_rpm, dtype=float)
+    for name, v, unit in (("hours", hours, "h"), ("speed_rpm", speed, "rpm")):
+        if v.size and not (np.all(np.isfinite(v)) and v.min() >= 0.0):
+            raise GearoptInputError(f"{name}={v.min() if v.size else v!r} {unit}: must be finite and >= 0")
+    cycles = speed * 60.0 * hours * 360.0 / cycle_deg
     return np.asarray(creep_um_per_cycle, dtype=float) * cycles * 1e-3
 
 
-__all__ = ["FrictionJoint", "JointSimulator", "JointSimulation", "JointIntegrationError", "joint_simulator",
-           "joint_equations", "slip_rates_m_s", "key_force_N", "shoulder_force_N", "joint_demand",
-           "walked_distance_mm", "JOINT_OUTPUTS", "JOINT_PARAMETERS", "SLIP_UNIT_M"]
+__all__ = [
+    "JOINT_OUTPUTS",
+    "JOINT_PARAMETERS",
+    "SLIP_UNIT_M",
+    "FrictionJoint",
+    "JointIntegrationError",
+    "JointSimulation",
+    "JointSimulator",
+    "joint_demand",
+    "joint_equations",
+    "joint_simulator",
+    "key_force_N",
+    "shoulder_force_N",
+    "slip_rates_m_s",
+    "walked_distance_mm",
+]

@@ -118,8 +118,9 @@ def fit_cases(data: dict, joint: str, speed_rpm: float) -> dict:
 
 
 def model_joints(model, joint: str, levels: int = 1, *, thrust_scale: float = 1.0,
-                 key_clearance_um: float | None = None, root_rotation: str = "cw") -> list[FrictionJoint]:
-    """``levels`` copies ``<joint>#<i>`` of the friction element of ``[joints.<joint>]`` on ``model`` (a
+                 key_clearance_um: float | None = None, root_rotation: str = "cw",
+                 label: str | None = None) -> list[FrictionJoint]:
+    """``levels`` copies ``<label>#<i>`` (label default ``joint``) of the friction element of ``[joints.<joint>]`` on ``model`` (a
     :class:`~gearopt.dynamics.default_model.TimingModel`), to be given different capacities per run (the copies
     do not interact). Gear inertia: the whole node for a gear that is its own node (cam), else the data's gear
     inertia (crank: ``gears.crank.inertia_kgm2`` or its solid-disc estimate), as
@@ -137,7 +138,7 @@ def model_joints(model, joint: str, levels: int = 1, *, thrust_scale: float = 1.
     f = JOINT_FRICTION_DATA
     cap = fit_capacity_N(model.data, joint)
     clearance = f["key_clearance_um"] if key_clearance_um is None else key_clearance_um
-    return [FrictionJoint(f"{joint}#{i}", node, float(spec["shaft_diameter_mm"]), cap,
+    return [FrictionJoint(f"{label or joint}#{i}", node, float(spec["shaft_diameter_mm"]), cap,
                           thrust_signs(model.train, gear, root_rotation), float(j_g), key_clearance_um=clearance,
                           key_stiffness_N_per_m=f["key_stiffness_N_per_m"],
                           shoulder_stiffness_N_per_m=f["shoulder_stiffness_N_per_m"],
@@ -174,14 +175,16 @@ def capacity_levels_N(data: dict, joint: str, speed_rpm: float, levels: int) -> 
 def joint_envelope(model, joints=("cam", "crank"), speeds_rpm=None, damper_states=None, levels: int = 5,
                    cycles: int = 2, run_in_cycles: int = 1, lash: bool = True, rtol: float = 1e-6,
                    thrust_scale: float = 1.0, jit: bool | None = None, parameters: dict | None = None,
-                   executor_map=map) -> pd.DataFrame:
+                   executor_map=map, variants: dict | None = None) -> pd.DataFrame:
     """Slip utilisation and axial creep of the friction joints of ``model`` over speeds x damper states x fit
     capacities.
 
     ``speeds_rpm`` (default :func:`envelope_speeds_rpm`), ``damper_states`` (names of :data:`DAMPER_STATES`,
     default all), ``levels`` capacities per joint (:func:`capacity_levels_N`, plus the three :func:`fit_cases`
     when ``levels`` >= 3 they are the weakest..strongest span), ``cycles`` recorded after ``run_in_cycles``,
-    ``lash`` (backlash model), ``thrust_scale`` (e.g. tan of a lower helix angle over the present one), ``jit``
+    ``lash`` (backlash model), ``thrust_scale`` (e.g. tan of a lower helix angle over the present one),
+    ``variants`` {label: (joint, thrust_scale)}: further copies of a joint riding on the same integration (the same
+    network trajectory -- which matters where the lash model rattles chaotically), reported as joint ``label``; ``jit``
     (default: if a C compiler is found), ``executor_map`` a ``map``-like callable over the (speed, damper) runs
     (default the builtin; a studies executor's map at merge).
 
@@ -200,8 +203,10 @@ def joint_envelope(model, joints=("cam", "crank"), speeds_rpm=None, damper_state
         damper_coefficient(data, s)
     check_range("levels", levels, 1, None)
     elements = []
-    for joint in joints:
-        elements += model_joints(model, joint, levels, thrust_scale=thrust_scale)
+    labels = {joint: (joint, thrust_scale) for joint in joints}
+    labels.update(variants or {})
+    for label, (joint, scale) in labels.items():
+        elements += model_joints(model, joint, levels, thrust_scale=scale, label=label)
     sim = joint_simulator(model.network, elements, lash=lash, rtol=rtol, jit=_auto_jit(jit))
 
     def run(point):
@@ -210,17 +215,17 @@ def joint_envelope(model, joints=("cam", "crank"), speeds_rpm=None, damper_state
         p.update(parameters or {})
         p[DAMPER_PARAMETER] = damper_coefficient(data, state)
         caps, case_of = {}, {}
-        for joint in joints:
+        for label, (joint, _) in labels.items():
             cases = fit_cases(data, joint, speed)
             grid = capacity_levels_N(data, joint, speed, levels)
             if levels >= 3:
                 mid = 1 + int(np.argmin(np.abs(np.log(grid[1:-1] / cases["nominal"]))))
                 grid[mid] = cases["nominal"]
-                case_of[joint] = {0: "weakest", mid: "nominal", levels - 1: "strongest"}
+                case_of[label] = {0: "weakest", mid: "nominal", levels - 1: "strongest"}
             else:
-                case_of[joint] = {0: "nominal"} if levels == 1 else {0: "weakest", 1: "strongest"}
+                case_of[label] = {0: "nominal"} if levels == 1 else {0: "weakest", 1: "strongest"}
             for i, c in enumerate(grid):
-                caps[f"{joint}#{i}.capacity_N"] = float(c)
+                caps[f"{label}#{i}.capacity_N"] = float(c)
         p.update(caps)
         res = sim.run(speed, cycles, parameters=p, run_in_cycles=run_in_cycles)
         rows = []
@@ -237,6 +242,17 @@ def joint_envelope(model, joints=("cam", "crank"), speeds_rpm=None, damper_state
     return pd.DataFrame([row for rows in executor_map(run, points) for row in rows])
 
 
-__all__ = ["joint_envelope", "model_joints", "thrust_signs", "fit_capacity_N", "fit_cases", "capacity_levels_N",
-           "damper_coefficient", "envelope_speeds_rpm", "JOINT_FRICTION_DATA", "DAMPER_STATES",
-           "DAMPER_STATES_SOURCE", "DAMPER_PARAMETER"]
+__all__ = [
+    "DAMPER_PARAMETER",
+    "DAMPER_STATES",
+    "DAMPER_STATES_SOURCE",
+    "JOINT_FRICTION_DATA",
+    "capacity_levels_N",
+    "damper_coefficient",
+    "envelope_speeds_rpm",
+    "fit_capacity_N",
+    "fit_cases",
+    "joint_envelope",
+    "model_joints",
+    "thrust_signs",
+]

@@ -8,8 +8,13 @@ import pytest
 
 from gearopt import numerics as nm
 from gearopt.dynamics import TorsionalNetwork
-from gearopt.dynamics.joint_friction import (FrictionJoint, JointIntegrationError, JointSimulator, slip_rates_m_s,
-                                             walked_distance_mm)
+from gearopt.dynamics.joint_friction import (
+    FrictionJoint,
+    JointIntegrationError,
+    JointSimulator,
+    slip_rates_m_s,
+    walked_distance_mm,
+)
 from gearopt.errors import GearoptInputError
 
 RB1, RB2, JG, K_MESH = 0.040, 0.050, 0.01, 1e8
