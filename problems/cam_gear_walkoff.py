@@ -33,20 +33,15 @@ import pandas as pd
 
 import gearopt as go
 from gearopt.data import load_default_data, load_thesis_tables, train_from_data
-from gearopt.data import values as data_values
 from gearopt.design.shift_distribution import optimise_shift_split
+from gearopt.data import values as data_values
 from gearopt.report import ltca_figures as figs
 from gearopt.report import to_markdown, write_table
 from gearopt.report.joint_tables import blank_table, joint_table, web_table
-from gearopt.report.macro_design import (
-    change_table,
-    conversion_table,
-    mesh_check_table,
-    shift_table,
-    sum_shift_table,
-)
 from gearopt.report.rating_tables import rating_table
 from gearopt.studies import DESIGNS, mesh_contact_study
+from gearopt.report.macro_design import (change_table, conversion_table, mesh_check_table, shift_table,
+                                         sum_shift_table)
 
 DEFAULT_OUT = Path("out") / "cam_gear_walkoff"
 

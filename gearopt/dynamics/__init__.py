@@ -27,39 +27,13 @@ from .modes import (
 )
 from .network import TorsionalNetwork
 from .sensitivity import response_sensitivities
-from .simulate import (
-    INTEGRATORS,
-    PeriodicStateError,
-    Simulation,
-    Simulator,
-    node_accelerations,
-    simulate,
-)
+from .simulate import INTEGRATORS, PeriodicStateError, Simulation, Simulator, node_accelerations, simulate
 from .sweep import simulation_statistics, speed_sweep, walk_off_history
 
 __all__ = [
-    "INTEGRATORS",
-    "MeshStiffnessShape",
-    "PeriodicStateError",
-    "Simulation",
-    "Simulator",
-    "TimingModel",
-    "TorsionalNetwork",
-    "axial_force_N",
-    "campbell_diagram",
-    "contact_line_length_ratio",
-    "damped_modes",
-    "default_timing_model",
-    "forced_response",
-    "linear_matrices",
-    "mesh_force",
-    "mode_shapes",
-    "natural_frequencies_Hz",
-    "node_accelerations",
-    "response_sensitivities",
-    "restitution_coefficient",
-    "simulate",
-    "simulation_statistics",
-    "speed_sweep",
-    "walk_off_history",
+    "TorsionalNetwork", "MeshStiffnessShape", "mesh_force", "axial_force_N", "contact_line_length_ratio",
+    "restitution_coefficient", "Simulator", "Simulation", "simulate", "INTEGRATORS", "linear_matrices",
+    "natural_frequencies_Hz", "mode_shapes", "damped_modes", "campbell_diagram", "forced_response",
+    "default_timing_model", "TimingModel", "speed_sweep", "simulation_statistics", "response_sensitivities",
+    "node_accelerations", "walk_off_history", "PeriodicStateError",
 ]

@@ -46,9 +46,9 @@ from dataclasses import dataclass, field
 import numpy as np
 import pandas as pd
 
+from ..rating.stiffness import mesh_stiffness_table
 from ..data import load_default_data, train_from_data, values
 from ..errors import GearoptInputError
-from ..rating.stiffness import mesh_stiffness_table
 from ..validation import check_range
 from .mesh import (
     DEFAULT_CONTACT_WIDTH_M,
@@ -330,4 +330,4 @@ def default_timing_model(kind: str = "spur", *, data: dict | None = None, load: 
                        gear_nodes=dict(gear_node))
 
 
-__all__ = ["KINDS", "PRESSURE_SCALE", "TimingModel", "default_timing_model"]
+__all__ = ["default_timing_model", "TimingModel", "KINDS", "PRESSURE_SCALE"]

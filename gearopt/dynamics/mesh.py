@@ -230,13 +230,5 @@ def restitution_coefficient(damping_ratio):
     return math.exp(-math.pi * damping_ratio / math.sqrt(1.0 - damping_ratio ** 2))
 
 
-__all__ = [
-    "DEFAULT_CONTACT_WIDTH_M",
-    "DEFAULT_DAMPING_WIDTH_M",
-    "DEFAULT_HARMONICS",
-    "MeshStiffnessShape",
-    "axial_force_N",
-    "contact_line_length_ratio",
-    "mesh_force",
-    "restitution_coefficient",
-]
+__all__ = ["DEFAULT_CONTACT_WIDTH_M", "DEFAULT_DAMPING_WIDTH_M", "DEFAULT_HARMONICS", "contact_line_length_ratio", "MeshStiffnessShape",
+           "mesh_force", "axial_force_N", "restitution_coefficient"]

@@ -263,11 +263,5 @@ def forced_response(net, speeds_rpm, max_order: float = 24.0, parameters: dict |
     return {"orders": pd.DataFrame(rows), "summary": pd.DataFrame(summary)}
 
 
-__all__ = [
-    "campbell_diagram",
-    "damped_modes",
-    "forced_response",
-    "linear_matrices",
-    "mode_shapes",
-    "natural_frequencies_Hz",
-]
+__all__ = ["linear_matrices", "natural_frequencies_Hz", "mode_shapes", "damped_modes", "campbell_diagram",
+           "forced_response"]

@@ -550,14 +550,5 @@ def _build_equations(net: TorsionalNetwork, lash: bool) -> NetworkEquations:
                             effective_inertias=effective)
 
 
-__all__ = [
-    "ANGLE_UNIT_RAD",
-    "OFFSET_PARAMETER",
-    "SPEED_PARAMETER",
-    "ExternalTorque",
-    "Inertia",
-    "Mesh",
-    "NetworkEquations",
-    "Shaft",
-    "TorsionalNetwork",
-]
+__all__ = ["TorsionalNetwork", "Inertia", "Shaft", "Mesh", "ExternalTorque", "NetworkEquations", "ANGLE_UNIT_RAD",
+           "SPEED_PARAMETER", "OFFSET_PARAMETER"]

@@ -114,4 +114,4 @@ def response_sensitivities(simulator, speed_rpm: float, parameters, output=("mes
     return pd.DataFrame(rows)
 
 
-__all__ = ["STATISTICS", "response_sensitivities"]
+__all__ = ["response_sensitivities", "STATISTICS"]

@@ -628,12 +628,5 @@ def simulate(network: TorsionalNetwork, speed_rpm: float, cycles: int = 10, *, b
                    on_shooting_failure=on_shooting_failure)
 
 
-__all__ = [
-    "INTEGRATORS",
-    "PeriodicStateError",
-    "Simulation",
-    "Simulator",
-    "node_accelerations",
-    "simulate",
-    "simulator",
-]
+__all__ = ["INTEGRATORS", "Simulation", "Simulator", "simulator", "simulate", "node_accelerations",
+           "PeriodicStateError"]

@@ -178,4 +178,4 @@ def speed_sweep(model, speeds_rpm, backlash=(False, True), cycles: int = 2, run_
     return pd.concat(frames, ignore_index=True)
 
 
-__all__ = ["simulation_statistics", "speed_sweep", "walk_off_history"]
+__all__ = ["speed_sweep", "simulation_statistics", "walk_off_history"]
