@@ -120,7 +120,8 @@ def fit_cases(data: dict, joint: str, speed_rpm: float) -> dict:
 def model_joints(model, joint: str, levels: int = 1, *, thrust_scale: float = 1.0,
                  key_clearance_um: float | None = None, root_rotation: str = "cw",
                  label: str | None = None) -> list[FrictionJoint]:
-    """``levels`` copies ``<label>#<i>`` (label default ``joint``) of the friction element of ``[joints.<joint>]`` on ``model`` (a
+    """``levels`` copies ``<label>#<i>`` (label default ``joint``) of the friction element of ``[joints.<joint>]``
+    on ``model`` (a
     :class:`~gearopt.dynamics.default_model.TimingModel`), to be given different capacities per run (the copies
     do not interact). Gear inertia: the whole node for a gear that is its own node (cam), else the data's gear
     inertia (crank: ``gears.crank.inertia_kgm2`` or its solid-disc estimate), as
@@ -172,6 +173,11 @@ def capacity_levels_N(data: dict, joint: str, speed_rpm: float, levels: int) -> 
     return np.geomspace(lo, hi, levels) if levels > 1 else np.array([cases["nominal"]])
 
 
+#: Capacities below the weakest toleranced fit added to the envelope (fractions of the weakest case): where the
+#: fit would have to be to slip and creep (fretting wear, a wrong fit) -- "what data would change the verdict".
+BELOW_TOLERANCE_FRACTIONS = (0.5, 0.75)
+
+
 def joint_envelope(model, joints=("cam", "crank"), speeds_rpm=None, damper_states=None, levels: int = 5,
                    cycles: int = 2, run_in_cycles: int = 1, lash: bool = True, rtol: float = 1e-6,
                    thrust_scale: float = 1.0, jit: bool | None = None, parameters: dict | None = None,
@@ -180,8 +186,10 @@ def joint_envelope(model, joints=("cam", "crank"), speeds_rpm=None, damper_state
     capacities.
 
     ``speeds_rpm`` (default :func:`envelope_speeds_rpm`), ``damper_states`` (names of :data:`DAMPER_STATES`,
-    default all), ``levels`` capacities per joint (:func:`capacity_levels_N`, plus the three :func:`fit_cases`
-    when ``levels`` >= 3 they are the weakest..strongest span), ``cycles`` recorded after ``run_in_cycles``,
+    default all), ``levels`` capacities per joint from the weakest to the strongest fit case
+    (:func:`capacity_levels_N`; with ``levels`` >= 3 the nominal case replaces the nearest interior level) plus
+    :data:`BELOW_TOLERANCE_FRACTIONS` of the weakest (``fit_case`` ``"0.5x_weakest"`` ...), ``cycles`` recorded
+    after ``run_in_cycles``,
     ``lash`` (backlash model), ``thrust_scale`` (e.g. tan of a lower helix angle over the present one),
     ``variants`` {label: (joint, thrust_scale)}: further copies of a joint riding on the same integration (the same
     network trajectory -- which matters where the lash model rattles chaotically), reported as joint ``label``; ``jit``
@@ -206,7 +214,8 @@ def joint_envelope(model, joints=("cam", "crank"), speeds_rpm=None, damper_state
     labels = {joint: (joint, thrust_scale) for joint in joints}
     labels.update(variants or {})
     for label, (joint, scale) in labels.items():
-        elements += model_joints(model, joint, levels, thrust_scale=scale, label=label)
+        elements += model_joints(model, joint, levels + len(BELOW_TOLERANCE_FRACTIONS), thrust_scale=scale,
+                                 label=label)
     sim = joint_simulator(model.network, elements, lash=lash, rtol=rtol, jit=_auto_jit(jit))
 
     def run(point):
@@ -218,12 +227,15 @@ def joint_envelope(model, joints=("cam", "crank"), speeds_rpm=None, damper_state
         for label, (joint, _) in labels.items():
             cases = fit_cases(data, joint, speed)
             grid = capacity_levels_N(data, joint, speed, levels)
+            below = len(BELOW_TOLERANCE_FRACTIONS)
             if levels >= 3:
                 mid = 1 + int(np.argmin(np.abs(np.log(grid[1:-1] / cases["nominal"]))))
                 grid[mid] = cases["nominal"]
-                case_of[label] = {0: "weakest", mid: "nominal", levels - 1: "strongest"}
+                case_of[label] = {below: "weakest", below + mid: "nominal", below + levels - 1: "strongest"}
             else:
-                case_of[label] = {0: "nominal"} if levels == 1 else {0: "weakest", 1: "strongest"}
+                case_of[label] = {below: "nominal"} if levels == 1 else {below: "weakest", below + 1: "strongest"}
+            case_of[label].update({i: f"{f:g}x_weakest" for i, f in enumerate(BELOW_TOLERANCE_FRACTIONS)})
+            grid = np.concatenate([np.array(BELOW_TOLERANCE_FRACTIONS) * max(cases["weakest"], 1.0), grid])
             for i, c in enumerate(grid):
                 caps[f"{label}#{i}.capacity_N"] = float(c)
         p.update(caps)
@@ -243,6 +255,7 @@ def joint_envelope(model, joints=("cam", "crank"), speeds_rpm=None, damper_state
 
 
 __all__ = [
+    "BELOW_TOLERANCE_FRACTIONS",
     "DAMPER_PARAMETER",
     "DAMPER_STATES",
     "DAMPER_STATES_SOURCE",

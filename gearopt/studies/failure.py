@@ -198,7 +198,8 @@ def failure_reproduction(data: dict, *, quick: bool = False, joints=("cam", "cra
                          alternatives: dict | None = None) -> dict:
     """Envelope (:func:`~gearopt.dynamics.walk_off_envelope.joint_envelope`) and Monte Carlo
     (:func:`walk_off_probability`) of the helical and the spur train and the helical alternatives
-    (:data:`HELICAL_ALTERNATIVES`). ``quick``: 3000 and 3300 rpm only, one recorded cycle.
+    (:data:`HELICAL_ALTERNATIVES`). ``quick``: 3300 rpm, nominal and degraded damper (probabilities renormalised),
+    one cycle from the static state (about 10 s); else all speeds and damper states, 3 cycles after 2.
 
     Returns ``{"envelopes": {train: DataFrame}, "probabilities": {train: {joint: dict}}, "summary": {train:
     {joint: {"max_slip_utilisation", "max_axial_creep_um_per_cycle", "walk_off_probability", ...}}},
@@ -206,6 +207,7 @@ def failure_reproduction(data: dict, *, quick: bool = False, joints=("cam", "cra
     """
     from ..dynamics import default_timing_model
     from ..dynamics.walk_off_envelope import (
+        BELOW_TOLERANCE_FRACTIONS,
         DAMPER_STATES,
         DAMPER_STATES_SOURCE,
         JOINT_FRICTION_DATA,
@@ -214,9 +216,12 @@ def failure_reproduction(data: dict, *, quick: bool = False, joints=("cam", "cra
     )
     check_range("distance_mm", distance_mm, 0.0, None, low_inclusive=False, unit="mm")
     bands = envelope_speeds_rpm(data)
-    speeds = [bands["overspeed_test"][0], bands["motoring_overspeed"][0]] if quick else [v for v, _ in
-                                                                                        bands.values()]
-    run = {"cycles": 1, "run_in_cycles": 1} if quick else {"cycles": 3, "run_in_cycles": 2}
+    speeds = [bands["motoring_overspeed"][0]] if quick else [v for v, _ in bands.values()]
+    states = ("nominal", "degraded") if quick else tuple(DAMPER_STATES)
+    total = sum(DAMPER_STATE_PROBABILITIES[s] for s in states)
+    damper_probabilities = {s: DAMPER_STATE_PROBABILITIES[s] / total for s in states}
+    run = {"cycles": 1, "run_in_cycles": 0} if quick else {"cycles": 3, "run_in_cycles": 2}
+    run["damper_states"] = states
     alternatives = HELICAL_ALTERNATIVES if alternatives is None else alternatives
     trains = {"helical": ("helical", "", 0.0), "spur": ("spur", "", 0.0)}
     helical_variants = {}
@@ -236,9 +241,12 @@ def failure_reproduction(data: dict, *, quick: bool = False, joints=("cam", "cra
         envelopes[name] = env
         probabilities[name], summary[name] = {}, {}
         for joint in joints:
-            rows = env[env["joint"] == joint]
+            rows_all = env[env["joint"] == joint]
+            is_below = rows_all["fit_case"].str.endswith("x_weakest")
+            rows, below = rows_all[~is_below], rows_all[is_below]
             pr = walk_off_probability(env, data, joint, samples=samples, seed=seed, distance_mm=distance_mm,
-                                      interference_shift_um=shift if joint == "cam" else 0.0)
+                                      interference_shift_um=shift if joint == "cam" else 0.0,
+                                      damper_probabilities=damper_probabilities)
             probabilities[name][joint] = pr
             nominal = rows[rows["fit_case"] == "nominal"]
             summary[name][joint] = {
@@ -249,28 +257,32 @@ def failure_reproduction(data: dict, *, quick: bool = False, joints=("cam", "cra
                 "max_axial_creep_um_per_cycle_nominal_fit": float(nominal["axial_creep_um_per_cycle"].where(
                     nominal["axial_creep_um_per_cycle"].abs() >= CREEP_NOISE_UM, 0.0).max()),
                 "max_off_nose_thrust_N": float(rows["max_off_nose_thrust_N"].max()),
+                "below_tolerance": {f"{f:g}x_weakest_fit": {
+                    "max_slip_utilisation": float(g["max_rigid_utilisation"].max()),
+                    "max_axial_creep_um_per_cycle": float(g["axial_creep_um_per_cycle"].where(
+                        g["axial_creep_um_per_cycle"].abs() >= CREEP_NOISE_UM, 0.0).max())}
+                    for f, (_, g) in zip(BELOW_TOLERANCE_FRACTIONS, below.groupby("level"))},
                 "walk_off_probability": pr["walk_off_probability"],
                 "probability_by_damper_state": pr["probability_by_damper_state"],
                 "drivers": pr["drivers"]}
     assumptions = {
         "speeds_rpm": {b: {"speed_rpm": v, "source": src} for b, (v, src) in bands.items() if v in speeds},
-        "damper_states": {s: {"multiplier_of_data": f, "damping_Nms_per_rad": None} for s, f in
-                          DAMPER_STATES.items()},
+        "damper_states": {s: {"multiplier_of_data": DAMPER_STATES[s], "damping_Nms_per_rad": None} for s in states},
         "damper_source": DAMPER_STATES_SOURCE,
         "fit_cases": "weakest = min ISO 286 interference, DIN 7190 smoothing 0.8 sum Rz, mu min; strongest = max "
                      "interference, 0.4 sum Rz, mu max",
         "joint_data": dict(JOINT_FRICTION_DATA),
         "distance_mm": float(distance_mm), "distance_source": WALK_OFF_DISTANCE_SOURCE,
         "period_months": WARRANTY_MONTHS, "exposure_hours_median_sigma": dict(EXPOSURE_HOURS),
-        "exposure_source": EXPOSURE_HOURS_SOURCE, "damper_state_probabilities": dict(DAMPER_STATE_PROBABILITIES),
+        "exposure_source": EXPOSURE_HOURS_SOURCE, "damper_state_probabilities": damper_probabilities,
         "damper_probability_source": DAMPER_STATE_PROBABILITIES_SOURCE, "field_rate": FIELD_RATE,
         "field_rate_source": FIELD_RATE_SOURCE, "alternatives": {k: v["description"] for k, v in alternatives.items()},
         "recorded_cycles": run["cycles"], "run_in_cycles": run["run_in_cycles"], "samples": int(samples),
         "coupling": "one-way: slip states driven by the torsional model, not fed back (bounded by the key)"}
     from ..data import values
     c0 = float(values(data)["engine"]["crankshaft"]["damper_viscous_damping_Nms_per_rad"])
-    for s, f in DAMPER_STATES.items():
-        assumptions["damper_states"][s]["damping_Nms_per_rad"] = c0 * f
+    for s in states:
+        assumptions["damper_states"][s]["damping_Nms_per_rad"] = c0 * DAMPER_STATES[s]
     return {"envelopes": envelopes, "probabilities": probabilities, "summary": summary, "assumptions": assumptions}
 
 
