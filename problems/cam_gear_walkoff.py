@@ -464,13 +464,38 @@ def write_failure(out: Path, failure: dict) -> tuple[list[str], dict]:
              f"(peak utilisation {spur['max_slip_utilisation']:.2f}) cannot creep, walk-off probability "
              f"{spur['walk_off_probability']:.2%}.", "",
              "The crank gear: " + _crank_sentence(failure["summary"]), "",
-             to_markdown(table), "", "### Cam joint map: peak slip utilisation / axial creep [um per cycle]", "",
+             to_markdown(table), "", f"![creep map]({plot_failure_map(out, envelope).relative_to(out)})", "",
+             "### Cam joint map: peak slip utilisation / axial creep [um per cycle]", "",
              "Columns: fit cases (and 0.5, 0.75 x the weakest fit's capacity, below the tolerance range); the "
              "envelope CSV has every capacity level and the crank joint.", "", to_markdown(cam_map), ""]
     result = {train: {joint: {k: v for k, v in r.items() if k != "drivers"} | {"drivers": r["drivers"]}
                       for joint, r in joints.items()} for train, joints in failure["summary"].items()}
     result["assumptions"] = a
     return lines, json.loads(json.dumps(result, default=float).replace("NaN", "null"))
+
+
+def plot_failure_map(out: Path, envelope: pd.DataFrame) -> Path:
+    """Cam and crank joints: axial creep per cycle against the fit's capacity, one line per speed and damper
+    state, helical (solid) and spur (dashed); the weakest..strongest toleranced range shaded."""
+    import matplotlib.pyplot as plt
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4), layout="constrained")
+    for ax, joint in zip(axes, ("cam", "crank")):
+        rows = envelope[(envelope["joint"] == joint) & envelope["train"].isin(["helical", "spur"])]
+        if rows.empty:
+            continue
+        tol = rows[rows["fit_case"].isin(["weakest", "strongest"])]["capacity_N"]
+        ax.axvspan(tol.min() * 1e-3, tol.max() * 1e-3, color="0.9", label="toleranced fits")
+        for (train, speed, state), g in rows.groupby(["train", "speed_rpm", "damper_state"]):
+            g = g.sort_values("capacity_N")
+            ax.plot(g["capacity_N"] * 1e-3, g["axial_creep_um_per_cycle"].clip(lower=0.0),
+                    "-" if train == "helical" else "--", marker=".",
+                    label=f"{train} {speed:g} rpm {state}")
+        ax.set_xscale("log")
+        ax.set_xlabel("friction capacity C [kN]")
+        ax.set_ylabel("axial creep off the nose [um per engine cycle]")
+        ax.set_title(f"{joint} gear")
+    axes[0].legend(fontsize=6, ncol=2)
+    return figs.save(fig, out / "figures" / "failure_reproduction_creep_map.png")
 
 
 def _crank_sentence(summary: dict) -> str:

@@ -55,6 +55,8 @@ def test_steady_sliding_under_constant_force_matches_closed_form():
     v = 1.0 * (mag / 10000.0 - 1.0)
     s = res.summary.loc["j"]
     assert res.frames["thrust_N"]["j"].to_numpy() == pytest.approx(d_a, rel=1e-6)
+    # the gear's equilibrium: mesh torque - J alpha = the load on the gear (absolute sense: the gear turns -)
+    assert res.frames["joint_torque_Nm"]["j"].to_numpy() == pytest.approx(-T, rel=1e-6)
     assert s["slip_um_per_cycle"] == pytest.approx(v * d_t / mag * CYCLE_S * 1e6, rel=1e-4)
     assert s["axial_creep_um_per_cycle"] == pytest.approx(v * d_a / mag * CYCLE_S * 1e6, rel=1e-4)
     assert s["max_rigid_utilisation"] == pytest.approx(mag / 10000.0, rel=1e-6)
