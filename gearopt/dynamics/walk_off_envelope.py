@@ -147,11 +147,16 @@ def model_joints(model, joint: str, levels: int = 1, *, thrust_scale: float = 1.
             for i in range(levels)]
 
 
-def damper_coefficient(data: dict, state: str) -> float:
-    """Viscous coefficient [N m s/rad] of the crankshaft damper in ``state`` (:data:`DAMPER_STATES`)."""
+def damper_coefficient(data: dict, state) -> float:
+    """Viscous coefficient [N m s/rad] of the crankshaft damper in ``state``: a name of :data:`DAMPER_STATES` or a
+    coefficient [N m s/rad] (>= 0; e.g. from the fluid's viscosity at its temperature)."""
     from ..data import values
+    if isinstance(state, (int, float)) and not isinstance(state, bool):
+        check_range("damper coefficient", state, 0.0, None, unit="N m s/rad")
+        return float(state)
     if state not in DAMPER_STATES:
-        raise GearoptInputError(f"damper state={state!r} must be one of {sorted(DAMPER_STATES)}")
+        raise GearoptInputError(f"damper state={state!r} must be one of {sorted(DAMPER_STATES)} or a coefficient "
+                                f"[N m s/rad] >= 0")
     return float(values(data)["engine"]["crankshaft"]["damper_viscous_damping_Nms_per_rad"]) * DAMPER_STATES[state]
 
 
@@ -185,8 +190,8 @@ def joint_envelope(model, joints=("cam", "crank"), speeds_rpm=None, damper_state
     """Slip utilisation and axial creep of the friction joints of ``model`` over speeds x damper states x fit
     capacities.
 
-    ``speeds_rpm`` (default :func:`envelope_speeds_rpm`), ``damper_states`` (names of :data:`DAMPER_STATES`,
-    default all), ``levels`` capacities per joint from the weakest to the strongest fit case
+    ``speeds_rpm`` (default :func:`envelope_speeds_rpm`), ``damper_states`` (names of :data:`DAMPER_STATES` or
+    coefficients [N m s/rad]; default all names), ``levels`` capacities per joint from the weakest to the strongest fit case
     (:func:`capacity_levels_N`; with ``levels`` >= 3 the nominal case replaces the nearest interior level) plus
     :data:`BELOW_TOLERANCE_FRACTIONS` of the weakest (``fit_case`` ``"0.5x_weakest"`` ...), ``cycles`` recorded
     after ``run_in_cycles``,

@@ -40,6 +40,9 @@ def test_fit_capacity_matches_the_data_files_calculation():
         fit_capacity_N(DATA, "cam", friction_coefficient=-0.1)
     with pytest.raises(GearoptInputError, match="state"):
         damper_coefficient(DATA, "leaking")
+    with pytest.raises(GearoptInputError, match="damper coefficient"):
+        damper_coefficient(DATA, -5.0)
+    assert damper_coefficient(DATA, "degraded") == pytest.approx(0.1 * damper_coefficient(DATA, "nominal"))
 
 
 def synthetic_envelope(creep_um_per_cycle=0.01, speed=3300.0):
