@@ -75,3 +75,26 @@ def test_no_creep_no_walk_off_and_bad_input():
     with pytest.raises(GearoptInputError, match="joint"):
         walk_off_probability(synthetic_envelope(), DATA, "crank")
     assert np.isfinite(res["median_distance_mm"])
+
+
+def test_joint_demand_on_the_default_model_matches_walk_off_and_the_shaft_torque():
+    # independent code paths: the element's thrust against gearopt.joints.walk_off on the simulated mesh torques,
+    # and its joint torque (mesh torques - J alpha) against the network's own cam-shaft torque output
+    from gearopt.dynamics import default_timing_model
+    from gearopt.dynamics.joint_friction import JointSimulator
+    from gearopt.dynamics.walk_off_envelope import model_joints
+    model = default_timing_model("helical")
+    speed = 1500.0
+    p = model.parameters_at(speed)
+    cam = model_joints(model, "cam")
+    res = JointSimulator(model.network, cam, lash=False, output_step_deg=5.0).run(speed, 1, parameters=p,
+                                                                                  run_in_cycles=0)
+    sim = model.simulate(speed, cycles=1, backlash=False, run_in_cycles=0, output_step_deg=5.0, jit=False)
+    torques = {m: sim.mesh_force_N[m].to_numpy() * sim.mesh_base_radii_mm[m][0] * 1e-3
+               for m in sim.mesh_force_N.columns}
+    axial = walk_off(model.train, torques).axial_force_N["cam"]
+    thrust = res.frames["thrust_N"]["cam#0"].to_numpy()
+    assert np.max(np.abs(thrust - axial)) < 1e-3 * np.max(np.abs(axial))
+    shaft = sim.shaft_torque_Nm["cam-cam_station_1"].to_numpy()  # cam turns against the crank: own sense = -abs
+    joint_torque = res.frames["joint_torque_Nm"]["cam#0"].to_numpy()
+    assert np.max(np.abs(-joint_torque - shaft)) < 1e-3 * np.max(np.abs(shaft))
