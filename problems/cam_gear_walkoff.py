@@ -457,8 +457,8 @@ def write_failure(out: Path, failure: dict) -> tuple[list[str], dict]:
              "The press-fitted, keyed gears as friction elements in the torsional model (regularised Coulomb slip "
              "with a combined torque/axial capacity, the key as a stop on the relative rotation, the shaft shoulder "
              "as a one-sided axial stop; one-way coupled). Assumptions: speeds "
-             + ", ".join(f"{k} {v['speed_rpm']:g} rpm" for k, v in a["speeds_rpm"].items())
-             + f" (overspeed: {a['speeds_rpm'].get('motoring_overspeed', {}).get('source', '')}); damper states "
+             + "; ".join(f"{k} {v['speed_rpm']:g} rpm ({v['source']})" for k, v in a["speeds_rpm"].items())
+             + " -- the governor limits fuel up to high idle, not a vehicle motoring the engine faster; damper states "
              + ", ".join(f"{k} {v['damping_Nms_per_rad']:g} N m s/rad" for k, v in a["damper_states"].items())
              + f" ({a['damper_source']}); fit cases: {a['fit_cases']}; walk-off distance {a['distance_mm']:g} mm "
              f"in {a['period_months']:g} months ({a['distance_source']}); exposure {a['exposure_source']}; damper "

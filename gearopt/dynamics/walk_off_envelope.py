@@ -163,10 +163,10 @@ def damper_coefficient(data: dict, state) -> float:
 def envelope_speeds_rpm(data: dict) -> dict:
     """Speeds of the envelope [rpm] with their sources (module docstring)."""
     from ..data import values
-    e = values(data)["engine"]
-    return {"rated": (float(e["rated_speed_rpm"]), e.get("rated_speed_rpm_source", "")),
-            "high_idle": (float(e["high_idle_speed_rpm"]), e.get("high_idle_speed_rpm_source", "")),
-            "overspeed_test": (float(e["overspeed_test_speed_rpm"]), e.get("overspeed_test_speed_rpm_source", "")),
+    e, raw = values(data)["engine"], data.get("engine", {})
+    return {"rated": (float(e["rated_speed_rpm"]), raw.get("rated_speed_rpm_source", "")),
+            "high_idle": (float(e["high_idle_speed_rpm"]), raw.get("high_idle_speed_rpm_source", "")),
+            "overspeed_test": (float(e["overspeed_test_speed_rpm"]), raw.get("overspeed_test_speed_rpm_source", "")),
             "motoring_overspeed": (ENVELOPE_EXTRA_SPEED_RPM, ENVELOPE_EXTRA_SPEED_SOURCE)}
 
 
