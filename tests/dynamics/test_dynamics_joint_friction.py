@@ -112,7 +112,7 @@ def test_spur_mesh_slips_without_axial_creep():
 
 def test_regularisation_converges():
     # ratchet creep as the slip law approaches rate-independent Coulomb (V -> inf); tight rtol so that the
-    # integration error stays below the regularisation error (at rtol 1e-6 the default V = 1 m/s is within 0.2 %)
+    # integration error stays below the regularisation error (at rtol 1e-6, V = 1 m/s is within 0.2 % here)
     creep = []
     for v in (0.3, 1.0, 3.0, 10.0):
         res = run(gear_on_shaft(20.0, 100.0, 250.0), joint(1.0, key=10.0, slip_speed=v), cycles=2, run_in=1,
