@@ -464,7 +464,9 @@ def write_failure(out: Path, failure: dict) -> tuple[list[str], dict]:
              f"in {a['period_months']:g} months ({a['distance_source']}); exposure {a['exposure_source']}; damper "
              f"state probabilities {a['damper_state_probabilities']} ({a['damper_probability_source']}); "
              f"{a['recorded_cycles']} recorded cycles after {a['run_in_cycles']} run-in per point (the lash model "
-             "rattles at overspeed: peaks vary from cycle to cycle).", "",
+             "rattles at overspeed: peaks vary from cycle to cycle); slip regularisation "
+             f"V = {a['joint_data']['slip_speed_m_s']:g} m/s (creep about 20 % below the rate-independent limit of a "
+             "massless hub, whose inertia would in turn slow the slip in short impacts).", "",
              f"**Verdict.** {verdict} The spur train has no thrust: its cam joint "
              f"(peak utilisation {spur['max_slip_utilisation']:.2f}) cannot creep, walk-off probability "
              f"{spur['walk_off_probability']:.2%}. A retained helical cam gear (retainer plate and bolt, dropped in "
