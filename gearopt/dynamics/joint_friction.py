@@ -269,7 +269,8 @@ class JointSimulation:
     summary ``summary`` (DataFrame): ``max_rigid_utilisation`` (peak combined demand with the gear stuck and the
     key unloaded, |(T/r, F_thrust)|/C), ``max_utilisation`` (peak |D|/C of the element), ``slip_um_per_cycle``
     (total circumferential slip path per cycle), ``axial_creep_um_per_cycle`` (change of the axial position over
-    the recorded cycles per cycle, + off the nose), ``axial_position_um`` at the end, ``max_key_force_N``,
+    the recorded cycles per cycle, + off the nose), ``axial_creep_um_cycle_std`` (its standard deviation from cycle
+    to cycle; 0 for one cycle), ``max_cycle_axial_creep_um`` (largest single cycle), ``axial_position_um`` at the end, ``max_key_force_N``,
     ``max_off_nose_thrust_N``; ``speed_rpm``, ``cycles``, ``run_in_cycles``, ``stats``."""
 
     speed_rpm: float
@@ -417,11 +418,15 @@ class JointSimulator:
         for i, j in enumerate(self.joints):
             ut = np.concatenate([[starts[0][n_net + 2 * i]], frames["slip_um"][j.name].to_numpy()])
             ua_start, ua_end = starts[0][n_net + 2 * i + 1], x[n_net + 2 * i + 1]
+            ua = np.array([st[n_net + 2 * i + 1] for st in starts] + [ua_end])
+            per_cycle = np.diff(ua)
             rows.append({"joint": j.name,
                          "max_rigid_utilisation": float(frames["rigid_utilisation"][j.name].max()),
                          "max_utilisation": float(frames["utilisation"][j.name].max()),
                          "slip_um_per_cycle": float(np.sum(np.abs(np.diff(ut)))) / cycles,
                          "axial_creep_um_per_cycle": float(ua_end - ua_start) / cycles,
+                         "axial_creep_um_cycle_std": float(np.std(per_cycle, ddof=1)) if cycles > 1 else 0.0,
+                         "max_cycle_axial_creep_um": float(per_cycle.max()),
                          "axial_position_um": float(ua_end),
                          "max_key_force_N": float(frames["key_force_N"][j.name].abs().max()),
                          "max_off_nose_thrust_N": float(frames["thrust_N"][j.name].max())})
