@@ -24,7 +24,11 @@ import pandas as pd
 
 from gearopt.data import load_default_data
 from gearopt.dynamics import default_timing_model
-from gearopt.dynamics.walk_off_envelope import DAMPER_STATES, ENVELOPE_EXTRA_SPEED_RPM, joint_envelope
+from gearopt.dynamics.walk_off_envelope import (
+    DAMPER_STATES,
+    ENVELOPE_EXTRA_SPEED_RPM,
+    joint_envelope,
+)
 from gearopt.report import to_markdown, write_table
 from gearopt.studies.failure import CREEP_NOISE_UM, WALK_OFF_DISTANCE_MM
 
