@@ -74,9 +74,9 @@ def main(argv: list[str] | None = None) -> int:
             "minutes_to_walk_distance"]
     shown = df[df["fit_case"] != ""][cols]
     lines = [f"# Friction-joint creep at {args.speed:g} rpm over {cycles} engine cycles", "",
-             f"Helical vs spur timing train, damper states {', '.join(states)}; creep + off the shaft nose; "
+             (f"Helical vs spur timing train, damper states {', '.join(states)}; creep + off the shaft nose; "
              f"minutes to walk {WALK_OFF_DISTANCE_MM:g} mm at the mean creep. Run time "
-             f"{time.perf_counter() - t0:.1f} s.", "", to_markdown(shown.replace({np.inf: "inf"})), ""]
+             f"{time.perf_counter() - t0:.1f} s."), "", to_markdown(shown.replace({np.inf: "inf"})), ""]
     (args.out / "report.md").write_text("\n".join(lines) + "\n")
     summary = {}
     for (train, joint), g in shown.groupby(["train", "joint"]):
