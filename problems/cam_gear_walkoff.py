@@ -447,9 +447,17 @@ def write_failure(out: Path, failure: dict) -> tuple[list[str], dict]:
                    f"slip utilisation {cam['max_slip_utilisation']:.2f} at the weakest fit "
                    f"({cam['max_slip_utilisation_nominal_fit']:.2f} at the nominal fit), no ratchet (probability "
                    f"{cam['walk_off_probability']:.3%}; field {a['field_rate']:.3%}).")
-    verdict += (" (The lash model rattles at overspeed: the cam joint's peak demand at the weakest fit, 3300 rpm, "
-                "degraded damper, came out between 1.03 and 1.28 of its capacity over runs of one to three cycles "
-                "during development, so a utilisation near 1 sits at the edge of slip.)")
+    helical_cam = envelope[(envelope["train"] == "helical") & (envelope["joint"] == "cam")
+                           & ~envelope["fit_case"].str.endswith("x_weakest")]
+    worst = helical_cam.loc[helical_cam["axial_creep_um_per_cycle"].idxmax()]
+    verdict += (f" (The lash model rattles at overspeed, so demand and creep vary from cycle to cycle: at the "
+                f"largest creep, {worst['speed_rpm']:g} rpm, {worst['damper_state']} damper, {worst['fit_case']} "
+                + (f"fit, the creep of single cycles ranged up to {worst['max_cycle_axial_creep_um']:.3g} um with a "
+                   f"standard deviation of {worst['axial_creep_um_cycle_std']:.2g} um over {a['recorded_cycles']} "
+                   f"cycles" if a["recorded_cycles"] > 1 else "fit, one recorded cycle (quick mode)")
+                + "; whole re-runs of this stage "
+                "during development gave cam walk-off probabilities from 0 to 0.07 %. A utilisation near 1 is at the "
+                "edge of slip; `problems/failure_reproduction.py` runs longer statistics.)")
     verdict += (f" The mechanism is there: below the tolerance range ({below}) the gear ratchets off at overspeed. "
                 "Data that would change the verdict: the real cam fit (interference after fretting wear, friction "
                 "coefficient), the damper's state at overspeed, and measured overspeed exposure.")
