@@ -16,6 +16,9 @@ CSV tables, ``report.md`` and ``result.json`` (headline numbers with units). Sta
 5. joints: shaft-hub joint capacities, torque and walk-off margins (nominal and weakest fit), blanks, webs;
 6. dynamics: the torsional model of the timing train, helical vs spur, with and without backlash, at rated speed
    and overspeed (thesis Figs. 4.3-4.5), and the joints' torque and axial margins over a speed sweep.
+7. failure reproduction (reported first): the keyed press fits as friction elements in the torsional model over
+   speed up to overspeed, damper state and fit; the walk-off probability by Monte Carlo; helical vs spur and
+   helical alternatives.
 
 Usage: ``python problems/cam_gear_walkoff.py [--quick] [--out DIR]``.
 """
