@@ -169,3 +169,21 @@ def test_ppte_headlines_are_worst_over_the_range(run):
         # named, aggregated margins in their own units, not ~800 per-position entries
         assert set(entry["constraint_margins"]) <= {"contact_stress_MPa", "root_stress_1_MPa", "root_stress_2_MPa",
                                                     "loaded_contact_ratio", "flash_temperature_rise_K"}
+
+def test_failure_reproduction_per_train_and_joint(run):
+    # acceptance interface of issue 19: per train and joint the worst slip utilisation and axial creep over the
+    # swept speeds and damper states, the Monte Carlo probability, and the assumptions beside them
+    fr = json.loads((run / "result.json").read_text())["failure_reproduction"]
+    for train in ("helical", "spur"):
+        for joint in ("cam", "crank"):
+            entry = fr[train][joint]
+            assert entry["max_slip_utilisation"] > 0.0
+            assert 0.0 <= entry["walk_off_probability"] <= 1.0
+            assert "max_axial_creep_um_per_cycle" in entry
+    # the spur train has no thrust: whatever slips, nothing walks
+    assert fr["spur"]["cam"]["max_axial_creep_um_per_cycle"] == 0.0
+    assert fr["spur"]["cam"]["walk_off_probability"] == 0.0
+    a = fr["assumptions"]
+    assert a["distance_mm"] > 0 and a["period_months"] == 24.0
+    assert a["speeds_rpm"] and a["damper_states"] and a["exposure_source"]
+    assert "Failure reproduction" in (run / "report.md").read_text()

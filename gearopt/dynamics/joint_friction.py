@@ -1,0 +1,474 @@
+"""Shaft-hub joint as a friction element in the torsional dynamics: slip, key stop, shoulder stop and axial creep.
+
+A gear press fitted on its shaft (with a key, thesis sec. 3.11/4.7.1) has two slip coordinates of the hub on the
+seat: ``u_t`` [m], the circumferential slip at the fit surface (relative rotation ``u_t / r``), and ``u_a`` [m], the
+axial position of the gear measured from the shaft shoulder, positive *off the shaft nose* (+z of
+:mod:`gearopt.joints.walk_off`). Both are states of the integration.
+
+Demand. The interface must transmit the friction-force vector ``D = (D_t, D_a)`` [N]:
+
+* ``D_t = T_joint / r - F_key(u_t)``: the joint torque over the fit radius, minus what the key takes. ``T_joint``
+  [N m] is the gear's rotational equilibrium ``sum of its mesh torques - J_g alpha`` (the net mesh torque on the
+  gear minus its own inertia torque, alpha the acceleration of its network node), in the network's common sign
+  convention;
+* ``D_a = F_thrust + F_shoulder(u_a)``: the helical meshes' axial force on the gear (+ off the nose; the sign of
+  each mesh from the train's hands and rotation senses) plus the shoulder's reaction.
+
+Key: a stop on ``u_t`` with clearance ``c`` per side (arc at the fit radius) and stiffness ``k_key`` [N/m],
+``F_key = k_key (max(u_t - c, 0) - max(-u_t - c, 0))``. Shoulder: a one-sided stop at ``u_a = 0``,
+``F_shoulder = k_sh max(-u_a, 0)``, so only thrust off the nose can move the gear away from it. Both are exact
+piecewise-linear springs (Lipschitz, like the slip law's ``<.>_+``; CVODES' error control finds the kinks): a
+smoothed stop would leave a small force at rest that, with the hub slipping round, walks the gear by itself.
+
+Friction (regularised Coulomb with a combined capacity, viscoplastic form)::
+
+    du/dt = V <|D|/C - 1>_+ * D / |D|        (|D| = sqrt(D_t^2 + D_a^2))
+
+``C`` [N] the friction capacity ``mu p pi d l`` (:func:`gearopt.joints.press_fit`), shared by torque and axial force
+(the capacity circle). Inside the circle (stick) the slip rate is exactly zero -- no creep below capacity; outside
+it the hub slips along the demand direction, with the relative overstress ``|D|/C - 1 = |v|/V`` that the slip
+speed needs. As the regularisation speed ``V`` [m/s] grows this converges to rate-independent Coulomb slip (tested),
+in which the
+hub slips just fast enough to keep the demand on the circle. The axial creep accompanying a circumferential slip
+``du_t`` is ``du_a = (D_a / |D_t|) |du_t|``: its sign follows the thrust's, whichever way the hub slips round. With
+the key engaged, part of the torque goes into the key, the circumferential friction stays saturated and every
+torque swing that slips the hub (forward against the key and back on the key's spring-back) lets the thrust drive
+the gear along the shaft: ratcheting ("walk-out"). A spur mesh gives ``D_a = 0`` and no axial creep.
+
+Coupling (approximation, stated): one-way. The slip states are driven by the network's mesh forces and node
+accelerations but do not feed back into the torsional model (the gear stays lumped in its node): the relative
+rotation is bounded by the key clearance (about 1 mrad) and the friction dissipated by slip would only damp the
+vibration, so the one-way coupling over-estimates rather than hides the slip. The hub's own inertia in the slip
+directions is replaced by the viscoplastic regularisation ``V`` (its slip speed follows the overstress). Under
+slowly varying loads the result converges quickly in ``V`` (tested); under short impacts (a rattling mesh) the slip
+of each impact grows with ``V`` towards the key-bounded limit of a massless hub, and the hub's inertia would hold it
+back: there ``V`` is a stated modelling choice with a measured sensitivity
+(:data:`gearopt.dynamics.walk_off_envelope.JOINT_FRICTION_DATA`).
+
+Several joints, and several copies of one joint with different capacities, can ride on one network integration
+(they do not interact): one run gives the creep of a whole range of fits.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass
+
+import casadi as ca
+import numpy as np
+import pandas as pd
+
+from .. import numerics as nm
+from ..errors import GearoptInputError, SolveError
+from ..validation import check_range
+from .network import OFFSET_PARAMETER, SPEED_PARAMETER, TorsionalNetwork
+
+#: Slip states are integrated in micrometres (creep per cycle is of order 0.01-10 um).
+SLIP_UNIT_M = 1e-6
+#: Floor of |D| [N] in the slip direction D/|D| (keeps the direction finite at zero demand; no effect on slip,
+#: which needs |D| > C > 0).
+DEMAND_FLOOR_N = 1e-3
+#: Names of the per-joint integration parameters (prefixed ``<joint>.``).
+JOINT_PARAMETERS = ("capacity_N", "key_clearance_um", "slip_speed_m_s", "thrust_scale")
+#: Per-joint outputs (``joint_outputs`` frames).
+JOINT_OUTPUTS = ("joint_torque_Nm", "thrust_N", "demand_tangential_N", "demand_axial_N", "rigid_utilisation",
+                 "utilisation", "key_force_N", "shoulder_force_N", "slip_um", "axial_position_um",
+                 "slip_speed_m_s")
+
+
+class JointIntegrationError(SolveError):
+    """The integration of a network with friction joints could not hold its tolerance through stick-slip (or ran
+    out of its step budget); ``status`` holds the integrator's message."""
+
+    def __init__(self, message: str, *, status: str = "", hint: str = ""):
+        super().__init__(message, hint=hint)
+        self.status = status
+
+
+@dataclass(frozen=True)
+class FrictionJoint:
+    """A press-fitted gear on its shaft as a friction element (module docstring).
+
+    ``name``; ``gear_node`` the network node carrying the gear; ``fit_diameter_mm`` d; ``capacity_N`` friction
+    capacity C = mu p pi d l (default of the integration parameter ``<name>.capacity_N``); ``thrust_signs``
+    ((mesh, sign), ...): off-nose axial force on the gear = sum sign x the mesh's axial force output (0 for a spur
+    mesh); ``gear_inertia_kgm2`` J_g of the gear (its inertia torque is taken out of the mesh-torque sum; the whole
+    node's inertia when the gear is its own node); ``key_clearance_um`` c per side (arc at the fit radius; None = no
+    key); ``key_stiffness_N_per_m``; ``shoulder_stiffness_N_per_m``; ``slip_speed_m_s`` V (the
+    regularisation: slip speed at 100 % overstress); ``thrust_scale`` multiplies the thrust (1; e.g.
+    the ratio of tan(beta) of a lower helix angle, an approximation that keeps the dynamics of the present train).
+    """
+
+    name: str
+    gear_node: str
+    fit_diameter_mm: float
+    capacity_N: float
+    thrust_signs: tuple
+    gear_inertia_kgm2: float
+    key_clearance_um: float | None = 10.0
+    key_stiffness_N_per_m: float = 1.0e9
+    shoulder_stiffness_N_per_m: float = 5.0e9
+    slip_speed_m_s: float = 10.0
+    thrust_scale: float = 1.0
+
+    def __post_init__(self):
+        if not isinstance(self.name, str) or not self.name:
+            raise GearoptInputError(f"joint name={self.name!r} must be a non-empty string")
+        check_range(f"fit_diameter_mm of {self.name!r}", self.fit_diameter_mm, 0.0, None, low_inclusive=False,
+                    unit="mm")
+        check_range(f"capacity_N of {self.name!r}", self.capacity_N, 0.0, None, low_inclusive=False, unit="N")
+        check_range(f"gear_inertia_kgm2 of {self.name!r}", self.gear_inertia_kgm2, 0.0, None, unit="kg m^2")
+        if self.key_clearance_um is not None:
+            check_range(f"key_clearance_um of {self.name!r}", self.key_clearance_um, 0.0, None, unit="um")
+        check_range(f"key_stiffness_N_per_m of {self.name!r}", self.key_stiffness_N_per_m, 0.0, None,
+                    low_inclusive=False, unit="N/m")
+        check_range(f"shoulder_stiffness_N_per_m of {self.name!r}", self.shoulder_stiffness_N_per_m, 0.0, None,
+                    low_inclusive=False, unit="N/m")
+        check_range(f"slip_speed_m_s of {self.name!r}", self.slip_speed_m_s, 0.0, None,
+                    low_inclusive=False, unit="m/s")
+        check_range(f"thrust_scale of {self.name!r}", self.thrust_scale, 0.0, None, unit="-")
+        for mesh, sign in self.thrust_signs:
+            if sign not in (-1.0, 0.0, 1.0, -1, 0, 1):
+                raise GearoptInputError(f"thrust sign of mesh {mesh!r} in joint {self.name!r} is {sign!r}; must be "
+                                        f"-1, 0 or +1")
+
+    def parameters(self) -> dict[str, float]:
+        """Default values of the joint's integration parameters (names ``<joint>.<key>``)."""
+        return {f"{self.name}.capacity_N": float(self.capacity_N),
+                f"{self.name}.key_clearance_um": float(self.key_clearance_um or 0.0),
+                f"{self.name}.slip_speed_m_s": float(self.slip_speed_m_s),
+                f"{self.name}.thrust_scale": float(self.thrust_scale)}
+
+
+# ----------------------------------------------------------------------------------------------------------------
+# element laws (dual-typed)
+# ----------------------------------------------------------------------------------------------------------------
+
+def slip_rates_m_s(demand_tangential_N, demand_axial_N, capacity_N, slip_speed_m_s):
+    """Viscoplastic Coulomb slip velocity (v_t, v_a) [m/s]: ``V <|D|/C - 1>_+`` along ``D/|D|`` (module
+    docstring; ``V`` = ``slip_speed_m_s``, the slip speed at 100 % overstress). Exactly zero inside the capacity
+    circle."""
+    mag = nm.sqrt(demand_tangential_N ** 2 + demand_axial_N ** 2 + DEMAND_FLOOR_N ** 2)
+    speed = slip_speed_m_s * nm.fmax(mag / capacity_N - 1.0, 0.0)
+    return speed * demand_tangential_N / mag, speed * demand_axial_N / mag
+
+
+def key_force_N(slip_m, clearance_m, stiffness_N_per_m):
+    """Force of the key on the hub against its circumferential slip [N] (+ when ``slip > c``): a symmetric dead
+    zone of half-width ``c``, linear beyond."""
+    return stiffness_N_per_m * (nm.fmax(slip_m - clearance_m, 0.0) - nm.fmax(-slip_m - clearance_m, 0.0))
+
+
+def shoulder_force_N(axial_position_m, stiffness_N_per_m):
+    """Reaction of the shaft shoulder on the gear [N] (+ = off the nose): one-sided, acts only at ``u_a < 0``."""
+    return stiffness_N_per_m * nm.fmax(-axial_position_m, 0.0)
+
+
+def joint_demand(joint: FrictionJoint, joint_torque_Nm, thrust_N, slip_m, axial_position_m, key_clearance_m):
+    """Friction demand (D_t, D_a) [N], key and shoulder forces [N] of ``joint`` at its slip state (dual-typed)."""
+    r = 0.5e-3 * joint.fit_diameter_mm
+    if joint.key_clearance_um is None:
+        f_key = 0.0 * slip_m
+    else:
+        f_key = key_force_N(slip_m, key_clearance_m, joint.key_stiffness_N_per_m)
+    f_sh = shoulder_force_N(axial_position_m, joint.shoulder_stiffness_N_per_m)
+    return joint_torque_Nm / r - f_key, thrust_N + f_sh, f_key, f_sh
+
+
+# ----------------------------------------------------------------------------------------------------------------
+# augmented equations and integration
+# ----------------------------------------------------------------------------------------------------------------
+
+def _sign(v: float) -> float:
+    return 1.0 if v >= 0.0 else -1.0
+
+
+@dataclass
+class JointEquations:
+    """Network equations augmented by the slip states (u_t, u_a in um per joint, after the network's states)."""
+
+    x: ca.SX
+    p: ca.SX
+    tau: ca.SX
+    rhs: ca.SX
+    outputs: ca.SX
+    parameter_names: list
+    output_names: list
+    n_network: int
+
+
+def joint_equations(network: TorsionalNetwork, joints, lash: bool = True) -> JointEquations:
+    """Build the augmented equations (cached on the network per joint set and lash option)."""
+    joints = tuple(joints)
+    key = ("joint_equations", bool(lash), joints)
+    if key in network._cache:
+        return network._cache[key]
+    names = [j.name for j in joints]
+    if len(set(names)) != len(names):
+        raise GearoptInputError(f"joint names {names} must be unique")
+    eq = network.equations(lash=lash)
+    ratios = network.speed_ratios()
+    free = eq.free_nodes
+    n = len(free)
+    par = {k: eq.p[i] for i, k in enumerate(eq.parameter_names)}
+    omega = par[SPEED_PARAMETER]
+    out_index = {name: i for i, name in enumerate(eq.output_names)}
+    acc = eq.rhs[n:] * omega
+    extra_names = [f"{j.name}.{k}" for j in joints for k in JOINT_PARAMETERS]
+    p_joint = ca.SX.sym("p_joint", len(extra_names))
+    u = ca.SX.sym("u", 2 * len(joints))
+    rates, outputs, out_names = [], [], []
+    for i, j in enumerate(joints):
+        if j.gear_node not in network.inertias:
+            raise GearoptInputError(f"joint {j.name!r}: gear_node={j.gear_node!r} is not a network node")
+        if j.gear_node in network.boundary_nodes:
+            raise GearoptInputError(f"joint {j.name!r}: gear_node={j.gear_node!r} is a speed boundary")
+        capacity, clearance_um, v_reg, scale = (p_joint[4 * i + k] for k in range(4))
+        torque = 0.0
+        thrust = 0.0
+        signs = dict(j.thrust_signs)
+        for m in network.meshes.values():
+            if j.gear_node not in (m.gear_1, m.gear_2):
+                continue
+            s1 = _sign(ratios[m.gear_1])
+            r_gear = (m.base_radii_mm[0] if m.gear_1 == j.gear_node else m.base_radii_mm[1]) * 1e-3
+            force = eq.outputs[out_index[("mesh_force_N", m.name)]]
+            torque = torque - force * s1 * r_gear
+            thrust = thrust + float(signs.get(m.name, 0.0)) * eq.outputs[out_index[("axial_force_N", m.name)]]
+        unknown = set(signs) - {m.name for m in network.meshes.values()
+                                if j.gear_node in (m.gear_1, m.gear_2)}
+        if unknown:
+            raise GearoptInputError(f"joint {j.name!r}: thrust_signs name meshes {sorted(unknown)} that do not "
+                                    f"touch node {j.gear_node!r}")
+        torque = torque - j.gear_inertia_kgm2 * acc[free.index(j.gear_node)]
+        thrust = scale * thrust
+        slip, axial = u[2 * i] * SLIP_UNIT_M, u[2 * i + 1] * SLIP_UNIT_M
+        d_t, d_a, f_key, f_sh = joint_demand(j, torque, thrust, slip, axial, clearance_um * 1e-6)
+        v_t, v_a = slip_rates_m_s(d_t, d_a, capacity, v_reg)
+        rates += [v_t / SLIP_UNIT_M / omega, v_a / SLIP_UNIT_M / omega]
+        r = 0.5e-3 * j.fit_diameter_mm
+        rigid = nm.sqrt((torque / r) ** 2 + thrust ** 2) / capacity
+        util = nm.sqrt(d_t ** 2 + d_a ** 2) / capacity
+        outputs += [torque, thrust, d_t, d_a, rigid, util, f_key, f_sh, u[2 * i], u[2 * i + 1],
+                    nm.sqrt(v_t ** 2 + v_a ** 2)]
+        out_names += [(q, j.name) for q in JOINT_OUTPUTS]
+    # the network's own equations do not depend on the joint states (one-way coupling)
+    result = JointEquations(x=ca.vertcat(eq.x, u), p=ca.vertcat(eq.p, p_joint), tau=eq.tau,
+                            rhs=ca.vertcat(eq.rhs, *rates), outputs=ca.vertcat(*outputs),
+                            parameter_names=list(eq.parameter_names) + extra_names, output_names=out_names,
+                            n_network=int(eq.x.numel()))
+    network._cache[key] = result
+    return result
+
+
+@dataclass
+class JointSimulation:
+    """Result of :meth:`JointSimulator.run`: per joint (columns) the outputs of ``JOINT_OUTPUTS`` over the recorded
+    cycles (``frames[quantity]``, index ``crank_angle_deg`` from the start of the recording), and per joint the
+    summary ``summary`` (DataFrame): ``max_rigid_utilisation`` (peak combined demand with the gear stuck and the
+    key unloaded, |(T/r, F_thrust)|/C), ``max_utilisation`` (peak |D|/C of the element), ``slip_um_per_cycle``
+    (total circumferential slip path per cycle), ``axial_creep_um_per_cycle`` (change of the axial position over
+    the recorded cycles per cycle, + off the nose), ``axial_creep_um_cycle_std`` (its standard deviation from cycle
+    to cycle; 0 for one cycle), ``max_cycle_axial_creep_um`` (largest single cycle), ``axial_position_um`` at the end, ``max_key_force_N``,
+    ``max_off_nose_thrust_N``; ``speed_rpm``, ``cycles``, ``run_in_cycles``, ``stats``."""
+
+    speed_rpm: float
+    cycles: int
+    run_in_cycles: int
+    crank_angle_deg: np.ndarray
+    frames: dict
+    summary: pd.DataFrame
+    final_state: np.ndarray
+    stats: dict
+
+
+class JointSimulator:
+    """One CasADi integrator (CVODES) over one excitation cycle for a network with friction joints.
+
+    ``network`` (:class:`~gearopt.dynamics.network.TorsionalNetwork`), ``joints`` (:class:`FrictionJoint` s),
+    ``lash``, ``rtol``/``atol`` (network states as in :class:`~gearopt.dynamics.simulate.Simulator`; the slip
+    states in um), ``output_step_deg``, ``max_step_deg`` (default: the network simulator's contact step limit at
+    ``min_speed_rpm``), ``max_num_steps`` per cycle (the step budget: beyond it a :class:`JointIntegrationError`),
+    ``jit`` (compile the equations with the C compiler).
+    """
+
+    def __init__(self, network: TorsionalNetwork, joints, *, lash: bool = True, rtol: float = 1e-6,
+                 atol: float | None = None, output_step_deg: float = 0.5, max_step_deg: float | None = None,
+                 min_speed_rpm: float = 700.0, max_num_steps: int = 2_000_000, jit: bool = False):
+        from .simulate import simulator
+        self.joints = tuple(joints)
+        if not self.joints:
+            raise GearoptInputError("joints must name at least one FrictionJoint")
+        check_range("rtol", rtol, 0.0, 1e-2, low_inclusive=False)
+        atol = 0.1 * rtol if atol is None else atol
+        check_range("atol", atol, 0.0, None, low_inclusive=False)
+        check_range("output_step_deg", output_step_deg, 0.0, None, low_inclusive=False, unit="deg")
+        check_range("max_num_steps", max_num_steps, 1, None)
+        n_out = network.cycle_deg / output_step_deg
+        if abs(n_out - round(n_out)) > 1e-9 * n_out:
+            raise GearoptInputError(f"output_step_deg={output_step_deg} must divide cycle_deg={network.cycle_deg}")
+        self.network = network
+        self.lash = bool(lash)
+        self.min_speed_rpm = float(min_speed_rpm)
+        self.base = simulator(network, lash=self.lash, rtol=rtol, min_speed_rpm=min_speed_rpm)
+        self.eq = joint_equations(network, self.joints, self.lash)
+        self.n_out = round(n_out)
+        self.cycle_rad = math.radians(network.cycle_deg)
+        self.grid_rad = np.radians(output_step_deg * np.arange(1, self.n_out + 1))
+        self.output_step_deg = float(output_step_deg)
+        self.max_step_deg = self.base.max_step_deg if max_step_deg is None else float(max_step_deg)
+        opts = {"reltol": float(rtol), "abstol": float(atol), "max_num_steps": int(max_num_steps)}
+        if self.max_step_deg is not None:
+            opts["max_step_size"] = math.radians(self.max_step_deg)
+        jit_opts = {"jit": True, "compiler": "shell", "jit_options": {"flags": ["-O2"], "verbose": False}}
+        if jit:
+            opts.update(jit_opts)
+        t0 = time.perf_counter()
+        ode = ca.Function("joint_ode", [self.eq.tau, self.eq.x, self.eq.p], [self.eq.rhs], {"cse": True})
+        dae = {"x": self.eq.x, "p": self.eq.p, "t": self.eq.tau, "ode": ode(self.eq.tau, self.eq.x, self.eq.p)}
+        self.integrator = ca.integrator("joint_cycle", "cvodes", dae, 0.0, self.grid_rad, opts)
+        fopts = dict({"cse": True}, **(jit_opts if jit else {}))
+        self.output_function = ca.Function("joint_outputs", [self.eq.tau, self.eq.x, self.eq.p], [self.eq.outputs],
+                                           fopts).map(self.n_out)
+        self.build_time_s = time.perf_counter() - t0
+        self.options = opts
+
+    def parameters(self) -> dict[str, float]:
+        """Default parameters: the network's and each joint's (``<joint>.capacity_N`` ...)."""
+        p = self.network.parameters()
+        for j in self.joints:
+            p.update(j.parameters())
+        return p
+
+    def parameter_vector(self, speed_rpm: float, parameters: dict | None = None) -> np.ndarray:
+        check_range("speed_rpm", speed_rpm, self.min_speed_rpm, None, unit="rpm")
+        parameters = dict(parameters or {})
+        net_names = set(self.network.parameters())
+        net_over = {k: v for k, v in parameters.items() if k in net_names}
+        joint_p = {}
+        for j in self.joints:
+            joint_p.update(j.parameters())
+        unknown = set(parameters) - net_names - set(joint_p)
+        if unknown:
+            raise GearoptInputError(f"unknown parameters {sorted(unknown)}; joint parameters: {sorted(joint_p)}")
+        for k, v in parameters.items():
+            if k in joint_p:
+                joint_p[k] = float(v)
+        for k, v in joint_p.items():
+            if k.endswith(".capacity_N"):
+                check_range(k, v, 0.0, None, low_inclusive=False, unit="N")
+            elif k.endswith(".slip_speed_m_s"):
+                check_range(k, v, 0.0, None, low_inclusive=False, unit="m/s")
+            else:
+                check_range(k, v, 0.0, None)
+        return np.concatenate([self.network.parameter_vector(speed_rpm, net_over),
+                               np.array([joint_p[f"{j.name}.{k}"] for j in self.joints for k in JOINT_PARAMETERS])])
+
+    def run(self, speed_rpm: float, cycles: int = 2, *, parameters: dict | None = None, run_in_cycles: int = 1,
+            x0=None) -> JointSimulation:
+        """Integrate ``run_in_cycles`` + ``cycles`` engine cycles at ``speed_rpm`` from the network's static state
+        (``x0`` to continue a run; slip states start at 0: gear centred in the key clearance, against the
+        shoulder) and summarise the recorded cycles. Raises :class:`JointIntegrationError` if CVODES cannot hold
+        its tolerance within its step budget."""
+        check_range("cycles", cycles, 1, None)
+        check_range("run_in_cycles", run_in_cycles, 0, None)
+        pvec = self.parameter_vector(speed_rpm, parameters)
+        n_net = self.eq.n_network
+        if x0 is None:
+            net_p = {k: v for k, v in (parameters or {}).items() if k in self.network.parameters()}
+            x = np.concatenate([self.base.static_state(speed_rpm, net_p), np.zeros(2 * len(self.joints))])
+        else:
+            x = np.asarray(x0, dtype=float).reshape(-1)
+            if x.size != self.eq.x.numel():
+                raise GearoptInputError(f"x0 has {x.size} entries, the joint network has {self.eq.x.numel()} states")
+        i_off = self.eq.parameter_names.index(OFFSET_PARAMETER)
+        t0 = time.perf_counter()
+        recorded, starts = [], []
+        for c in range(run_in_cycles + cycles):
+            p = pvec.copy()
+            p[i_off] = c * self.cycle_rad
+            if c >= run_in_cycles:
+                starts.append(x.copy())
+            try:
+                xs = np.array(self.integrator(x0=x, p=p)["xf"])
+            except RuntimeError as exc:
+                raise JointIntegrationError(
+                    f"friction-joint integration at {speed_rpm:g} rpm failed in cycle {c + 1}: CVODES could not "
+                    f"hold rtol {self.options['reltol']:g} within {self.options['max_num_steps']} steps through the "
+                    f"stick-slip transitions", status=str(exc).splitlines()[0][:300],
+                    hint="lower the slip regularisation speed slip_speed_m_s (a less stiff slip law) "
+                         "or raise max_num_steps") from exc
+            if not np.all(np.isfinite(xs)):
+                raise JointIntegrationError(f"friction-joint integration at {speed_rpm:g} rpm diverged in cycle "
+                                            f"{c + 1} (non-finite state)", status="non-finite")
+            if c >= run_in_cycles:
+                recorded.append((xs, p))
+            x = xs[:, -1]
+        outs = np.concatenate([np.array(self.output_function(self.grid_rad[None, :], xs,
+                                                             np.repeat(p[:, None], self.n_out, 1)))
+                               for xs, p in recorded], axis=1)
+        angle = np.concatenate([c * self.cycle_rad + self.grid_rad for c in range(cycles)])
+        index = pd.Index(np.degrees(angle), name="crank_angle_deg")
+        frames = {q: {} for q in JOINT_OUTPUTS}
+        for i, (q, name) in enumerate(self.eq.output_names):
+            frames[q][name] = outs[i]
+        frames = {q: pd.DataFrame(v, index=index) for q, v in frames.items()}
+        rows = []
+        for i, j in enumerate(self.joints):
+            ut = np.concatenate([[starts[0][n_net + 2 * i]], frames["slip_um"][j.name].to_numpy()])
+            ua_start, ua_end = starts[0][n_net + 2 * i + 1], x[n_net + 2 * i + 1]
+            ua = np.array([st[n_net + 2 * i + 1] for st in starts] + [ua_end])
+            per_cycle = np.diff(ua)
+            rows.append({"joint": j.name,
+                         "max_rigid_utilisation": float(frames["rigid_utilisation"][j.name].max()),
+                         "max_utilisation": float(frames["utilisation"][j.name].max()),
+                         "slip_um_per_cycle": float(np.sum(np.abs(np.diff(ut)))) / cycles,
+                         "axial_creep_um_per_cycle": float(ua_end - ua_start) / cycles,
+                         "axial_creep_um_cycle_std": float(np.std(per_cycle, ddof=1)) if cycles > 1 else 0.0,
+                         "max_cycle_axial_creep_um": float(per_cycle.max()),
+                         "axial_position_um": float(ua_end),
+                         "max_key_force_N": float(frames["key_force_N"][j.name].abs().max()),
+                         "max_off_nose_thrust_N": float(frames["thrust_N"][j.name].max())})
+        stats = {"integration_time_s": time.perf_counter() - t0, "build_time_s": self.build_time_s,
+                 "cycles_integrated": run_in_cycles + cycles}
+        return JointSimulation(speed_rpm=float(speed_rpm), cycles=int(cycles), run_in_cycles=int(run_in_cycles),
+                               crank_angle_deg=np.degrees(angle), frames=frames,
+                               summary=pd.DataFrame(rows).set_index("joint"), final_state=x, stats=stats)
+
+
+def joint_simulator(network: TorsionalNetwork, joints, **options) -> JointSimulator:
+    """The network's cached :class:`JointSimulator` for these joints and options (built on first use)."""
+    key = ("joint_simulator", tuple(joints)) + tuple(sorted((k, repr(v)) for k, v in options.items()))
+    if key not in network._cache:
+        network._cache[key] = JointSimulator(network, joints, **options)
+    return network._cache[key]
+
+
+def walked_distance_mm(creep_um_per_cycle, speed_rpm, hours, cycle_deg: float = 720.0):
+    """Distance a gear walks [mm] at a constant creep per engine cycle [um] after ``hours`` at ``speed_rpm``:
+    ``creep x cycles``, cycles = speed x 60 x hours x 360 / cycle_deg (720 for a four-stroke)."""
+    hours, speed = np.asarray(hours, dtype=float), np.asarray(speed_rpm, dtype=float)
+    for name, v, unit in (("hours", hours, "h"), ("speed_rpm", speed, "rpm")):
+        if v.size and not (np.all(np.isfinite(v)) and v.min() >= 0.0):
+            raise GearoptInputError(f"{name}={v.min() if v.size else v!r} {unit}: must be finite and >= 0")
+    cycles = speed * 60.0 * hours * 360.0 / cycle_deg
+    return np.asarray(creep_um_per_cycle, dtype=float) * cycles * 1e-3
+
+
+__all__ = [
+    "JOINT_OUTPUTS",
+    "JOINT_PARAMETERS",
+    "SLIP_UNIT_M",
+    "FrictionJoint",
+    "JointIntegrationError",
+    "JointSimulation",
+    "JointSimulator",
+    "joint_demand",
+    "joint_equations",
+    "joint_simulator",
+    "key_force_N",
+    "shoulder_force_N",
+    "slip_rates_m_s",
+    "walked_distance_mm",
+]

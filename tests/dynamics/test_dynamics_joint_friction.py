@@ -1,0 +1,179 @@
+"""Friction joint element (gearopt.dynamics.joint_friction): closed forms of Coulomb slip with a combined capacity,
+key and shoulder stops, ratcheting direction, spur limit, regularisation convergence, typed failures."""
+
+import math
+
+import numpy as np
+import pytest
+
+from gearopt import numerics as nm
+from gearopt.dynamics import TorsionalNetwork
+from gearopt.dynamics.joint_friction import (
+    FrictionJoint,
+    JointIntegrationError,
+    JointSimulator,
+    slip_rates_m_s,
+    walked_distance_mm,
+)
+from gearopt.errors import GearoptInputError
+
+RB1, RB2, JG, K_MESH = 0.040, 0.050, 0.01, 1e8
+R_FIT = 0.020
+SPEED = 1000.0
+CYCLE_S = 60.0 / SPEED  # cycle_deg 360
+
+
+def gear_on_shaft(beta_deg=20.0, mean_Nm=300.0, ripple_Nm=0.0):
+    """Speed-controlled pinion driving a gear (node 'gear') whose shaft load acts on the gear node itself: the
+    joint torque (mesh torque - J alpha) then equals the load torque exactly, whatever the dynamics."""
+    net = TorsionalNetwork("gear on shaft", cycle_deg=360.0)
+    net.add_inertia("drive", 1.0).add_inertia("gear", JG)
+    net.add_mesh("drive", "gear", base_radii_mm=(RB1 * 1e3, RB2 * 1e3), teeth=(32, 40), stiffness_N_per_m=K_MESH,
+                 damping_N_s_per_m=2 * 0.1 * math.sqrt(K_MESH * JG / RB2 ** 2), base_helix_angle_deg=beta_deg)
+    net.set_speed_boundary("drive")
+    net.add_torque("gear", lambda t, a, w, T0, T1, nominal_angle_rad: -(T0 + T1 * nm.sin(2 * nominal_angle_rad)),
+                   parameters={"T0": mean_Nm, "T1": ripple_Nm}, name="load")
+    return net
+
+
+def joint(sign=1.0, capacity=10000.0, key=None, slip_speed=1.0, **kw):
+    return FrictionJoint("j", "gear", 2e3 * R_FIT, capacity, (("drive-gear", sign),), JG, key_clearance_um=key,
+                         slip_speed_m_s=slip_speed, **kw)
+
+
+def run(net, j, cycles=1, run_in=0, **kw):
+    return JointSimulator(net, [j], lash=False, **kw).run(SPEED, cycles, run_in_cycles=run_in)
+
+
+def test_steady_sliding_under_constant_force_matches_closed_form():
+    # constant demand D = (T/r, F_a) outside the capacity circle: v = V (|D|/C - 1) along D/|D| (closed form of
+    # the viscoplastic law), hence u_a / u_t = F_a r / T -- the rigid-plastic Coulomb slip direction
+    T, beta = 300.0, 20.0
+    res = run(gear_on_shaft(beta, T), joint())
+    d_t, d_a = T / R_FIT, T / RB2 * math.tan(math.radians(beta))
+    mag = math.hypot(d_t, d_a)
+    v = 1.0 * (mag / 10000.0 - 1.0)
+    s = res.summary.loc["j"]
+    assert res.frames["thrust_N"]["j"].to_numpy() == pytest.approx(d_a, rel=1e-6)
+    # the gear's equilibrium: mesh torque - J alpha = the load on the gear (absolute sense: the gear turns -)
+    assert res.frames["joint_torque_Nm"]["j"].to_numpy() == pytest.approx(-T, rel=1e-6)
+    assert s["slip_um_per_cycle"] == pytest.approx(v * d_t / mag * CYCLE_S * 1e6, rel=1e-4)
+    assert s["axial_creep_um_per_cycle"] == pytest.approx(v * d_a / mag * CYCLE_S * 1e6, rel=1e-4)
+    assert s["max_rigid_utilisation"] == pytest.approx(mag / 10000.0, rel=1e-6)
+
+
+def test_slip_rate_law_inside_circle_is_exactly_zero_and_dual_typed():
+    assert slip_rates_m_s(600.0, 800.0, 1000.0001, 1.0) == (0.0, 0.0)
+    v_t, v_a = slip_rates_m_s(1200.0, 1600.0, 1000.0, 1.0)   # |D| = 2000 = 2 C: speed 1 m/s along (0.6, 0.8)
+    assert (v_t, v_a) == pytest.approx((0.6, 0.8), rel=1e-9)
+    x = nm.symbol("x", 2)
+    f = nm.function("f", [x], [nm.vertcat(*slip_rates_m_s(x[0], x[1], 1000.0, 1.0))])
+    assert np.array(f([1200.0, 1600.0])).ravel() == pytest.approx([0.6, 0.8], rel=1e-9)
+
+
+def test_no_creep_below_capacity_under_oscillating_load():
+    # peak demand ~0.75 of capacity: the hub sticks, both slip states stay exactly at rest
+    res = run(gear_on_shaft(20.0, 100.0, 50.0), joint(capacity=10000.0, key=10.0), cycles=2)
+    s = res.summary.loc["j"]
+    assert s["max_rigid_utilisation"] < 0.8
+    assert s["slip_um_per_cycle"] == 0.0
+    assert abs(s["axial_creep_um_per_cycle"]) < 1e-12
+
+
+@pytest.mark.parametrize("sign", [1.0, -1.0])
+def test_ratchet_creep_direction_follows_thrust_sign(sign):
+    # torque swings beyond capacity with the key engaged: off-nose thrust (+1) walks the gear off every cycle;
+    # thrust towards the shoulder (-1) cannot move it (one-sided stop): it stays within the shoulder's compliance
+    res = run(gear_on_shaft(20.0, 100.0, 250.0), joint(sign, key=10.0), cycles=3, run_in=1)
+    s = res.summary.loc["j"]
+    assert s["slip_um_per_cycle"] > 5.0
+    if sign > 0:
+        assert s["axial_creep_um_per_cycle"] > 0.5
+        # the ratchet need not repeat every cycle (the slip state shifts against the key): per-cycle spread reported
+        assert s["max_cycle_axial_creep_um"] >= s["axial_creep_um_per_cycle"]
+        assert s["axial_creep_um_cycle_std"] >= 0.0
+    else:
+        k_sh = joint().shoulder_stiffness_N_per_m
+        assert s["axial_position_um"] >= -1.01 * res.frames["thrust_N"]["j"].abs().max() / k_sh * 1e6
+        assert abs(s["axial_creep_um_per_cycle"]) < 0.02
+
+
+def test_thrust_towards_the_shoulder_pulls_a_loose_gear_back():
+    net = gear_on_shaft(20.0, 100.0, 250.0)
+    sim = JointSimulator(net, [joint(-1.0, key=10.0)], lash=False)
+    x0 = np.concatenate([sim.base.static_state(SPEED), [0.0, 50.0]])  # gear 50 um off the shoulder
+    res = sim.run(SPEED, 2, run_in_cycles=0, x0=x0)
+    assert res.summary.loc["j", "axial_creep_um_per_cycle"] < -0.5  # mirror of the +1 ratchet
+
+
+def test_spur_mesh_slips_without_axial_creep():
+    res = run(gear_on_shaft(0.0, 100.0, 250.0), joint(1.0, key=10.0), cycles=2)
+    s = res.summary.loc["j"]
+    assert s["slip_um_per_cycle"] > 5.0
+    assert abs(s["axial_creep_um_per_cycle"]) < 1e-9
+
+
+def test_regularisation_converges():
+    # ratchet creep as the slip law approaches rate-independent Coulomb (V -> inf); tight rtol so that the
+    # integration error stays below the regularisation error (at rtol 1e-6, V = 1 m/s is within 0.2 % here)
+    creep = []
+    for v in (0.3, 1.0, 3.0, 10.0):
+        res = run(gear_on_shaft(20.0, 100.0, 250.0), joint(1.0, key=10.0, slip_speed=v), cycles=2, run_in=1,
+                  rtol=1e-8)
+        creep.append(res.summary.loc["j", "axial_creep_um_per_cycle"])
+    steps = np.abs(np.diff(creep))
+    assert steps[2] < steps[1] < steps[0]
+    assert steps[2] < 1e-3 * abs(creep[-1])
+
+
+def test_key_stop_closed_form():
+    # constant torque above capacity, thrust off the nose: free slip across the clearance along D = (T/r, F_a),
+    # then the key takes the torque beyond the circle: D_t falls to sqrt(C^2 - F_a^2) while du_a/du_t = F_a/D_t:
+    # u_t = c + (T/r - sqrt(C^2 - F_a^2))/k,  u_a = c F_a r/T + (F_a/k) ln((T/r)/sqrt(C^2 - F_a^2))
+    T, beta, C, c, k = 300.0, 20.0, 10000.0, 10e-6, 1e9
+    res = run(gear_on_shaft(beta, T), joint(1.0, capacity=C, key=c * 1e6, slip_speed=100.0))
+    d_t, f_a = T / R_FIT, T / RB2 * math.tan(math.radians(beta))
+    held = math.sqrt(C ** 2 - f_a ** 2)
+    u_t = c + (d_t - held) / k
+    u_a = c * f_a / d_t + f_a / k * math.log(d_t / held)
+    assert abs(res.frames["slip_um"]["j"].iloc[-1]) == pytest.approx(u_t * 1e6, rel=2e-3)
+    assert res.frames["axial_position_um"]["j"].iloc[-1] == pytest.approx(u_a * 1e6, rel=2e-3)
+    assert abs(res.frames["key_force_N"]["j"].iloc[-1]) == pytest.approx(d_t - held, rel=2e-3)
+
+
+def test_shoulder_stop_holds_thrust_towards_it():
+    # no key, sustained circumferential slip, thrust into the shoulder: the shoulder reacts the thrust, the
+    # axial position settles at the contact compression F_a / k_sh
+    T, beta = 300.0, 20.0
+    j = joint(-1.0)
+    res = run(gear_on_shaft(beta, T), j)
+    f_a = T / RB2 * math.tan(math.radians(beta))
+    assert res.summary.loc["j", "slip_um_per_cycle"] > 1000.0
+    assert res.frames["axial_position_um"]["j"].iloc[-1] == pytest.approx(-f_a / j.shoulder_stiffness_N_per_m * 1e6,
+                                                                          rel=1e-3)
+
+
+def test_integration_without_step_budget_raises_typed_error():
+    net = gear_on_shaft(20.0, 100.0, 250.0)
+    sim = JointSimulator(net, [joint(1.0, key=10.0)], lash=False, max_num_steps=20)
+    with pytest.raises(JointIntegrationError, match="could not hold"):
+        sim.run(SPEED, 1, run_in_cycles=0)
+
+
+def test_bad_input_names_the_parameter():
+    with pytest.raises(GearoptInputError, match="capacity_N"):
+        joint(capacity=-1.0)
+    with pytest.raises(GearoptInputError, match="slip_speed_m_s"):
+        joint(slip_speed=0.0)
+    with pytest.raises(GearoptInputError, match="thrust sign"):
+        FrictionJoint("j", "gear", 40.0, 1e4, (("drive-gear", 0.5),), JG)
+    sim = JointSimulator(gear_on_shaft(), [joint()], lash=False)
+    with pytest.raises(GearoptInputError, match="j.capacity_N"):
+        sim.run(SPEED, 1, parameters={"j.capacity_N": 0.0})
+    with pytest.raises(GearoptInputError, match="hours"):
+        walked_distance_mm(1.0, 3000.0, -1.0)
+
+
+def test_walked_distance_counts_four_stroke_cycles():
+    # 1 um per cycle for 1 h at 3000 rpm: 1500 cycles/min x 60 = 90 000 cycles = 90 mm
+    assert walked_distance_mm(1.0, 3000.0, 1.0) == pytest.approx(90.0)

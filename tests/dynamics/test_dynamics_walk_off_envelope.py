@@ -1,0 +1,100 @@
+"""Walk-off envelope helpers (gearopt.dynamics.walk_off_envelope) and the walk-off Monte Carlo
+(gearopt.studies.failure): thrust signs, fit capacities, probability against a closed form, bad input."""
+
+import math
+
+import numpy as np
+import pandas as pd
+import pytest
+from scipy.stats import norm
+
+from gearopt.data import load_default_data, train_from_data
+from gearopt.dynamics.walk_off_envelope import (
+    damper_coefficient,
+    fit_capacity_N,
+    fit_cases,
+    thrust_signs,
+)
+from gearopt.errors import GearoptInputError
+from gearopt.joints import walk_off
+from gearopt.studies.failure import walk_off_probability
+
+DATA = load_default_data()
+
+
+def test_thrust_signs_follow_walk_off_and_vanish_for_spur():
+    helical, spur = train_from_data(DATA, "helical"), train_from_data(DATA, "spur")
+    signs = dict(thrust_signs(helical, "cam"))
+    assert set(signs) == {"crank-cam", "cam-ac", "cam-fp"}
+    for mesh, sign in signs.items():
+        assert sign == math.copysign(1.0, walk_off(helical, {mesh: 250.0}).axial_force_N["cam"])
+    assert all(s == 0.0 for _, s in thrust_signs(spur, "cam"))
+
+
+def test_fit_capacity_matches_the_data_files_calculation():
+    # [joints.cam] axial_friction_force_N = 40868 N: mu p pi d l with the Lame pressure at the mean interference
+    assert fit_capacity_N(DATA, "cam") == pytest.approx(40868.0, rel=1e-3)
+    cases = fit_cases(DATA, "cam", 3000.0)
+    assert cases["weakest"] < cases["nominal"] < cases["strongest"]
+    with pytest.raises(GearoptInputError, match="friction_coefficient"):
+        fit_capacity_N(DATA, "cam", friction_coefficient=-0.1)
+    with pytest.raises(GearoptInputError, match="state"):
+        damper_coefficient(DATA, "leaking")
+    with pytest.raises(GearoptInputError, match="damper coefficient"):
+        damper_coefficient(DATA, -5.0)
+    assert damper_coefficient(DATA, "degraded") == pytest.approx(0.1 * damper_coefficient(DATA, "nominal"))
+
+
+def synthetic_envelope(creep_um_per_cycle=0.01, speed=3300.0):
+    rows = [{"joint": "cam", "speed_rpm": speed, "damper_state": s, "capacity_N": c,
+             "axial_creep_um_per_cycle": creep_um_per_cycle} for s in ("nominal", "degraded", "seized")
+            for c in (1e3, 1e6)]
+    return pd.DataFrame(rows)
+
+
+def test_probability_matches_log_normal_closed_form():
+    # creep c at 3300 rpm whatever the fit: distance = c x 1650 x 60 x hours; with hours log-normal (median m,
+    # sigma s) the walk-off probability is 1 - Phi((ln(h*) - ln m)/s), h* = D / (c x 1650 x 60 x 1e-3)
+    c, dist, m, s = 0.01, 1.0, 1.0, 1.5
+    res = walk_off_probability(synthetic_envelope(c), DATA, "cam", samples=200_000, seed=1, distance_mm=dist,
+                               exposure_hours={"motoring_overspeed": (m, s)})
+    h_star = dist / (c * 1650.0 * 60.0 * 1e-3)
+    expected = 1.0 - norm.cdf((math.log(h_star) - math.log(m)) / s)
+    assert res["walk_off_probability"] == pytest.approx(expected, abs=4e-3)
+    assert next(iter(res["drivers"])) == "hours_motoring_overspeed"
+
+
+def test_no_creep_no_walk_off_and_bad_input():
+    res = walk_off_probability(synthetic_envelope(0.0), DATA, "cam", samples=1000)
+    assert res["walk_off_probability"] == 0.0
+    assert res["p99_distance_mm"] == 0.0
+    with pytest.raises(GearoptInputError, match="distance_mm"):
+        walk_off_probability(synthetic_envelope(), DATA, "cam", distance_mm=0.0)
+    with pytest.raises(GearoptInputError, match="sum to 1"):
+        walk_off_probability(synthetic_envelope(), DATA, "cam", damper_probabilities={"nominal": 0.5})
+    with pytest.raises(GearoptInputError, match="joint"):
+        walk_off_probability(synthetic_envelope(), DATA, "crank")
+    assert np.isfinite(res["median_distance_mm"])
+
+
+def test_joint_demand_on_the_default_model_matches_walk_off_and_the_shaft_torque():
+    # independent code paths: the element's thrust against gearopt.joints.walk_off on the simulated mesh torques,
+    # and its joint torque (mesh torques - J alpha) against the network's own cam-shaft torque output
+    from gearopt.dynamics import default_timing_model
+    from gearopt.dynamics.joint_friction import JointSimulator
+    from gearopt.dynamics.walk_off_envelope import model_joints
+    model = default_timing_model("helical")
+    speed = 1500.0
+    p = model.parameters_at(speed)
+    cam = model_joints(model, "cam")
+    res = JointSimulator(model.network, cam, lash=False, output_step_deg=5.0).run(speed, 1, parameters=p,
+                                                                                  run_in_cycles=0)
+    sim = model.simulate(speed, cycles=1, backlash=False, run_in_cycles=0, output_step_deg=5.0, jit=False)
+    torques = {m: sim.mesh_force_N[m].to_numpy() * sim.mesh_base_radii_mm[m][0] * 1e-3
+               for m in sim.mesh_force_N.columns}
+    axial = walk_off(model.train, torques).axial_force_N["cam"]
+    thrust = res.frames["thrust_N"]["cam#0"].to_numpy()
+    assert np.max(np.abs(thrust - axial)) < 1e-3 * np.max(np.abs(axial))
+    shaft = sim.shaft_torque_Nm["cam-cam_station_1"].to_numpy()  # cam turns against the crank: own sense = -abs
+    joint_torque = res.frames["joint_torque_Nm"]["cam#0"].to_numpy()
+    assert np.max(np.abs(-joint_torque - shaft)) < 1e-3 * np.max(np.abs(shaft))
