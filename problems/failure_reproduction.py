@@ -60,9 +60,11 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--out", type=Path, default=DEFAULT_OUT, help=f"output directory (default {DEFAULT_OUT})")
     parser.add_argument("--speed", type=float, default=ENVELOPE_EXTRA_SPEED_RPM, help="engine speed [rpm]")
     parser.add_argument("--cycles", type=int, default=10, help="recorded engine cycles per point")
+    parser.add_argument("--data", type=Path, default=None, metavar="FILE",
+                        help="your own engine and train data file (TOML; default: the packaged data)")
     args = parser.parse_args(argv)
     t0 = time.perf_counter()
-    data = load_default_data()
+    data = load_default_data(args.data)
     cycles = 2 if args.quick else args.cycles
     states = ("degraded",) if args.quick else tuple(DAMPER_STATES)
     df = creep_statistics(data, args.speed, cycles, states, levels=1 if args.quick else 4,
