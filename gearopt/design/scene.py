@@ -611,6 +611,10 @@ class BuiltScene:
         return [(self._label(quantity, target, lc), lc.name if lc is not None else "",
                  self._elements(kind, target, lc, {})) for lc in self._cases(kind, load_cases)]
 
+    def quantity_table(self, solved: ProblemResult) -> pd.DataFrame:
+        """The quantity table (as ``SceneResult.quantities``) at any solve of ``problem``."""
+        return self._quantity_table(solved)
+
     # -- solve -------------------------------------------------------------------------------------------------
 
     def solve(self, *, starts: int = 1, seed: int = 0, verbose: bool = False, check: bool = True,
