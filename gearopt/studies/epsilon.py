@@ -115,10 +115,11 @@ class EpsilonModel:
     # -- solving -----------------------------------------------------------------------------------------------------
 
     def solve(self, epsilon: float | None, *, start: Mapping[str, Any] | None = None, warm: bool = False,
-              objective: str = "scene"):
+              objective: str = "scene", starts: int = 1):
         """Solve with the front constraint at ``epsilon`` (``None``: loose). ``objective``: ``"scene"`` (the scene's
         objective) or ``"quantity"`` (the quantity itself: the other end of the front). ``start``: variable values
-        to start from (a neighbour's point); ``warm``: start from the previous solve (primal and multipliers)."""
+        to start from (a neighbour's point); ``warm``: start from the previous solve (primal and multipliers);
+        ``starts`` > 1: also ``starts - 1`` Latin-hypercube starts of the design variables, the best optimum."""
         p, sense = self.problem, self.spec.sense
         if objective == "quantity":
             (p.minimize if sense == "min" else p.maximize)(self.z, scale=self._z_scale)
@@ -137,6 +138,9 @@ class EpsilonModel:
             options.setdefault("mu_init", 1e-4)
         with warnings.catch_warnings():      # a neighbour's value on a bound may read as just outside it
             warnings.simplefilter("ignore", InitialGuessWarning)
+            if starts > 1:
+                design = [f"{v.target}.{v.name}" for v in self.spec.scene.variables]
+                return p.multistart(starts - 1, seed=0, variables=design, include_initial=True, **options).best
             return p.solve(warm_start=warm, **options)
 
     def quantity_value(self, solved) -> float:

@@ -104,8 +104,8 @@ class ParetoFront:
 
 
 def pareto_front(scene: Scene, quantity: str, target: str, points: int = 11, executor: Any = "serial", *,
-                 sense: str | None = None, refine: bool = True, segments: int = 1, workers: int | None = None,
-                 progress: bool | None = None, **ipopt: Any) -> ParetoFront:
+                 sense: str | None = None, refine: bool = True, segments: int = 1, starts: int = 1,
+                 workers: int | None = None, progress: bool | None = None, **ipopt: Any) -> ParetoFront:
     """The front between the scene's objective and ``quantity`` of ``target`` (see the module docstring).
 
     Args:
@@ -119,6 +119,8 @@ def pareto_front(scene: Scene, quantity: str, target: str, points: int = 11, exe
         refine: put half the interior points where the front bends (else all evenly in ε).
         segments: contiguous pieces of the first ε grid run as separate tasks (each continued from the objective's
             optimum); the front does not depend on the executor.
+        starts: solves of each end (the declared start and ``starts - 1`` Latin-hypercube starts of the design
+            variables, seed 0; the best optimum): for scenes with several local optima.
         **ipopt: Ipopt options of every solve.
 
     Raises:
@@ -132,12 +134,13 @@ def pareto_front(scene: Scene, quantity: str, target: str, points: int = 11, exe
     kind = quantity_kind(quantity)
     if isinstance(points, bool) or not isinstance(points, (int, np.integer)) or points < 3:
         raise GearoptInputError(f"points={points!r} must be an integer >= 3 (the two ends and one inside)")
-    if isinstance(segments, bool) or not isinstance(segments, (int, np.integer)) or segments < 1:
-        raise GearoptInputError(f"segments={segments!r} must be an integer >= 1")
+    for name, v in (("segments", segments), ("starts", starts)):
+        if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or v < 1:
+            raise GearoptInputError(f"{name}={v!r} must be an integer >= 1")
     sense = _sense(scene, quantity, target, kind, sense)
     spec = FrontSpec(scene, quantity, target, sense, dict(ipopt))
     model = epsilon_model(spec)
-    ends, end_rows = _ends(model)
+    ends, end_rows = _ends(model, int(starts))
     q_a, q_b = ends["objective"]["quantity"], ends["quantity"]["quantity"]
     if abs(q_a - q_b) <= 1e-6 * max(abs(q_a), abs(q_b), kind.scale):
         raise GearoptInputError(
@@ -193,11 +196,11 @@ def _sense(scene: Scene, quantity: str, target: str, kind, sense: str | None) ->
     return "max" if kind.shape == "min" else "min"
 
 
-def _ends(model) -> tuple[dict[str, dict[str, float]], list[dict[str, Any]]]:
+def _ends(model, starts: int) -> tuple[dict[str, dict[str, float]], list[dict[str, Any]]]:
     """The objective's optimum (front constraint loose) and the lexicographic optimum of the quantity."""
-    a = model.solve(None)
+    a = model.solve(None, starts=starts)
     row_a = _record(model, a, None)
-    b_only = model.solve(None, objective="quantity", start=a.values)
+    b_only = model.solve(None, objective="quantity", start=a.values, starts=starts)
     q_b = model.quantity_value(b_only)
     slack = 1e-7 * max(abs(q_b), model.kind.scale)
     eps_b = q_b + slack if model.spec.sense == "min" else q_b - slack
