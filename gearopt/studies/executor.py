@@ -3,8 +3,8 @@
 Pareto segments, Monte Carlo chunks, tooth-count candidates and speed sweeps all go through
 :meth:`Executor.map`, which applies a picklable function to a list of items and returns the results *in the order
 of the items* whoever ran them -- so a study gives the same table with every executor. Nothing here schedules work
-itself: ``"processes"`` is :class:`concurrent.futures.ProcessPoolExecutor` (spawned workers, so a process holding
-threads -- a Dask client, CasADi -- can start it safely), ``"dask"`` a :class:`distributed.LocalCluster` (one thread
+itself: ``"processes"`` is :class:`concurrent.futures.ProcessPoolExecutor` (forked workers from a single-threaded
+process, spawned ones from a process holding threads -- a Dask client -- so that either starts safely), ``"dask"`` a :class:`distributed.LocalCluster` (one thread
 per worker process), and a :class:`distributed.Client` (or a scheduler address ``"tcp://host:port"``) runs the
 batch on that cluster.
 
@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import multiprocessing
 import os
+import threading
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from contextlib import contextmanager
 from typing import Any, Callable, Iterable, Iterator, Sequence
@@ -96,6 +97,8 @@ class Executor:
         must be picklable for ``"processes"`` and ``"dask"`` (a module-level function and plain data). An exception
         raised by ``fn`` propagates (catch failures inside ``fn`` to record them instead)."""
         items = list(items)
+        if self.kind == "processes" and self._pool is None and items:
+            self._pool = ProcessPoolExecutor(max_workers=self.workers, mp_context=_process_context())
         bar = _progress_bar(len(items), desc, self.progress)
         try:
             if self.kind == "serial" or not items:
@@ -111,9 +114,6 @@ class Executor:
             bar.close()
 
     def _map_processes(self, fn, items: Sequence[Any], bar) -> list[Any]:
-        if self._pool is None:
-            self._pool = ProcessPoolExecutor(max_workers=self.workers,
-                                             mp_context=multiprocessing.get_context("spawn"))
         futures = {self._pool.submit(fn, item): i for i, item in enumerate(items)}
         out: list[Any] = [None] * len(items)
         for fut in as_completed(futures):
@@ -168,6 +168,17 @@ def using_executor(executor: "str | Executor | Any" = "serial", *, workers: int 
     finally:
         if ex is not executor:
             ex.close()
+
+
+def _process_context():
+    """``fork`` (workers start at once, nothing re-imported) when this process runs no other thread and the platform
+    forks; else ``spawn`` (safe with threads -- a Dask client, a CasADi thread pool -- at the price of importing
+    gearopt in each worker)."""
+    others = [t for t in threading.enumerate()
+              if t is not threading.current_thread() and type(t).__name__ != "TMonitor"]   # tqdm's idle monitor
+    if "fork" in multiprocessing.get_all_start_methods() and not others:
+        return multiprocessing.get_context("fork")
+    return multiprocessing.get_context("spawn")
 
 
 class _NoBar:
