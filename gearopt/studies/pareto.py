@@ -273,7 +273,8 @@ def _objective(scene: Scene, table: pd.DataFrame, solved) -> tuple[float, float]
 
 
 def _refinement_tasks(spec: FrontSpec, rows: list[dict[str, Any]], missing: int, sense: str) -> list:
-    """New ε points in the widest normalised gaps between solved neighbours (at most one per gap per round)."""
+    """New ε points in the widest normalised gaps between solved neighbours: one in each gap at least half as wide
+    as the widest (at most ``missing``); the tasks of a round are independent (one executor batch)."""
     ok = sorted([r for r in rows if r["status"] == OK], key=lambda r: -r["_quantity"] if sense == "min"
                 else r["_quantity"])
     tried = {round(float(r["epsilon"]), 12) for r in rows if not np.isnan(r["epsilon"])}
@@ -283,7 +284,7 @@ def _refinement_tasks(spec: FrontSpec, rows: list[dict[str, Any]], missing: int,
     gaps = np.hypot(np.diff(x), np.diff(y))
     tasks = []
     for i in np.argsort(-gaps)[:missing]:
-        if gaps[i] < 1e-6:
+        if gaps[i] < max(1e-6, 0.5 * gaps.max()):     # this round: only the gaps at least half the widest
             break
         eps = 0.5 * (ok[i]["_quantity"] + ok[i + 1]["_quantity"])
         if round(eps, 12) in tried:

@@ -13,6 +13,7 @@ nominal point only (its epigraph variables would have to be copied per corner).
 from __future__ import annotations
 
 import itertools
+import warnings
 from typing import Any, Sequence
 
 import casadi as ca
@@ -21,13 +22,14 @@ import numpy as np
 from ..design.scene import Scene, SceneResult
 from ..design.scene_terms import variable_kind
 from ..errors import GearoptInputError
+from ..nlp import InitialGuessWarning
 from .tolerances import Tolerance, default_tolerances
 
 MAX_CORNERS = 1024
 
 
 def robust_design(scene: Scene, tolerances: Sequence[Tolerance] | None = None, *, samples: int | None = None,
-                  seed: int = 0, **solve: Any) -> SceneResult:
+                  seed: int = 0, start: SceneResult | None = None, **solve: Any) -> SceneResult:
     """The scene's optimum with its limits held over the tolerances (see the module docstring).
 
     Args:
@@ -36,6 +38,7 @@ def robust_design(scene: Scene, tolerances: Sequence[Tolerance] | None = None, *
             ``"torque_Nm[mesh]@case"``); default :func:`~gearopt.studies.tolerances.default_tolerances`.
         samples: ``None``: the corners of the tolerance box; ``n``: ``n`` points drawn uniformly (numpy PCG64 at
             ``seed``) in the box of each tolerance's interval.
+        start: a solved result of the same scene (the nominal optimum) to start from instead of the declared guess.
         **solve: keyword arguments of ``BuiltScene.solve`` (``starts``, Ipopt options, ``check``).
 
     Returns:
@@ -76,7 +79,13 @@ def robust_design(scene: Scene, tolerances: Sequence[Tolerance] | None = None, *
             shifted = fn(opti.x + ca.DM(dx[c]), opti.p + ca.DM(dp[c]))
             problem.subject_to(f"robust[{c}].{rec['label']}", shifted, lower=lower, upper=upper, scale=scale,
                                unit=unit)
-    return built.solve(**solve)
+    if start is not None:
+        for name, value in start.solve.values.items():
+            if name in names_x:
+                problem.set_initial(name, value)
+    with warnings.catch_warnings():      # the nominal optimum may sit on a bound (read as just outside it)
+        warnings.simplefilter("ignore", InitialGuessWarning)
+        return built.solve(**solve)
 
 
 def _deltas(tols: list[Tolerance], samples: int | None, seed: int) -> np.ndarray:

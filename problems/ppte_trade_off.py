@@ -1,0 +1,135 @@
+"""What does a smaller PPTE cost? Trade-off front, sensitivity report and tolerance robustness of the crank-cam tip
+relief over its torque range.
+
+Scene: the spur crank-cam pair's four tip-relief variables (amounts and start roll angles of both gears), the
+largest PPTE over the data's torque range (``[design_loads] crank_cam_torque_Nm`` x ``torque_range_fractions``)
+minimised, with the limits of the data (``[design_limits]``): loaded contact ratio >= ``min_loaded_contact_ratio``
+at every torque, and the largest contact stress not above the unmodified pair's own maximum (exact LTCA).
+
+1. Fronts (:func:`gearopt.studies.pareto_front`): PPTE against the loaded contact ratio; and PPTE against the
+   contact-stress limit -- for this spur pair the largest stress sits in single-pair contact where tip relief does
+   not act, so the two ends coincide and the script records that finding instead of a front.
+2. Sensitivity report (:func:`gearopt.studies.sensitivity_report`) of the optimum with the data's limits.
+3. Robustness (:func:`gearopt.studies.monte_carlo`) under the default tolerances (tip-relief amounts ±2 µm, starts
+   ±0.5°, :mod:`gearopt.studies.tolerances`), and the robust design (:func:`gearopt.studies.robust_design`: limits
+   held at the tolerance corners) on the same samples.
+
+Writes to ``out/ppte_trade_off/``: ``front.csv``, ``front.png``, ``sensitivity.csv``, ``sensitivity.md``,
+``monte_carlo_summary.csv`` (nominal and robust design), ``summary.json``.
+
+Usage: ``python problems/ppte_trade_off.py [--points 9] [--samples 2000] [--executor serial|processes|dask]
+[--quick] [--out DIR]``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import time
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import pandas as pd
+
+import gearopt as go
+from gearopt.data import load_default_data
+from gearopt.data import values as data_values
+from gearopt.design.scene import DesignVariable, Limit, LoadCase, Objective, Scene
+from gearopt.errors import GearoptInputError
+from gearopt.studies import (Tolerance, monte_carlo, pareto_front, robust_design, sensitivity_report)
+from gearopt.studies.tolerances import MICROGEOMETRY_TOLERANCES
+
+MESH = "crank-cam"
+RELIEF = ("tip_relief_1_um", "tip_relief_2_um", "tip_relief_1_start_roll_deg", "tip_relief_2_start_roll_deg")
+DEFAULT_OUT = Path("out") / "ppte_trade_off"
+
+
+def build_scene(quick: bool) -> tuple[Scene, dict]:
+    """The tip-relief scene with the data's torque range and limits (``quick``: 24 NLP positions instead of 40)."""
+    d = data_values(load_default_data())
+    loads, limits = d["design_loads"], d["design_limits"]
+    torques = [loads["crank_cam_torque_Nm"] * f for f in loads["torque_range_fractions"]]
+    train = go.load_default_train("spur")
+    stress_limit = max(go.ltca(train.pairs[MESH], t).max_contact_stress_MPa for t in torques)
+    scene = Scene("crank-cam tip relief", train=train, load_cases=[LoadCase(f"T{t:g}", t) for t in torques],
+                  variables=[DesignVariable(v, MESH) for v in RELIEF],
+                  objectives=[Objective("ppte_um", MESH, aggregate="max")],
+                  limits=[Limit("max_contact_stress_MPa", MESH, upper=stress_limit),
+                          Limit("loaded_contact_ratio", MESH, lower=limits["min_loaded_contact_ratio"])],
+                  ltca_options={"positions": 24} if quick else {})
+    return scene, {"torques_Nm": torques, "max_contact_stress_limit_MPa": stress_limit,
+                   "min_loaded_contact_ratio": limits["min_loaded_contact_ratio"]}
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--points", type=int, default=9, help="points of the front (default 9)")
+    parser.add_argument("--samples", type=int, default=2000, help="Monte Carlo samples (default 2000)")
+    parser.add_argument("--executor", default="serial", help="serial, processes, dask or a scheduler address")
+    parser.add_argument("--quick", action="store_true",
+                        help="4 points (ends from one start), 256 samples, 24 NLP positions")
+    parser.add_argument("--out", type=Path, default=DEFAULT_OUT, help=f"output directory (default {DEFAULT_OUT})")
+    args = parser.parse_args(argv)
+    points, samples = (4, 256) if args.quick else (args.points, args.samples)
+    if points < 3 or samples < 1:
+        parser.error(f"--points {points} must be >= 3 and --samples {samples} >= 1")
+    args.out.mkdir(parents=True, exist_ok=True)
+    t0 = time.perf_counter()
+    scene, data = build_scene(args.quick)
+
+    front = pareto_front(scene, "loaded_contact_ratio", MESH, points=points, starts=1 if args.quick else 4,
+                         executor=args.executor)
+    front.table.to_csv(args.out / "front.csv", index=False)
+    front.plot().savefig(args.out / "front.png", dpi=110)
+    try:
+        pareto_front(scene, "max_contact_stress_MPa", MESH, points=3)
+        stress_front = "a front exists"
+    except GearoptInputError as exc:
+        stress_front = str(exc)
+
+    nominal = scene.build().solve(starts=4)          # several local optima: the best of four starts
+    report = sensitivity_report(nominal)
+    report.to_csv(args.out / "sensitivity.csv")
+    (args.out / "sensitivity.md").write_text(report.markdown() + "\n")
+
+    names = RELIEF[:2] if args.quick else RELIEF      # quick: the two amounts only (4 corners instead of 16)
+    tolerances = [Tolerance.symmetric(f"{MESH}.{v}", MICROGEOMETRY_TOLERANCES[v]) for v in names]
+    robust = robust_design(scene, tolerances, start=nominal)        # from the nominal optimum
+    mc = {name: monte_carlo(r, samples=samples, seed=0, executor=args.executor, tolerances=tolerances)
+          for name, r in (("nominal", nominal), ("robust", robust))}
+    summary_table = pd.concat([m.summary.assign(design=name) for name, m in mc.items()], ignore_index=True)
+    summary_table.to_csv(args.out / "monte_carlo_summary.csv", index=False)
+
+    def ppte_of(r):
+        return float(r.quantities.query("quantity == 'ppte_um'")["value"].max())
+
+    def worst_break(m):
+        return float(m.summary["probability_broken"].max())
+
+    knee = front.knee()
+    summary = {
+        "data": data,
+        "front": {"points": len(front.table), "failed": int((front.table["status"] != "ok").sum()),
+                  "ends": front.ends, "knee": {c: float(knee[c]) for c in
+                                               [front.objective_column, front.quantity_column]}},
+        "contact_stress_front": stress_front,
+        "nominal": {"ppte_um": ppte_of(nominal), "values": nominal.values,
+                    "top_sensitivities": report.table.head(5)[["name", "sensitivity", "log_sensitivity"]]
+                    .to_dict("records"), "worst_probability_broken": worst_break(mc["nominal"])},
+        "robust": {"ppte_um": ppte_of(robust), "values": robust.values,
+                   "worst_probability_broken": worst_break(mc["robust"])},
+        "tolerances": [t.__dict__ for t in tolerances], "samples": samples, "elapsed_s": time.perf_counter() - t0,
+    }
+    (args.out / "summary.json").write_text(json.dumps(summary, indent=1, default=float))
+    print(f"front: {len(front.solved)} points, PPTE {front.ends['objective']['objective']:.3f}-"
+          f"{front.ends['quantity']['objective']:.3f} um; nominal PPTE {summary['nominal']['ppte_um']:.3f} um "
+          f"(worst P(limit broken) {summary['nominal']['worst_probability_broken']:.2f}), robust "
+          f"{summary['robust']['ppte_um']:.3f} um ({summary['robust']['worst_probability_broken']:.2f}); "
+          f"{args.out}")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
