@@ -611,6 +611,13 @@ class BuiltScene:
         return [(self._label(quantity, target, lc), lc.name if lc is not None else "",
                  self._elements(kind, target, lc, {})) for lc in self._cases(kind, load_cases)]
 
+    @property
+    def records(self) -> list[dict[str, Any]]:
+        """Every objective and limit quantity as declared, in the order of the quantity table: ``label``,
+        ``quantity``, ``target``, ``load_case``, ``kind`` (:class:`QuantityKind`), ``expr`` (its elements),
+        ``lower``, ``upper``, ``role``."""
+        return list(self._records)
+
     def quantity_table(self, solved: ProblemResult) -> pd.DataFrame:
         """The quantity table (as ``SceneResult.quantities``) at any solve of ``problem``."""
         return self._quantity_table(solved)

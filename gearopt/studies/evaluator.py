@@ -109,7 +109,7 @@ def scene_evaluator(result) -> SceneEvaluator:
         entry = pb.data_parameters[name]
         inputs[name] = ("parameter", j, 1.0, float(entry["value"]), entry["unit"])
     exprs, quantities, row = [], {}, 0
-    for rec in pb._records:
+    for rec in pb.records:
         kind, expr = rec["kind"], rec["expr"]
         if kind.shape == "named":
             continue

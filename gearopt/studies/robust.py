@@ -67,7 +67,7 @@ def robust_design(scene: Scene, tolerances: Sequence[Tolerance] | None = None, *
         else:
             raise GearoptInputError(f"tolerance {t.name!r} is not a design variable or datum of the scene "
                                     f"({design + names_p})")
-    for rec in list(built._records):
+    for rec in built.records:
         kind, expr = rec["kind"], rec["expr"]
         if rec["role"] != "limit" or kind.shape in ("named", "ppte") or isinstance(expr, (int, float)):
             continue

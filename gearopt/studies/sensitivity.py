@@ -127,7 +127,7 @@ def _limit_rows(built, result: SceneResult, factor: float, objective: float, of:
     cons = result.solve.constraints
     rows = []
     seen = set()
-    for r in built._records:
+    for r in built.records:
         if r["role"] != "limit" or r["label"] in seen:
             continue
         seen.add(r["label"])
@@ -183,7 +183,7 @@ def _quantity_rows(pb, solved, sens, names: list[str]) -> list[dict[str, Any]]:
     opti = pb.problem.opti
     rows = []
     table = pb.quantity_table(solved)
-    for rec, (_, qrow) in zip(pb._records, table.iterrows()):
+    for rec, (_, qrow) in zip(pb.records, table.iterrows()):
         kind, expr = rec["kind"], rec["expr"]
         if kind.shape == "named" or isinstance(expr, (int, float, np.floating)):
             continue
