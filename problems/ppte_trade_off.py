@@ -35,32 +35,24 @@ import pandas as pd
 
 import gearopt as go
 from gearopt.data import load_default_data
-from gearopt.data import values as data_values
-from gearopt.design.scene import DesignVariable, Limit, LoadCase, Objective, Scene
+from gearopt.design.scene import Scene
 from gearopt.errors import GearoptInputError
-from gearopt.studies import (Tolerance, monte_carlo, pareto_front, robust_design, sensitivity_report)
+from gearopt.studies import (Tolerance, monte_carlo, pareto_front, relief_scene_from_data, robust_design,
+                             sensitivity_report)
 from gearopt.studies.tolerances import MICROGEOMETRY_TOLERANCES
 
 MESH = "crank-cam"
-RELIEF = ("tip_relief_1_um", "tip_relief_2_um", "tip_relief_1_start_roll_deg", "tip_relief_2_start_roll_deg")
+from gearopt.studies.scene_study import RELIEF  # noqa: E402  (the four relief variables of the scene)
 DEFAULT_OUT = Path("out") / "ppte_trade_off"
 
 
 def build_scene(quick: bool) -> tuple[Scene, dict]:
-    """The tip-relief scene with the data's torque range and limits (``quick``: 24 NLP positions instead of 40)."""
-    d = data_values(load_default_data())
-    loads, limits = d["design_loads"], d["design_limits"]
-    torques = [loads["crank_cam_torque_Nm"] * f for f in loads["torque_range_fractions"]]
-    train = go.load_default_train("spur")
-    stress_limit = max(go.ltca(train.pairs[MESH], t).max_contact_stress_MPa for t in torques)
-    scene = Scene("crank-cam tip relief", train=train, load_cases=[LoadCase(f"T{t:g}", t) for t in torques],
-                  variables=[DesignVariable(v, MESH) for v in RELIEF],
-                  objectives=[Objective("ppte_um", MESH, aggregate="max")],
-                  limits=[Limit("max_contact_stress_MPa", MESH, upper=stress_limit),
-                          Limit("loaded_contact_ratio", MESH, lower=limits["min_loaded_contact_ratio"])],
-                  ltca_options={"positions": 24} if quick else {})
-    return scene, {"torques_Nm": torques, "max_contact_stress_limit_MPa": stress_limit,
-                   "min_loaded_contact_ratio": limits["min_loaded_contact_ratio"]}
+    """The data's tip-relief scene of crank-cam (``quick``: 24 NLP positions instead of 40) and its data."""
+    scene = relief_scene_from_data(load_default_data(), go.load_default_train("spur"), MESH,
+                                   positions=24 if quick else None)
+    return scene, {"torques_Nm": [lc.torque_Nm for lc in scene.load_cases],
+                   "max_contact_stress_limit_MPa": scene.limits[0].upper,
+                   "min_loaded_contact_ratio": scene.limits[1].lower}
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -5,6 +5,7 @@
   logarithmic;
 - :func:`monte_carlo`, :func:`sobol_indices`: distributions, probabilities of broken limits and Sobol indices over
   the tolerances (:class:`Tolerance`);
+- :func:`scene_study`: the three above for one scene, with a report section;
 - :func:`get_executor` / :class:`Executor`: serial, local processes or a Dask cluster for every batch.
 """
 
@@ -14,9 +15,11 @@ from .monte_carlo import MonteCarloResult, monte_carlo, sobol_indices
 from .parametric import KKTSensitivity, kkt_sensitivity
 from .pareto import ParetoFront, pareto_front
 from .robust import robust_design
+from .scene_study import SceneStudy, relief_scene_from_data, scene_study
 from .sensitivity import SensitivityReport, sensitivity_report
 from .tolerances import Tolerance, default_tolerances
 
 __all__ = ["mesh_contact_study", "MeshContactStudy", "DESIGNS", "Executor", "get_executor", "using_executor",
            "pareto_front", "ParetoFront", "sensitivity_report", "SensitivityReport", "kkt_sensitivity",
-           "KKTSensitivity", "robust_design", "monte_carlo", "sobol_indices", "MonteCarloResult", "Tolerance", "default_tolerances"]
+           "KKTSensitivity", "robust_design", "monte_carlo", "sobol_indices", "MonteCarloResult", "Tolerance", "default_tolerances",
+           "scene_study", "SceneStudy", "relief_scene_from_data"]

@@ -42,7 +42,8 @@ class SensitivityReport:
     """Sensitivities of a solved scene (see the module docstring). ``table``: one row per limit, variable bound and
     datum: ``name``, ``kind`` ("limit"/"parameter"), ``value`` (the bound or datum), ``unit``, ``sensitivity``
     (d objective / d value, objective units per ``unit``), ``log_sensitivity`` (d ln objective / d ln value),
-    ``active``, ``of`` (the objective's name) and ``of_unit``; sorted by |log_sensitivity|. ``quantity_table``:
+    ``active`` (a limit: at its bound with a multiplier; a datum: |log_sensitivity| > 1e-6), ``of`` (the objective's
+    name) and ``of_unit``; sorted by |log_sensitivity|. ``quantity_table``:
     ``quantity`` x ``parameter`` rows with ``value``, ``sensitivity``, ``log_sensitivity``. ``objective``: the
     objective's value; ``kkt_residual``: relative residual of the KKT solve (0 at a regular optimum)."""
 
@@ -97,7 +98,8 @@ def sensitivity_report(result: SceneResult, *, active_tol: float = 1e-9, **ipopt
         for i, pname in enumerate(names):
             entry = pb.data_parameters[pname]
             s = float(sens.df_dp[i]) * factor
-            rows.append(_row(pname, "parameter", entry["value"], entry["unit"], s, objective, s != 0.0, name, unit))
+            rows.append(_row(pname, "parameter", entry["value"], entry["unit"], s, objective,
+                             abs(s * entry["value"]) > 1e-6 * abs(objective), name, unit))
         qrows = _quantity_rows(pb, solved, sens, names)
     table = pd.DataFrame(rows, columns=COLUMNS)
     table = table.iloc[np.argsort(-np.nan_to_num(np.abs(table["log_sensitivity"].to_numpy(float)), nan=-1.0),
