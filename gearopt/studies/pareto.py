@@ -42,7 +42,7 @@ class ParetoFront:
     """A traced front. ``table``: one row per point, ordered from the objective's optimum to the quantity's
     (``point``, ``epsilon``, ``status``, ``error``, ``worst_violated``, ``iterations``, ``solve_time_s``, the two
     front columns ``objective_column`` and ``quantity_column``, ``front_slope`` (d objective / d ε from the ε
-    multiplier, objective units per quantity unit), every design variable (``"target.name"``), every scene
+    multiplier, objective units per quantity unit; 0 at the objective's optimum, NaN at the quantity's), every design variable (``"target.name"``), every scene
     quantity per load case (``"quantity[target]@case"``) with ``margin:`` and the multiplier of every limit
     ``multiplier:``). ``ends``: the two single-objective optima (``objective``, ``quantity``)."""
 
@@ -206,6 +206,7 @@ def _ends(model, starts: int) -> tuple[dict[str, dict[str, float]], list[dict[st
     eps_b = q_b + slack if model.spec.sense == "min" else q_b - slack
     b = model.solve(eps_b, start=b_only.values)
     row_b = _record(model, b, eps_b)
+    row_b["front_slope"] = np.nan      # ε at the quantity's own optimum: the constraint is degenerate there
     ends = {"objective": {"objective": row_a["_objective"], "quantity": row_a["_quantity"]},
             "quantity": {"objective": row_b["_objective"], "quantity": row_b["_quantity"]}}
     return ends, [row_a, row_b]

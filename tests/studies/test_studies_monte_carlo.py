@@ -7,7 +7,7 @@ import pytest
 
 import gearopt as go
 from gearopt.errors import GearoptInputError
-from gearopt.studies import Tolerance, monte_carlo, robust_design, sobol_indices
+from gearopt.studies import Tolerance, monte_carlo, robust_design, sobol_indices, using_executor
 from studies_scenes import MESH, RELIEF, relief_scene
 
 LCR = f"loaded_contact_ratio[{MESH}]@T150"
@@ -29,10 +29,14 @@ def serial(result):
 
 
 def test_same_seed_same_table_on_every_executor(result, serial):
-    # 300 samples = two chunks, so both workers of the cluster get work
-    for executor in ("processes", "dask"):
-        other = monte_carlo(result, samples=300, seed=7, executor=executor, workers=2)
-        assert other.table.equals(serial.table), executor
+    # 300 samples = two chunks, so both workers get work
+    other = monte_carlo(result, samples=300, seed=7, executor="processes", workers=2)
+    assert other.table.equals(serial.table)
+    # "dask": a two-worker LocalCluster; its dask.distributed.Client is accepted as the executor too
+    with using_executor("dask", workers=2) as ex:
+        assert len(ex.client.scheduler_info()["workers"]) == 2
+        for executor in (ex, ex.client):
+            assert monte_carlo(result, samples=300, seed=7, executor=executor).table.equals(serial.table)
     assert not monte_carlo(result, samples=300, seed=8).table.equals(serial.table)
 
 
