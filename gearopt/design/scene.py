@@ -463,15 +463,19 @@ class BuiltScene:
             cap = self._joint(target, lc)
             if not kind.per_load_case:
                 return cap[name]
-            torque = self._datum(f"joint_torque_Nm[{target}]@{lc.name}", _demand(lc, target, "joint_torque_Nm"), "N*m")
-            axial = self._datum(f"joint_axial_force_N[{target}]@{lc.name}", _demand(lc, target, "joint_axial_force_N"),
-                                "N")
+            torque_Nm, axial_N = _demand(lc, target, "joint_torque_Nm"), _demand(lc, target, "joint_axial_force_N")
+
+            def torque():   # a datum becomes a parameter only where a quantity uses it (Opti drops unused ones)
+                return self._datum(f"joint_torque_Nm[{target}]@{lc.name}", torque_Nm, "N*m")
+
+            def axial():
+                return self._datum(f"joint_axial_force_N[{target}]@{lc.name}", axial_N, "N")
             if name == "torque_margin":
-                return _margin(cap["torque_capacity_Nm"], torque, target, "torque")
+                return _margin(cap["torque_capacity_Nm"], torque(), target, "torque")
             if name == "axial_margin":
-                return _margin(cap["axial_capacity_N"], axial, target, "axial force")
+                return _margin(cap["axial_capacity_N"], axial(), target, "axial force")
             from ..joints.walk_off import joint_margins
-            return joint_margins(cap["type"], torque, axial, cap["torque_capacity_Nm"],
+            return joint_margins(cap["type"], torque(), axial(), cap["torque_capacity_Nm"],
                                  cap["axial_capacity_N"])["slip_utilisation"]
         blank = self._blank(target)
         return blank.backup_ratio if name == "rim_backup_ratio" else getattr(blank, name)()

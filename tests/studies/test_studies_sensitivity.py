@@ -7,7 +7,8 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from gearopt.design.scene import Limit, LoadCase
+import gearopt as go
+from gearopt.design.scene import DesignVariable, Limit, LoadCase, Objective, Scene
 from gearopt.errors import GearoptInputError
 from gearopt.nlp import Problem
 from gearopt.studies import kkt_sensitivity, sensitivity_report
@@ -96,3 +97,28 @@ def test_report_needs_a_solved_scene(tmp_path, report):
         sensitivity_report(object())
     path = report.to_csv(tmp_path / "s.csv")
     assert path.read_text().startswith("name,kind,value,unit,sensitivity,log_sensitivity")
+
+
+def joint_scene(demand_Nm: float = 400.0, margin: float = 2.0) -> Scene:
+    return Scene("joint", train=go.load_default_train("spur"),
+                 load_cases=[LoadCase("design", speed_rpm=2500.0, joint_torque_Nm={"cam": demand_Nm},
+                                      joint_axial_force_N={"cam": 2000.0})],
+                 variables=[DesignVariable("interference_um", "cam", 10.0, 150.0)],
+                 objectives=[Objective("torque_capacity_Nm", "cam")],
+                 limits=[Limit("torque_margin", "cam", lower=margin)])
+
+
+def test_joint_demand_and_margin_sensitivities_match_re_solves():
+    # least capacity with capacity(2500 rpm) / demand >= margin: the capacity scales with demand x margin, so both
+    # log sensitivities are ~1 (not exactly: the objective is the capacity at rest, the limit the one at speed)
+    def capacity(**kw):
+        return joint_scene(**kw).build().solve(check=False).quantities.query("role == 'objective'")["value"].item()
+
+    t = sensitivity_report(joint_scene().build().solve(check=False)).table.set_index("name")
+    assert set(t.index) >= {"joint_torque_Nm[cam]@design", "torque_margin[cam]@design (lower)"}
+    assert "joint_axial_force_N[cam]@design" not in t.index      # no quantity of this scene uses it
+    demand = (capacity(demand_Nm=401.0) - capacity(demand_Nm=399.0)) / 2.0
+    margin = (capacity(margin=2.001) - capacity(margin=1.999)) / 0.002
+    assert t.loc["joint_torque_Nm[cam]@design", "sensitivity"] == pytest.approx(demand, rel=1e-5)
+    assert t.loc["torque_margin[cam]@design (lower)", "sensitivity"] == pytest.approx(margin, rel=1e-5)
+    assert t.loc["joint_torque_Nm[cam]@design", "log_sensitivity"] == pytest.approx(1.0, abs=0.01)
