@@ -107,7 +107,8 @@ class Scene:
 
     def build(self, *, parametric: bool = False) -> "BuiltScene":
         """Build the models the scene needs (each once) and its NLP; see :class:`BuiltScene`. ``parametric``: the
-        data the quantities use (load-case torques and joint demands, the oil temperature of contact temperatures)
+        data the quantities use (load-case torques and joint demands, the oil temperature and the friction
+        coefficient of contact temperatures)
         enter the NLP as :class:`Problem` parameters named like ``torque_Nm[crank-cam]@design`` (for parametric
         sensitivities and sampling, :mod:`gearopt.studies`)."""
         return BuiltScene(self, parametric=parametric)
@@ -442,7 +443,11 @@ class BuiltScene:
                 return nm.vcat([_on_path(r, model, l_idx) for r in res.root_stress_MPa])
             if name == "max_contact_temperature_C":
                 bulk = self._datum(f"oil_temperature_C[{target}]", res.bulk_temperature_C, "C")
-                return bulk + _on_path(res.flash_temperature_rise_K, model, l_idx)
+                flash = _on_path(res.flash_temperature_rise_K, model, l_idx)
+                mu = self._opts["friction_coefficient"]
+                if self.parametric and mu > 0.0:     # Blok's flash temperature is proportional to the friction
+                    flash = flash * (self._datum(f"friction_coefficient[{target}]", mu, "") / mu)
+                return bulk + flash
         if kind.target_kind == "mesh" and "iso6336" in kind.needs:
             iso = self._iso(target, lc)
             if name.startswith("root_"):

@@ -5,7 +5,7 @@ For the objective at the optimum, :func:`sensitivity_report` tables
 - every limit of the scene and every bound of a design variable (``kind="limit"``): ``sensitivity`` = d objective /
   d bound from the solve's multipliers (zero for an inactive one), in objective units per unit of the bound;
 - every datum the scene's quantities use (``kind="parameter"``): load-case torques, joint demands, the oil
-  temperature of contact temperatures -- the scene is rebuilt with them as NLP parameters
+  temperature and the friction coefficient of contact temperatures -- the scene is rebuilt with them as NLP parameters
   (``Scene.build(parametric=True)``), re-solved from the optimum, and differentiated through its KKT system
   (:mod:`gearopt.studies.parametric`);
 
@@ -14,8 +14,8 @@ of the datum, as GPkit reports them (Burnell et al. 2020, "GPkit: a human-center
 in engineering design", CHI '20) -- sorted by its magnitude. ``quantity_table`` gives the same derivatives of every
 reported quantity of the scene (a margin, a stress) with respect to every datum.
 
-Data the models take as built numbers (materials, friction, fixed geometry, speeds) are not parameters yet and do
-not appear; the table says which data it covers by its rows.
+Data the models take as built numbers (materials, fixed geometry, speeds, the friction of anything but the flash
+temperature) are not parameters yet and do not appear; the table says which data it covers by its rows.
 """
 
 from __future__ import annotations

@@ -122,3 +122,19 @@ def test_joint_demand_and_margin_sensitivities_match_re_solves():
     assert t.loc["joint_torque_Nm[cam]@design", "sensitivity"] == pytest.approx(demand, rel=1e-5)
     assert t.loc["torque_margin[cam]@design (lower)", "sensitivity"] == pytest.approx(margin, rel=1e-5)
     assert t.loc["joint_torque_Nm[cam]@design", "log_sensitivity"] == pytest.approx(1.0, abs=0.01)
+
+
+def test_contact_temperature_sensitivities_to_oil_temperature_and_friction():
+    # theta_B = theta_oil + theta_fl with Blok's flash temperature proportional to the friction coefficient:
+    # d theta_B / d theta_oil = 1 and d theta_B / d mu = theta_fl / mu (the limit is inactive: the design stays)
+    scene = Scene("hot", train=go.load_default_train("spur"),
+                  load_cases=[LoadCase("design", 300.0, speed_rpm=2500.0)],
+                  variables=[DesignVariable(v, MESH) for v in ("tip_relief_1_um", "tip_relief_2_um")],
+                  objectives=[Objective("ppte_um", MESH)],
+                  limits=[Limit("max_contact_temperature_C", MESH, upper=400.0)], ltca_options={"positions": 24})
+    report = sensitivity_report(scene.build().solve(check=False))
+    q = report.quantity_table.set_index("parameter")
+    q = q[q["quantity"] == f"max_contact_temperature_C[{MESH}]@design"]
+    theta = q["value"].iloc[0]
+    assert q.loc[f"oil_temperature_C[{MESH}]", "sensitivity"] == pytest.approx(1.0, abs=1e-9)
+    assert q.loc[f"friction_coefficient[{MESH}]", "sensitivity"] == pytest.approx((theta - 100.0) / 0.06, rel=1e-9)
