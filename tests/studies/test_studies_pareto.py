@@ -118,3 +118,4 @@ def test_bad_fronts_raise_clear_errors(scene):
     # tip relief does not change the largest contact stress (single-pair contact mid-profile): the ends coincide
     with pytest.raises(GearoptInputError, match="coinciding ends"):
         pareto_front(scene, "max_contact_stress_MPa", MESH, points=3)
+
