@@ -1,4 +1,5 @@
-"""The executor layer: what ``executor=`` accepts, ordered results, failures propagate, progress off off-terminal."""
+"""The executor layer: what ``executor=`` accepts, ordered results, failures propagate, progress off off-terminal,
+a front split into segments gives the same points on the process pool as serially."""
 
 import math
 
@@ -7,7 +8,6 @@ import pytest
 
 import gearopt as go
 from gearopt.design.scene import DesignVariable, Limit, Objective, Scene
-
 from gearopt.errors import GearoptInputError
 from gearopt.studies import Executor, get_executor, pareto_front, using_executor
 from gearopt.studies.pareto import OK
