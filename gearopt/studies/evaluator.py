@@ -124,10 +124,34 @@ def scene_evaluator(result) -> SceneEvaluator:
     return SceneEvaluator(fn, np.asarray(x0, dtype=float), p0, inputs, quantities)
 
 
+STATUS = "_status"
+"""Key of the per-sample status in the output of :func:`evaluate_chunk`."""
+
+
 def evaluate_chunk(task: tuple[SceneEvaluator, dict[str, np.ndarray]]) -> dict[str, np.ndarray]:
-    """Executor task: :meth:`SceneEvaluator.evaluate` of one chunk of samples."""
+    """Executor task: :meth:`SceneEvaluator.evaluate` of one chunk of samples, plus a status per sample (``"ok"``,
+    ``"NonFiniteOutput"``, or the class name of the exception the model raised at that sample: then the chunk is
+    evaluated sample by sample, so one bad sample does not take the others with it)."""
     evaluator, values = task
-    return evaluator.evaluate(values)
+    n = len(next(iter(values.values()))) if values else 1
+    try:
+        out = evaluator.evaluate(values)
+        status = np.full(n, "ok", dtype=object)
+    except Exception:  # noqa: BLE001  (recorded per sample below, by class name)
+        out = {label: np.full(n, np.nan) for label in evaluator.quantities}
+        status = np.full(n, "ok", dtype=object)
+        for i in range(n):
+            try:
+                one = evaluator.evaluate({k: np.asarray(v)[i:i + 1] for k, v in values.items()})
+            except Exception as exc:  # noqa: BLE001
+                status[i] = type(exc).__name__
+                continue
+            for label, v in one.items():
+                out[label][i] = v[0]
+    finite = np.all(np.isfinite(np.column_stack(list(out.values()))), axis=1) if out else np.ones(n, bool)
+    status[(status == "ok") & ~finite] = "NonFiniteOutput"
+    out[STATUS] = status
+    return out
 
 
-__all__ = ["SceneEvaluator", "scene_evaluator", "evaluate_chunk"]
+__all__ = ["SceneEvaluator", "scene_evaluator", "evaluate_chunk", "STATUS"]

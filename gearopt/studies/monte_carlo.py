@@ -6,7 +6,8 @@ pseudo-random (``numpy`` PCG64 at ``seed``) or a scrambled Sobol' sequence (``me
 chunks on the executor (one vectorised CasADi ``map`` call per chunk, :mod:`gearopt.studies.evaluator`) and tables
 the distributions: mean, standard deviation, 5/95 % quantiles and the probability that each limit is broken. The
 samples and the chunks do not depend on the executor, so the table is the same for ``"serial"``, ``"processes"``
-and ``"dask"``. A sample whose model output is not finite is kept with ``status = "NonFiniteOutput"``.
+and ``"dask"``. A sample whose model output is not finite is kept with ``status = "NonFiniteOutput"``, one where the
+model raised with the exception's class name; the summary counts the ``"ok"`` samples.
 
 :func:`sobol_indices` gives first-order and total Sobol indices of each quantity with respect to each toleranced
 input (Saltelli 2002 sampling and estimators as implemented by SALib: Herman & Usher 2017, "SALib: an open-source
@@ -23,7 +24,7 @@ import numpy as np
 import pandas as pd
 
 from ..errors import GearoptInputError
-from .evaluator import SceneEvaluator, evaluate_chunk, scene_evaluator
+from .evaluator import STATUS, SceneEvaluator, evaluate_chunk, scene_evaluator
 from .executor import using_executor
 from .tolerances import Tolerance, default_tolerances
 
@@ -74,9 +75,10 @@ def monte_carlo(result, samples: int = 1000, seed: int = 0, executor: Any = "ser
     u = _unit_samples(len(tols), int(samples), int(seed), method)
     values = {t.name: evaluator.nominal(t.name) + t.deviation(u[:, k]) for k, t in enumerate(tols)}
     outputs = _run(evaluator, values, int(samples), executor, workers, progress)
+    status = outputs.pop(STATUS)
     table = pd.DataFrame({"sample": np.arange(samples)})
-    finite = np.all(np.isfinite(np.column_stack(list(outputs.values()))), axis=1)
-    table["status"] = np.where(finite, "ok", "NonFiniteOutput")
+    table["status"] = status.astype(str)
+    finite = status == "ok"
     for name, v in values.items():
         table[name] = v
     for label, v in outputs.items():
@@ -116,6 +118,7 @@ def sobol_indices(result, samples: int = 256, seed: int = 0, executor: Any = "se
     u = np.clip(u, 0.0, np.nextafter(1.0, 0.0))
     values = {t.name: evaluator.nominal(t.name) + t.deviation(u[:, k]) for k, t in enumerate(tols)}
     outputs = _run(evaluator, values, len(u), executor, workers, progress)
+    outputs.pop(STATUS)
     rows = []
     for label, y in outputs.items():
         if not np.all(np.isfinite(y)):
@@ -166,7 +169,7 @@ def _run(evaluator: SceneEvaluator, values: dict[str, np.ndarray], n: int, execu
     tasks = [(evaluator, {k: v[s:s + CHUNK] for k, v in values.items()}) for s in starts]
     with using_executor(executor, workers=workers, progress=progress) as ex:
         parts = ex.map(evaluate_chunk, tasks, desc="samples")
-    return {label: np.concatenate([p[label] for p in parts]) for label in evaluator.quantities}
+    return {label: np.concatenate([p[label] for p in parts]) for label in [*evaluator.quantities, STATUS]}
 
 
 __all__ = ["monte_carlo", "sobol_indices", "MonteCarloResult", "CHUNK", "METHODS"]

@@ -109,3 +109,26 @@ def test_bad_monte_carlo_input(result):
         monte_carlo(result, samples=4, tolerances=[Tolerance.symmetric("no_such_input", 1.0)])
     with pytest.raises(GearoptInputError, match="method"):
         monte_carlo(result, samples=4, method="latin")
+
+
+def test_a_failed_sample_is_recorded_and_the_others_kept(result):
+    from gearopt.studies.evaluator import STATUS, evaluate_chunk, scene_evaluator
+
+    class Fussy:
+        """Wraps the scene's evaluator; raises on a tip relief above 20 um (a model that fails at one sample)."""
+
+        def __init__(self, inner):
+            self.inner, self.quantities = inner, inner.quantities
+
+        def evaluate(self, values):
+            if np.any(np.asarray(values[f"{MESH}.tip_relief_1_um"]) > 20.0):
+                raise FloatingPointError("relief too large")
+            return self.inner.evaluate(values)
+
+    inner = scene_evaluator(result)
+    values = {f"{MESH}.tip_relief_1_um": np.array([10.0, 25.0, 12.0])}
+    out = evaluate_chunk((Fussy(inner), values))
+    assert list(out[STATUS]) == ["ok", "FloatingPointError", "ok"]
+    ppte = out[f"ppte_um[{MESH}]@T150"]
+    assert np.isnan(ppte[1]) and np.allclose(ppte[[0, 2]], inner.evaluate({k: v[[0, 2]] for k, v in values.items()})[
+        f"ppte_um[{MESH}]@T150"], rtol=1e-12)
