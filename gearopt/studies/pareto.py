@@ -44,7 +44,8 @@ class ParetoFront:
     front columns ``objective_column`` and ``quantity_column``, ``front_slope`` (d objective / d ε from the ε
     multiplier, objective units per quantity unit; 0 at the objective's optimum, NaN at the quantity's), every design variable (``"target.name"``), every scene
     quantity per load case (``"quantity[target]@case"``) with ``margin:`` and the multiplier of every limit
-    ``multiplier:``). ``ends``: the two single-objective optima (``objective``, ``quantity``)."""
+    ``multiplier:``). ``ends``: the two single-objective optima (``objective``, ``quantity``); ``units`` of the two
+    front columns; ``variables``: the design variables' columns."""
 
     scene: str
     quantity: str
@@ -55,6 +56,7 @@ class ParetoFront:
     table: pd.DataFrame
     ends: dict[str, dict[str, float]] = field(default_factory=dict)
     units: dict[str, str] = field(default_factory=dict)
+    variables: list[str] = field(default_factory=list)
 
     @property
     def solved(self) -> pd.DataFrame:
@@ -90,8 +92,7 @@ class ParetoFront:
             ax.plot([], [], color="C1", ls=":", label=f"failed points ({len(bad)})")
         if annotate and len(s) >= 3:
             k = self.knee()
-            names = [c for c in self.table.columns if c in self.units.get("_variables", "").split("|")]
-            text = "\n".join(f"{n} = {k[n]:.4g}" for n in names)
+            text = "\n".join(f"{n} = {k[n]:.4g}" for n in self.variables)
             ax.annotate(f"knee\n{text}", (k[self.quantity_column], k[self.objective_column]), xytext=(15, 15),
                         textcoords="offset points", fontsize=7, arrowprops={"arrowstyle": "->"})
         ax.set_xlabel(_axis(self.quantity_column, self.units.get(self.quantity_column, "")))
@@ -309,8 +310,9 @@ def _front(model, rows: list[dict[str, Any]], ends: dict[str, dict[str, float]])
     front_cols = ["point", "epsilon", "status", obj_col, q_col, "front_slope"]
     table = table[front_cols + [c for c in table.columns if c not in front_cols]]
     names = [f"{v.target}.{v.name}" for v in spec.scene.variables]
-    units = {obj_col: unit_obj, q_col: kind.unit, "_variables": "|".join(names)}
-    return ParetoFront(spec.scene.name, spec.quantity, spec.target, spec.sense, obj_col, q_col, table, ends, units)
+    units = {obj_col: unit_obj, q_col: kind.unit}
+    return ParetoFront(spec.scene.name, spec.quantity, spec.target, spec.sense, obj_col, q_col, table, ends, units,
+                       names)
 
 
 def _objective_column(scene: Scene) -> tuple[str, str]:
