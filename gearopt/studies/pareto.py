@@ -93,8 +93,12 @@ class ParetoFront:
         if annotate and len(s) >= 3:
             k = self.knee()
             text = "\n".join(f"{n} = {k[n]:.4g}" for n in self.variables)
-            ax.annotate(f"knee\n{text}", (k[self.quantity_column], k[self.objective_column]), xytext=(15, 15),
-                        textcoords="offset points", fontsize=7, arrowprops={"arrowstyle": "->"})
+            rising = s[self.objective_column].iloc[-1] > s[self.objective_column].iloc[0]
+            corner = (0.03, 0.97) if rising == (s[self.quantity_column].iloc[-1] > s[self.quantity_column].iloc[0]) \
+                else (0.97, 0.97)            # the empty upper corner, away from the front
+            ax.annotate(f"knee\n{text}", (k[self.quantity_column], k[self.objective_column]), xytext=corner,
+                        textcoords="axes fraction", ha="left" if corner[0] < 0.5 else "right", va="top", fontsize=7,
+                        arrowprops={"arrowstyle": "->", "color": "0.4"})
         ax.set_xlabel(_axis(self.quantity_column, self.units.get(self.quantity_column, "")))
         ax.set_ylabel(_axis(self.objective_column, self.units.get(self.objective_column, "")))
         ax.set_title(f"{self.scene}: trade-off front")
