@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 import platform
 import sys
 import time
@@ -207,7 +208,8 @@ def main(argv=None) -> int:
                                                         sum(warm["primal_only_iterations"])],
     }
     data = {"machine": {"python": sys.version.split()[0], "platform": platform.platform(),
-                        "processor": platform.processor()},
+                        "processor": platform.processor(), "cpus": os.cpu_count(),
+                        "load_average_1_5_15_min": list(os.getloadavg())},
             "quick": args.quick, "epsilon": eps, "continuation": warm, "nsga2": ga, "monte_carlo": mc,
             "summary": summary,
             "normalisation": {"ideal": ideal.tolist(), "nadir": nadir.tolist(), "reference": [1.1, 1.1]}}
