@@ -137,11 +137,15 @@ def _limit_rows(built, result: SceneResult, factor: float, objective: float, of:
         if block.empty:          # a constant limit, never handed to the solver
             continue
         kind = r["kind"]
+        mults = block["multiplier"].to_numpy(float)
+        two_sided = r["lower"] is not None and r["upper"] is not None
         for side in ("lower", "upper"):
             bound = r[side]
             if bound is None:
                 continue
-            mult = float(block["multiplier"].sum())
+            # the NLP minimises: an active lower bound has a positive multiplier, an active upper one a negative
+            mult = float(mults.sum()) if not two_sided else float(
+                mults[mults > 0].sum() if side == "lower" else mults[mults < 0].sum())
             # a squared quantity is imposed as elements <= bound^2: d f / d bound = multiplier * 2 bound
             s = mult * (2.0 * bound if kind.squared else 1.0) * factor
             unit = kind.unit if kind.shape != "named" else ""
