@@ -150,7 +150,7 @@ def _limit_rows(built, result: SceneResult, factor: float, objective: float, of:
             s = mult * (2.0 * bound if kind.squared else 1.0) * factor
             unit = kind.unit if kind.shape != "named" else ""
             rows.append(_row(f"{r['label']} ({side})", "limit", bound, unit, s, objective,
-                             bool(block["active"].any()), of, of_unit))
+                             bool(block["active"].any()) and (not two_sided or mult != 0.0), of, of_unit))
     design = {f"{v.target}.{v.name}" for v in built.scene.variables}
     for v in result.solve.variables.itertuples(index=False):
         if v.base not in design:
