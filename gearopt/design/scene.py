@@ -108,9 +108,8 @@ class Scene:
     def build(self, *, parametric: bool = False) -> "BuiltScene":
         """Build the models the scene needs (each once) and its NLP; see :class:`BuiltScene`. ``parametric``: the
         data the quantities use (load-case torques and joint demands, the oil temperature and the friction
-        coefficient of contact temperatures)
-        enter the NLP as :class:`Problem` parameters named like ``torque_Nm[crank-cam]@design`` (for parametric
-        sensitivities and sampling, :mod:`gearopt.studies`)."""
+        coefficient of contact temperatures) enter the NLP as :class:`Problem` parameters named like
+        ``torque_Nm[crank-cam]@design`` (for parametric sensitivities and sampling, :mod:`gearopt.studies`)."""
         return BuiltScene(self, parametric=parametric)
 
 
@@ -379,12 +378,13 @@ class BuiltScene:
 
     def _ltca(self, mesh: str):
         model = self._ltca_model(mesh)
-        torques = [self._datum(f"torque_Nm[{mesh}]@{lc.name}", lc.mesh_torque_Nm(mesh), "N*m")
-                   for lc in self._mesh_cases(mesh)]
-        if not torques:
+        numbers = [lc.mesh_torque_Nm(mesh) for lc in self._mesh_cases(mesh)]
+        if not numbers:
             raise GearoptInputError(f"mesh {mesh!r}: LTCA quantities need at least one load case")
+        torques = [self._datum(f"torque_Nm[{mesh}]@{lc.name}", t, "N*m")
+                   for lc, t in zip(self._mesh_cases(mesh), numbers)]
         return self._model(f"ltca_evaluation:{mesh}", lambda: model.evaluate(self._microgeometry(mesh), torques),
-                           f"{len(torques)} load case(s) at {', '.join(str(t) for t in torques)} N m")
+                           f"{len(torques)} load case(s) at {', '.join(f'{t:g}' for t in numbers)} N m")
 
     def _iso(self, mesh: str, lc: LoadCase) -> dict:
         from ..rating import contact_stress_iso6336, root_stress_iso6336
@@ -476,9 +476,9 @@ class BuiltScene:
             def axial():
                 return self._datum(f"joint_axial_force_N[{target}]@{lc.name}", axial_N, "N")
             if name == "torque_margin":
-                return _margin(cap["torque_capacity_Nm"], torque(), target, "torque")
+                return _margin(cap["torque_capacity_Nm"], torque(), target, "torque", torque_Nm)
             if name == "axial_margin":
-                return _margin(cap["axial_capacity_N"], axial(), target, "axial force")
+                return _margin(cap["axial_capacity_N"], axial(), target, "axial force", axial_N)
             from ..joints.walk_off import joint_margins
             return joint_margins(cap["type"], torque(), axial(), cap["torque_capacity_Nm"],
                                  cap["axial_capacity_N"])["slip_utilisation"]
@@ -770,8 +770,9 @@ def _demand(lc: LoadCase, joint: str, what: str) -> float:
     return float(table[joint])
 
 
-def _margin(capacity, demand: float, joint: str, what: str):
-    if nm.is_numeric(demand) and demand == 0.0:
+def _margin(capacity, demand, joint: str, what: str, nominal: float):
+    """``capacity / |demand|``; ``nominal``: the demand's value (``demand`` may be its parameter)."""
+    if nominal == 0.0:
         raise GearoptInputError(f"joint {joint!r}: the {what} demand is zero, its margin is infinite (drop the limit)")
     return capacity / abs(demand)
 
