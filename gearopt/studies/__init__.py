@@ -4,7 +4,7 @@
 - :func:`sensitivity_report`: d objective / d limit (multipliers) and d objective / d datum (KKT system), absolute and
   logarithmic;
 - :func:`monte_carlo`, :func:`sobol_indices`: distributions, probabilities of broken limits and Sobol indices over
-  the tolerances (:class:`Tolerance`);
+  the tolerances (:class:`Tolerance`); :func:`robust_design`: the scene's limits held at the tolerance corners;
 - :func:`scene_study`: the three above for one scene, with a report section;
 - :func:`get_executor` / :class:`Executor`: serial, local processes or a Dask cluster for every batch.
 """
@@ -21,5 +21,5 @@ from .tolerances import Tolerance, default_tolerances
 
 __all__ = ["mesh_contact_study", "MeshContactStudy", "DESIGNS", "Executor", "get_executor", "using_executor",
            "pareto_front", "ParetoFront", "sensitivity_report", "SensitivityReport", "kkt_sensitivity",
-           "KKTSensitivity", "robust_design", "monte_carlo", "sobol_indices", "MonteCarloResult", "Tolerance", "default_tolerances",
-           "scene_study", "SceneStudy", "relief_scene_from_data"]
+           "KKTSensitivity", "robust_design", "monte_carlo", "sobol_indices", "MonteCarloResult", "Tolerance",
+           "default_tolerances", "scene_study", "SceneStudy", "relief_scene_from_data"]
