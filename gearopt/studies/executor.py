@@ -1,18 +1,18 @@
 """One executor for every batch of a study: serial, local processes, or a Dask distributed cluster.
 
-Pareto segments, Monte Carlo chunks, tooth-count candidates and speed sweeps all go through
+Pareto segments and Monte Carlo chunks (and any other batch: tooth-count candidates, speed sweeps) go through
 :meth:`Executor.map`, which applies a picklable function to a list of items and returns the results *in the order
 of the items* whoever ran them -- so a study gives the same table with every executor. Nothing here schedules work
 itself: ``"processes"`` is :class:`concurrent.futures.ProcessPoolExecutor` (forked workers from a single-threaded
-process, spawned ones from a process holding threads -- a Dask client -- so that either starts safely), ``"dask"`` a :class:`distributed.LocalCluster` (one thread
-per worker process), and a :class:`distributed.Client` (or a scheduler address ``"tcp://host:port"``) runs the
-batch on that cluster.
+process, spawned ones from a process holding threads -- a Dask client -- so that either starts safely), ``"dask"``
+a :class:`distributed.LocalCluster` (one thread per worker process), and a :class:`distributed.Client` (or a
+scheduler address ``"tcp://host:port"``) runs the batch on that cluster.
 
 Long batches show a tqdm progress bar; it is off when standard error is not a terminal (tqdm's ``disable=None``).
 
 Example::
 
-    with get_executor("dask", workers=2) as ex:
+    with using_executor("dask", workers=2) as ex:
         squares = ex.map(pow2, range(100))
 """
 

@@ -10,8 +10,8 @@ Nonlinear Programming*, sec. 3.2)::
     [ J_A     0    ] [ dλ_A/dp ] = - [ ∂g_A/∂p ]        L = f + λᵀg,
 
 and the optimal value moves by the partial derivative of the Lagrangian (the envelope theorem):
-``df*/dp = ∂f/∂p + λ*ᵀ ∂g/∂p``. Every derivative here is CasADi's (exact Hessians and Jacobians of the NLP as the
-solver saw it, variable bounds included as rows of ``g``). Weakly active constraints (at a bound with a zero
+``df*/dp = ∂f/∂p + λ*ᵀ ∂g/∂p``. Every derivative here is CasADi's (exact Hessians and Jacobians of the NLP as
+the solver saw it, variable bounds included as rows of ``g``). Weakly active constraints (at a bound with a zero
 multiplier) are treated as inactive: at such a point the derivative is one-sided and the one given is that of the
 side where the constraint stays inactive. A singular KKT matrix is solved in the least-squares sense.
 """

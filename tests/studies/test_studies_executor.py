@@ -53,7 +53,8 @@ def test_progress_bar_is_off_when_stderr_is_not_a_terminal():
 
 
 def test_front_segments_on_processes_equal_the_serial_front():
-    # a front through the executor (this file runs before the Dask test, so the pool forks): the cam blank: minimum inertia against rim backup ratio (fast); two ε segments run as two tasks
+    # a front through the executor (this file runs before the Dask test, so the pool forks): the cam blank,
+    # minimum inertia against rim backup ratio (fast); two ε segments run as two tasks
     blank = Scene("blank", train=go.load_default_train("spur"),
                   variables=[DesignVariable("web_thickness_mm", "cam", 4.0, 20.0),
                              DesignVariable("rim_thickness_mm", "cam", 4.0, 20.0)],
