@@ -44,8 +44,9 @@ class ParetoFront:
     front columns ``objective_column`` and ``quantity_column``, ``front_slope`` (d objective / d ε from the ε
     multiplier, objective units per quantity unit; 0 at the objective's optimum, NaN at the quantity's), every
     design variable (``"target.name"``), every scene quantity per load case (``"quantity[target]@case"``) with
-    ``margin:`` and the multiplier of every limit ``multiplier:``). ``ends``: the two single-objective optima (``objective``, ``quantity``); ``units`` of the two
-    front columns; ``variables``: the design variables' columns."""
+    ``margin:`` and the multiplier of every limit ``multiplier:``). ``ends``: the two single-objective optima
+    (``objective``, ``quantity``); ``units`` of the two front columns; ``variables``: the design variables'
+    columns."""
 
     scene: str
     quantity: str
