@@ -15,10 +15,12 @@ CSV tables, ``report.md`` and ``result.json`` (headline numbers with units). Sta
 4. rating: ISO 6336-2/-3 method B contact and root stresses and safety factors per mesh, helical and spur;
 5. joints: shaft-hub joint capacities, torque and walk-off margins (nominal and weakest fit), blanks, webs;
 6. dynamics: the torsional model of the timing train, helical vs spur, with and without backlash, at rated speed
-   and overspeed (thesis Figs. 4.3-4.5), and the joints' torque and axial margins over a speed sweep.
+   and overspeed (thesis Figs. 4.3-4.5), and the joints' torque and axial margins over a speed sweep;
 7. failure reproduction (reported first): the keyed press fits as friction elements in the torsional model over
    speed up to overspeed, damper state and fit; the walk-off probability by Monte Carlo; helical vs spur and
    helical alternatives.
+8. trade-off: the front of the crank-cam tip relief's PPTE against its loaded contact ratio, the sensitivity table of
+   the optimised design and its robustness under the tolerances (``gearopt.studies.scene_study``).
 
 Usage: ``python problems/cam_gear_walkoff.py [--quick] [--out DIR] [--data FILE]`` (``--data``: your own train in
 the data-file format of the packaged default, ``gearopt/data/default_train.toml``).
@@ -663,7 +665,7 @@ def summary_inputs(data: dict, dynamics: dict | None, out: Path) -> dict:
     from the data's ``[design_loads]``/``[design_limits]`` and what the run drew."""
     values = data_values(data)
     loads, limits = values["design_loads"], dict(values.get("design_limits", {}))
-    basis = {"rating": (f"ISO 6336 method B at the static design torques ("
+    basis = {"rating": ("ISO 6336 method B at the static design torques ("
                         + ", ".join(f"{m} {loads[k]:g} N m" for m, k in RATED_MESHES.items())
                         + f"), K_A {loads['application_factor_K_A']:g}, K_v = K_Hbeta = K_Halpha = K_Fbeta = K_Falpha "
                           "= 1, life factors Z_NT = Y_NT = 1 (endurance: unlimited load cycles)"),
@@ -683,6 +685,32 @@ def summary_inputs(data: dict, dynamics: dict | None, out: Path) -> dict:
     figures = [f"figures/{stem}.png" for stem in KEY_FIGURES if (out / "figures" / f"{stem}.png").exists()]
     return {"limits": {k: v for k, v in limits.items() if isinstance(v, (int, float))}, "load_basis": basis,
             "figures": figures}
+
+
+def trade_off_stage(data: dict, trains: dict, quick: bool = False):
+    """Stage 7: the headline trade-off of the spur crank-cam tip relief over the design torque range -- PPTE against
+    loaded contact ratio -- with the sensitivity report and the Monte Carlo robustness of the optimised design."""
+    from gearopt.studies import relief_scene_from_data, scene_study
+
+    scene = relief_scene_from_data(data, trains["spur"], "crank-cam", positions=24 if quick else None)
+    return scene_study(scene, "loaded_contact_ratio", "crank-cam", points=4 if quick else 9,
+                       samples=256 if quick else 2000, starts=1 if quick else 4)
+
+
+def write_trade_off(out: Path, study) -> None:
+    """Append the trade-off section to ``report.md`` and its ``trade_off`` key to ``result.json``."""
+    fig = out / "figures" / "trade_off_crank_cam.png"
+    fig.parent.mkdir(parents=True, exist_ok=True)
+    study.front.plot().savefig(fig, dpi=110)
+    write_table(study.front.table, out, "trade_off_front_crank_cam")
+    write_table(study.sensitivity.table, out, "sensitivity_crank_cam")
+    write_table(study.monte_carlo.summary, out, "robustness_crank_cam")
+    with open(out / "report.md", "a") as f:
+        f.write("\n## Trade-off, sensitivities and robustness of the crank-cam tip relief\n\n"
+                + study.markdown(str(fig.relative_to(out))) + "\n")
+    result = json.loads((out / "result.json").read_text())
+    result["trade_off"] = study.headline()
+    (out / "result.json").write_text(json.dumps(result, indent=2, default=float) + "\n")
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -736,6 +764,10 @@ def main(argv: list[str] | None = None) -> int:
     write_outputs(args.out, macro, split, timings, contact, ratings, joints, dynamics, design_torques, teeth,
                   sizing, data=data, failure=failure)
     timings["write_outputs"] = time.perf_counter() - t0
+
+    t0 = time.perf_counter()
+    write_trade_off(args.out, trade_off_stage(data, macro["trains"], quick=args.quick))
+    timings["trade_off_study"] = time.perf_counter() - t0
 
     spur = macro["tables"]["table_3_3_profile_shift"]
     print("Cam gear walk-off: spur redesign at the helical train's centre distances")

@@ -105,16 +105,21 @@ class Scene:
             out.setdefault(v.target, set())
         return out
 
-    def build(self) -> "BuiltScene":
-        """Build the models the scene needs (each once) and its NLP; see :class:`BuiltScene`."""
-        return BuiltScene(self)
+    def build(self, *, parametric: bool = False) -> "BuiltScene":
+        """Build the models the scene needs (each once) and its NLP; see :class:`BuiltScene`. ``parametric``: the
+        data the quantities use (load-case torques and joint demands, the oil temperature and the friction
+        coefficient of contact temperatures) enter the NLP as :class:`Problem` parameters named like
+        ``torque_Nm[crank-cam]@design`` (for parametric sensitivities and sampling, :mod:`gearopt.studies`)."""
+        return BuiltScene(self, parametric=parametric)
 
 
 class BuiltScene:
     """A built scene: its models (``models``, in build order ``built``), its :class:`Problem` and :meth:`solve`."""
 
-    def __init__(self, scene: Scene):
+    def __init__(self, scene: Scene, *, parametric: bool = False):
         self.scene = scene
+        self.parametric = bool(parametric)
+        self.data_parameters: dict[str, dict[str, Any]] = {}
         self.models: dict[str, Any] = {}
         self._log: list[dict[str, Any]] = []
         self._opts = {**DEFAULT_LTCA_OPTIONS, **dict(scene.ltca_options)}
@@ -373,11 +378,13 @@ class BuiltScene:
 
     def _ltca(self, mesh: str):
         model = self._ltca_model(mesh)
-        torques = [lc.mesh_torque_Nm(mesh) for lc in self._mesh_cases(mesh)]
-        if not torques:
+        numbers = [lc.mesh_torque_Nm(mesh) for lc in self._mesh_cases(mesh)]
+        if not numbers:
             raise GearoptInputError(f"mesh {mesh!r}: LTCA quantities need at least one load case")
+        torques = [self._datum(f"torque_Nm[{mesh}]@{lc.name}", t, "N*m")
+                   for lc, t in zip(self._mesh_cases(mesh), numbers)]
         return self._model(f"ltca_evaluation:{mesh}", lambda: model.evaluate(self._microgeometry(mesh), torques),
-                           f"{len(torques)} load case(s) at {', '.join(f'{t:g}' for t in torques)} N m")
+                           f"{len(torques)} load case(s) at {', '.join(f'{t:g}' for t in numbers)} N m")
 
     def _iso(self, mesh: str, lc: LoadCase) -> dict:
         from ..rating import contact_stress_iso6336, root_stress_iso6336
@@ -389,7 +396,8 @@ class BuiltScene:
                      "Y_X", "S_Fmin", "rim_backup_ratio", "accuracy_grade"}
 
         def build():
-            pair, torque, g = self._pair(mesh), lc.mesh_torque_Nm(mesh), self._driving_gear(mesh)
+            pair, g = self._pair(mesh), self._driving_gear(mesh)
+            torque = self._datum(f"torque_Nm[{mesh}]@{lc.name}", lc.mesh_torque_Nm(mesh), "N*m")
             return {"contact": contact_stress_iso6336(pair, torque, driving_gear=g,
                                                       **{k: v for k, v in opts.items() if k in contact_keys}),
                     "root": root_stress_iso6336(pair, torque, driving_gear=g,
@@ -448,7 +456,12 @@ class BuiltScene:
             if name == "max_root_stress_MPa":
                 return nm.vcat([_on_path(r, model, l_idx) for r in res.root_stress_MPa])
             if name == "max_contact_temperature_C":
-                return res.bulk_temperature_C + _on_path(res.flash_temperature_rise_K, model, l_idx)
+                bulk = self._datum(f"oil_temperature_C[{target}]", res.bulk_temperature_C, "C")
+                flash = _on_path(res.flash_temperature_rise_K, model, l_idx)
+                mu = self._opts["friction_coefficient"]
+                if self.parametric and mu > 0.0:     # Blok's flash temperature is proportional to the friction
+                    flash = flash * (self._datum(f"friction_coefficient[{target}]", mu, "") / mu)
+                return bulk + flash
         if kind.target_kind == "mesh" and "iso6336_rating" in kind.needs:
             sf = self._rating(target, lc).safety_factors
             if name in ("contact_safety_factor", "root_safety_factor"):
@@ -474,13 +487,19 @@ class BuiltScene:
             cap = self._joint(target, lc)
             if not kind.per_load_case:
                 return cap[name]
-            torque, axial = _demand(lc, target, "joint_torque_Nm"), _demand(lc, target, "joint_axial_force_N")
+            torque_Nm, axial_N = _demand(lc, target, "joint_torque_Nm"), _demand(lc, target, "joint_axial_force_N")
+
+            def torque():   # a datum becomes a parameter only where a quantity uses it (Opti drops unused ones)
+                return self._datum(f"joint_torque_Nm[{target}]@{lc.name}", torque_Nm, "N*m")
+
+            def axial():
+                return self._datum(f"joint_axial_force_N[{target}]@{lc.name}", axial_N, "N")
             if name == "torque_margin":
-                return _margin(cap["torque_capacity_Nm"], torque, target, "torque")
+                return _margin(cap["torque_capacity_Nm"], torque(), target, "torque", torque_Nm)
             if name == "axial_margin":
-                return _margin(cap["axial_capacity_N"], axial, target, "axial force")
+                return _margin(cap["axial_capacity_N"], axial(), target, "axial force", axial_N)
             from ..joints.walk_off import joint_margins
-            return joint_margins(cap["type"], torque, axial, cap["torque_capacity_Nm"],
+            return joint_margins(cap["type"], torque(), axial(), cap["torque_capacity_Nm"],
                                  cap["axial_capacity_N"])["slip_utilisation"]
         blank = self._blank(target)
         return blank.backup_ratio if name == "rim_backup_ratio" else getattr(blank, name)()
@@ -593,6 +612,44 @@ class BuiltScene:
                               "load_case": lc.name if lc is not None else "", "kind": kind, "expr": expr,
                               "lower": lower, "upper": upper, "role": role})
 
+    # -- data as parameters, quantity expressions (hooks of gearopt.studies) --------------------------------------
+
+    def _datum(self, name: str, value: float, unit: str):
+        """A datum a quantity uses: the number itself, or (``parametric`` build) a :class:`Problem` parameter of
+        that value, declared once per name and listed in ``data_parameters`` (name -> value, unit)."""
+        if not self.parametric or not nm.is_numeric(value):
+            return value
+        if name not in self.data_parameters:
+            symbol = self.problem.parameter(name, float(value), unit=unit)
+            self.data_parameters[name] = {"value": float(value), "unit": unit, "symbol": symbol}
+        return self.data_parameters[name]["symbol"]
+
+    def expressions(self, quantity: str, target: str, load_cases: Sequence[str] | None = None
+                    ) -> list[tuple[str, str, Any]]:
+        """``(label, load case, expression)`` of a quantity of the vocabulary at each load case (one entry with
+        load case ``""`` for a quantity not evaluated per load case): the elements as the NLP sees them (the TE
+        column of ``ppte_um``, the squared stresses of a ``squared`` quantity), for studies that add their own
+        constraints or objectives to ``problem``."""
+        kind = quantity_kind(quantity)
+        if kind.shape == "named":
+            raise GearoptInputError(f"{quantity!r} is a set of limits, not one quantity")
+        if kind.target_kind == "mesh" and target not in self._meshes:
+            raise GearoptInputError(f"quantity {quantity!r}: target={target!r} is not a mesh of the scene "
+                                    f"({sorted(self._meshes)})")
+        return [(self._label(quantity, target, lc), lc.name if lc is not None else "",
+                 self._elements(kind, target, lc, {})) for lc in self._cases(kind, load_cases)]
+
+    @property
+    def records(self) -> list[dict[str, Any]]:
+        """Every objective and limit quantity as declared, in the order of the quantity table: ``label``,
+        ``quantity``, ``target``, ``load_case``, ``kind`` (:class:`QuantityKind`), ``expr`` (its elements),
+        ``lower``, ``upper``, ``role``."""
+        return list(self._records)
+
+    def quantity_table(self, solved: ProblemResult) -> pd.DataFrame:
+        """The quantity table (as ``SceneResult.quantities``) at any solve of ``problem``."""
+        return self._quantity_table(solved)
+
     # -- solve -------------------------------------------------------------------------------------------------
 
     def solve(self, *, starts: int = 1, seed: int = 0, verbose: bool = False, check: bool = True,
@@ -618,7 +675,7 @@ class BuiltScene:
         exact = self._exact_check(values) if check else pd.DataFrame()
         return SceneResult(scene=self.scene.name, values=values, solve=solved, quantities=table, exact_check=exact,
                            microgeometry={m: self.microgeometry_at(values, m) for m in self._ltca_meshes()},
-                           built=self.build_table, starts=starts_table)
+                           built=self.build_table, starts=starts_table, source=self)
 
     def _ltca_meshes(self) -> list[str]:
         return [m for m, needs in self._needs.items() if "ltca" in needs]
@@ -678,7 +735,8 @@ class SceneResult:
     objective and limit quantity at the optimum: value, bounds, margin, unit -- the true maximum/PPTE, not the
     epigraph bound), ``exact_check`` (exact LTCA of the optimum), ``microgeometry`` per LTCA mesh, ``solve``
     (:class:`ProblemResult`: constraint and variable tables, multipliers), ``built`` (the build table) and
-    ``starts`` (the multi-start table, when ``solve(starts=n)``)."""
+    ``starts`` (the multi-start table, when ``solve(starts=n)``), ``source`` (the :class:`BuiltScene` solved; the
+    studies of :mod:`gearopt.studies` start from it)."""
 
     scene: str
     values: dict[str, float]
@@ -688,6 +746,7 @@ class SceneResult:
     microgeometry: dict[str, Microgeometry]
     built: pd.DataFrame
     starts: pd.DataFrame | None = None
+    source: Any = field(default=None, repr=False, compare=False)
 
     @property
     def success_rate(self) -> float:
@@ -730,8 +789,9 @@ def _demand(lc: LoadCase, joint: str, what: str) -> float:
     return float(table[joint])
 
 
-def _margin(capacity, demand: float, joint: str, what: str):
-    if demand == 0.0:
+def _margin(capacity, demand, joint: str, what: str, nominal: float):
+    """``capacity / |demand|``; ``nominal``: the demand's value (``demand`` may be its parameter)."""
+    if nominal == 0.0:
         raise GearoptInputError(f"joint {joint!r}: the {what} demand is zero, its margin is infinite (drop the limit)")
     return capacity / abs(demand)
 

@@ -187,3 +187,17 @@ def test_failure_reproduction_per_train_and_joint(run):
     assert a["distance_mm"] > 0 and a["period_months"] == 24.0
     assert a["speeds_rpm"] and a["damper_states"] and a["exposure_source"]
     assert "Failure reproduction" in (run / "report.md").read_text()
+
+
+def test_trade_off_section_of_the_crank_cam_tip_relief(run):
+    # stage 7 (gearopt.studies.scene_study): front, sensitivities and robustness of the optimised design
+    t = json.loads((run / "result.json").read_text())["trade_off"]
+    ends, knee = t["front"]["ends"], t["front"]["knee"]
+    assert t["front"]["failed"] == 0 and ends["quantity"]["quantity"] > ends["objective"]["quantity"]
+    assert ends["objective"]["objective"] <= knee["ppte_um[crank-cam]"] <= ends["quantity"]["objective"]
+    assert {s["kind"] for s in t["sensitivities"]} <= {"limit", "parameter"}
+    assert set(t["probability_broken"]) >= {f"loaded_contact_ratio[crank-cam]@T{x:g}" for x in (150, 300, 450)}
+    assert all(0.0 <= p <= 1.0 for p in t["probability_broken"].values())
+    report = (run / "report.md").read_text()
+    assert "## Trade-off, sensitivities and robustness of the crank-cam tip relief" in report
+    assert (run / "figures" / "trade_off_crank_cam.png").stat().st_size > 5000

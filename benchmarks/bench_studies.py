@@ -1,0 +1,269 @@
+"""Studies benchmark: the ε-constraint front against pymoo's NSGA-II on one bi-objective scene, and the Monte Carlo
+throughput of the executors.
+
+Scene: the crank-cam spur pair's four tip-relief variables over the data's torque range (150/300/450 N m, 40
+positions); objectives: the largest PPTE over the load cases (min) and the smallest loaded contact ratio (max), with
+the contact-stress limit 1150 MPa as a constraint.
+
+- ε-constraint: :func:`gearopt.studies.pareto_front` with 3-33 points (ends from the declared start) and 9, 17
+  points (ends from 4 starts: the problem has several local optima), each a separate run timed end to end (scene
+  build, ends, continuation); and one ε grid solved by warm-started continuation against each point started from
+  its neighbour's values only (iterations per point). Model evaluations: Ipopt iterations summed over the solves
+  (each iteration evaluates the model, its Jacobian and its Hessian once; line-search trials not counted).
+- NSGA-II (pymoo, population 40, the same model through the vectorised scene evaluator, contact stress as an
+  inequality constraint): hypervolume after each generation against wall time and model evaluations (one sample of
+  the model per individual, no derivatives).
+- Hypervolume: both objectives normalised (ideal 0: the best value of each either method found; nadir 1: the worse
+  ends of the ε fronts), reference point (1.1, 1.1), :class:`pymoo.indicators.hv.HV`, measured in the same run for
+  both methods (NSGA-II is run twice: once to find the normalisation, once timed with it).
+- Monte Carlo: :func:`gearopt.studies.monte_carlo` of the PPTE-optimal design over the default tolerances, samples per
+  second with ``"serial"``, ``"processes"`` (2 workers) and ``"dask"`` (2-worker LocalCluster), first run (pool or
+  cluster start included) and steady state (the same executor again).
+
+Writes ``benchmarks/results/studies.json`` and ``benchmarks/results/studies.png``.
+Run: ``python benchmarks/bench_studies.py`` (``--quick``: fewer generations, points and samples).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import platform
+import sys
+import time
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt
+import numpy as np
+
+import gearopt as go
+from gearopt.design.scene import DesignVariable, Limit, LoadCase, Objective, Scene
+from gearopt.studies import Executor, monte_carlo, pareto_front
+from gearopt.studies.epsilon import FrontSpec, epsilon_model
+from gearopt.studies.evaluator import scene_evaluator
+from gearopt.studies.pareto import run_segment
+
+OUT = Path(__file__).resolve().parent / "results"
+MESH = "crank-cam"
+RELIEF = ("tip_relief_1_um", "tip_relief_2_um", "tip_relief_1_start_roll_deg", "tip_relief_2_start_roll_deg")
+TORQUES = (150.0, 300.0, 450.0)
+LCR = "loaded_contact_ratio"
+
+
+def scene() -> Scene:
+    return Scene("relief front", train=go.load_default_train("spur"),
+                 load_cases=[LoadCase(f"T{t:g}", t) for t in TORQUES],
+                 variables=[DesignVariable(v, MESH) for v in RELIEF],
+                 objectives=[Objective("ppte_um", MESH, aggregate="max")],
+                 limits=[Limit("max_contact_stress_MPa", MESH, upper=1150.0), Limit(LCR, MESH, lower=1.2)])
+
+
+def hypervolume(points: np.ndarray, ideal: np.ndarray, nadir: np.ndarray) -> float:
+    """Hypervolume of (PPTE, -LCR) points normalised by ideal/nadir, reference (1.1, 1.1)."""
+    from pymoo.indicators.hv import HV
+
+    if len(points) == 0:
+        return 0.0
+    f = (np.asarray(points, dtype=float) - ideal) / (nadir - ideal)
+    return float(HV(ref_point=np.array([1.1, 1.1]))(f))
+
+
+def epsilon_runs(point_counts, starts: int) -> list[dict]:
+    runs = []
+    for n in point_counts:
+        t0 = time.perf_counter()
+        front = pareto_front(scene(), LCR, MESH, points=n, starts=starts)
+        wall = time.perf_counter() - t0
+        s = front.solved
+        pts = np.column_stack([s[front.objective_column], -s[front.quantity_column]])
+        runs.append({"points": n, "starts": starts, "wall_s": wall, "iterations": int(front.table["iterations"].sum()),
+                     "failed": int((front.table["status"] != "ok").sum()), "front": pts.tolist(),
+                     "ends": front.ends})
+    return runs
+
+
+def continuation(points: int) -> dict:
+    """Iterations per interior point of one ε grid: warm-started continuation (primal values and multipliers of the
+    previous point) against starting each point from its neighbour's values only."""
+    spec = FrontSpec(scene(), LCR, MESH, "max")
+    model = epsilon_model(spec)
+    a = model.solve(None)
+    b = model.solve(None, objective="quantity", start=a.values)
+    grid = list(np.linspace(model.quantity_value(a), model.quantity_value(b), points + 2)[1:-1])
+    start = {k: (np.array(v) if np.ndim(v) else float(v)) for k, v in a.values.items()}
+    t0 = time.perf_counter()
+    warm = run_segment((spec, grid, start))
+    t1 = time.perf_counter()
+    cold, previous = [], start
+    for eps in grid:
+        cold.extend(run_segment((spec, [eps], previous)))
+        previous = cold[-1]["_values"] or previous
+    t2 = time.perf_counter()
+    return {"epsilon": grid, "warm_iterations": [r["iterations"] for r in warm], "warm_wall_s": t1 - t0,
+            "primal_only_iterations": [r["iterations"] for r in cold], "primal_only_wall_s": t2 - t1,
+            "warm_failed": sum(r["status"] != "ok" for r in warm),
+            "primal_only_failed": sum(r["status"] != "ok" for r in cold)}
+
+
+def nsga2_run(generations: int, ideal, nadir, seed: int = 1) -> dict:
+    from pymoo.algorithms.moo.nsga2 import NSGA2
+    from pymoo.core.problem import Problem as PymooProblem
+    from pymoo.optimize import minimize
+
+    base = scene().build().solve(check=False)
+    ev = scene_evaluator(base)
+    table = base.solve.variables.set_index("name")
+    names = [f"{MESH}.{v}" for v in RELIEF]
+    lower = np.array([table.loc[n, "lower"] for n in names])
+    upper = np.array([table.loc[n, "upper"] for n in names])
+    counter = {"n": 0}
+
+    class ReliefProblem(PymooProblem):
+        def __init__(self):
+            super().__init__(n_var=4, n_obj=2, n_ieq_constr=1, xl=lower, xu=upper)
+
+        def _evaluate(self, x, out, *args, **kwargs):
+            counter["n"] += len(x)
+            q = ev.evaluate({n: x[:, i] for i, n in enumerate(names)})
+            ppte = np.max([q[f"ppte_um[{MESH}]@T{t:g}"] for t in TORQUES], axis=0)
+            lcr = np.min([q[f"{LCR}[{MESH}]@T{t:g}"] for t in TORQUES], axis=0)
+            stress = np.max([q[f"max_contact_stress_MPa[{MESH}]@T{t:g}"] for t in TORQUES], axis=0)
+            out["F"] = np.column_stack([ppte, -lcr])
+            out["G"] = (stress - 1150.0)[:, None]
+
+    history = []
+    t0 = time.perf_counter()
+
+    def callback(algorithm):
+        opt = algorithm.opt
+        feasible = opt[opt.get("feasible")[:, 0]] if opt is not None else []
+        f = feasible.get("F") if len(feasible) else np.zeros((0, 2))
+        history.append({"generation": algorithm.n_gen, "wall_s": time.perf_counter() - t0,
+                        "evaluations": counter["n"], "hypervolume": hypervolume(f, ideal, nadir)})
+
+    res = minimize(ReliefProblem(), NSGA2(pop_size=40), ("n_gen", generations), seed=seed, callback=callback,
+                   verbose=False)
+    return {"history": history, "front": np.asarray(res.F).tolist(), "wall_s": time.perf_counter() - t0,
+            "evaluations": counter["n"]}
+
+
+def mc_throughput(samples: int) -> list[dict]:
+    result = scene().build().solve(check=False)
+    rows, reference = [], None
+    for kind in ("serial", "processes", "dask"):
+        ex = Executor(kind, workers=2, progress=False)
+        try:
+            t0 = time.perf_counter()
+            first = monte_carlo(result, samples=samples, seed=11, executor=ex)
+            t1 = time.perf_counter()
+            again = monte_carlo(result, samples=samples, seed=11, executor=ex)
+            t2 = time.perf_counter()
+        finally:
+            ex.close()
+        reference = first.table if reference is None else reference
+        rows.append({"executor": kind, "samples": samples, "first_run_s": t1 - t0, "steady_s": t2 - t1,
+                     "samples_per_s_first": samples / (t1 - t0), "samples_per_s_steady": samples / (t2 - t1),
+                     "identical_to_serial": bool(first.table.equals(reference) and again.table.equals(reference))})
+    return rows
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--quick", action="store_true")
+    parser.add_argument("--out", type=Path, default=OUT)
+    args = parser.parse_args(argv)
+    args.out.mkdir(parents=True, exist_ok=True)
+    counts = (3, 5, 9) if args.quick else (3, 5, 9, 17, 33)
+    counts_multi = (9,) if args.quick else (9, 17)
+    generations = 30 if args.quick else 150
+    samples = 1024 if args.quick else 8192
+
+    eps = epsilon_runs(counts, 1) + epsilon_runs(counts_multi, 4)
+    warm = continuation(5 if args.quick else 10)
+    # normalisation: ideal = the best of each objective either method finds, nadir = the worst end of the ε fronts
+    ga_probe = nsga2_run(generations, np.zeros(2), np.ones(2))
+    everything = np.vstack([np.array(r["front"]) for r in eps] + [np.array(ga_probe["front"])])
+    ideal = everything.min(axis=0)
+    nadir = np.max([[r["ends"]["quantity"]["objective"], -r["ends"]["objective"]["quantity"]] for r in eps], axis=0)
+    for r in eps:
+        r["hypervolume"] = hypervolume(np.array(r["front"]), ideal, nadir)
+    ga = nsga2_run(generations, ideal, nadir)
+    final_hv = ga["history"][-1]["hypervolume"]
+    reach = [r for r in eps if r["hypervolume"] >= final_hv]
+    first_reach = min(reach, key=lambda r: r["wall_s"]) if reach else None
+    mc = mc_throughput(samples)
+
+    summary = {
+        "nsga2_final_hypervolume": final_hv, "nsga2_wall_s": ga["wall_s"], "nsga2_evaluations": ga["evaluations"],
+        "epsilon_best_hypervolume": max(r["hypervolume"] for r in eps),
+        "epsilon_points_to_reach_nsga2": first_reach["points"] if first_reach else None,
+        "epsilon_time_to_reach_nsga2_s": first_reach["wall_s"] if first_reach else None,
+        "time_ratio_epsilon_over_nsga2": (first_reach["wall_s"] / ga["wall_s"]) if first_reach else None,
+        "mc_samples_per_s_steady": {r["executor"]: r["samples_per_s_steady"] for r in mc},
+        "continuation_iterations_warm_vs_primal_only": [sum(warm["warm_iterations"]),
+                                                        sum(warm["primal_only_iterations"])],
+    }
+    data = {"machine": {"python": sys.version.split()[0], "platform": platform.platform(),
+                        "processor": platform.processor(), "cpus": os.cpu_count(),
+                        "load_average_1_5_15_min": list(os.getloadavg())},
+            "quick": args.quick, "epsilon": eps, "continuation": warm, "nsga2": ga, "monte_carlo": mc,
+            "summary": summary,
+            "normalisation": {"ideal": ideal.tolist(), "nadir": nadir.tolist(), "reference": [1.1, 1.1]}}
+    (args.out / "studies.json").write_text(json.dumps(data, indent=1))
+    figure(data, args.out / "studies.png")
+    print(json.dumps(summary, indent=1))
+    return 0
+
+
+def figure(data: dict, path: Path) -> None:
+    fig, axes = plt.subplots(1, 4, figsize=(17, 4))
+    h = data["nsga2"]["history"]
+    eps = data["epsilon"]
+    ax = axes[0]
+    ax.plot([x["wall_s"] for x in h], [x["hypervolume"] for x in h], "-", label="NSGA-II (pop 40)")
+    for starts, style in ((1, "o-"), (4, "s--")):
+        sel = [r for r in eps if r["starts"] == starts]
+        ax.plot([r["wall_s"] for r in sel], [r["hypervolume"] for r in sel], style,
+                label=f"ε-constraint, ends from {starts} start(s)")
+    ax.set_xscale("log")
+    ax.set_xlabel("wall time [s]")
+    ax.set_ylabel("hypervolume (normalised, ref 1.1)")
+    ax.legend(fontsize=8)
+    ax = axes[1]
+    ax.plot([x["evaluations"] for x in h], [x["hypervolume"] for x in h], "-", label="NSGA-II: model samples")
+    sel = [r for r in eps if r["starts"] == 1]
+    ax.plot([r["iterations"] for r in sel], [r["hypervolume"] for r in sel], "o-",
+            label="ε-constraint: Ipopt iterations")
+    ax.set_xscale("log")
+    ax.set_xlabel("model evaluations")
+    ax.legend(fontsize=8)
+    ax = axes[2]
+    ga = np.array(data["nsga2"]["front"])
+    best = max(eps, key=lambda r: r["hypervolume"])
+    ef = np.array(best["front"])
+    ax.plot(-ga[:, 1], ga[:, 0], ".", color="C0", label="NSGA-II final")
+    ax.plot(-ef[:, 1], ef[:, 0], "o-", color="C1", label=f"ε-constraint ({best['points']} points)")
+    ax.set_xlabel("smallest loaded contact ratio")
+    ax.set_ylabel("largest PPTE [um]")
+    ax.legend(fontsize=8)
+    ax = axes[3]
+    mc = data["monte_carlo"]
+    x = np.arange(len(mc))
+    ax.bar(x - 0.2, [r["samples_per_s_first"] for r in mc], 0.4, label="first run (start included)")
+    ax.bar(x + 0.2, [r["samples_per_s_steady"] for r in mc], 0.4, label="steady")
+    ax.set_xticks(x, [r["executor"] for r in mc])
+    ax.set_yscale("log")
+    ax.set_ylabel("Monte Carlo samples / s")
+    ax.legend(fontsize=8)
+    fig.suptitle("Studies: ε-constraint front vs NSGA-II, Monte Carlo throughput")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -1,0 +1,130 @@
+"""A scene's trade-off study in one call: its front, the sensitivity report of its optimum, its robustness.
+
+:func:`scene_study` runs :func:`~gearopt.studies.pareto.pareto_front` against a second quantity,
+solves the scene itself (best of ``starts``), reports its sensitivities
+(:func:`~gearopt.studies.sensitivity.sensitivity_report`) and its Monte Carlo under the tolerances
+(:func:`~gearopt.studies.monte_carlo.monte_carlo`); :meth:`SceneStudy.markdown` and :meth:`SceneStudy.headline`
+give a report section and plain numbers. :func:`relief_scene_from_data` is the data's tip-relief scene of a mesh
+(the design torque range and the design limits of ``[design_loads]`` / ``[design_limits]``).
+"""
+
+from __future__ import annotations
+
+import warnings
+from dataclasses import dataclass
+from typing import Any, Sequence
+
+import numpy as np
+
+from ..design.scene import DesignVariable, Limit, LoadCase, Objective, Scene, SceneResult
+from ..nlp import InitialGuessWarning
+from .monte_carlo import MonteCarloResult, monte_carlo
+from .pareto import ParetoFront, pareto_front
+from .sensitivity import SensitivityReport, sensitivity_report
+from .tolerances import Tolerance
+
+RELIEF = ("tip_relief_1_um", "tip_relief_2_um", "tip_relief_1_start_roll_deg", "tip_relief_2_start_roll_deg")
+
+
+@dataclass
+class SceneStudy:
+    """``front``, ``optimum`` (the scene's own solve), ``sensitivity`` (of the optimum), ``monte_carlo`` (of the
+    optimum under the tolerances)."""
+
+    front: ParetoFront
+    optimum: SceneResult
+    sensitivity: SensitivityReport
+    monte_carlo: MonteCarloResult
+
+    def headline(self, rows: int = 5) -> dict[str, Any]:
+        """Plain numbers: the front's ends and knee, the objective, the ``rows`` largest sensitivities, the
+        probability of each limit being broken."""
+        knee = self.front.knee()
+        s = self.monte_carlo.summary
+        limits = s[s["lower"].notna() | s["upper"].notna()]
+        return {
+            "front": {"quantity": self.front.quantity_column, "objective": self.front.objective_column,
+                      "points": int(len(self.front.table)),
+                      "failed": int((self.front.table["status"] != "ok").sum()), "ends": self.front.ends,
+                      "knee": {c: float(knee[c]) for c in (self.front.objective_column, self.front.quantity_column)}},
+            "objective": {"name": self.sensitivity.objective_name, "unit": self.sensitivity.objective_unit,
+                          "value": self.sensitivity.objective},
+            "design": dict(self.optimum.values),
+            "sensitivities": [{k: (v if isinstance(v, str) else float(v)) for k, v in r.items()}
+                              for r in self.sensitivity.table.head(rows)[
+                                  ["name", "kind", "value", "unit", "sensitivity", "log_sensitivity"]]
+                              .to_dict("records")],
+            "probability_broken": {str(r["quantity"]): float(r["probability_broken"])
+                                   for _, r in limits.iterrows()},
+            "samples": int(len(self.monte_carlo.table)),
+            "tolerances": [t.__dict__ for t in self.monte_carlo.tolerances],
+        }
+
+    def markdown(self, figure: str | None = None, rows: int = 8) -> str:
+        """A report section body: the front's ends and knee (and ``figure``, a relative path), the largest
+        sensitivities, the robustness summary."""
+        h = self.headline(rows)
+        f = h["front"]
+        lines = [f"Front of {f['objective']} against {f['quantity']} by ε-constraint continuation: {f['points']} "
+                 f"points ({f['failed']} failed), from {f['ends']['objective']['objective']:.4g} at "
+                 f"{f['ends']['objective']['quantity']:.4g} to {f['ends']['quantity']['objective']:.4g} at "
+                 f"{f['ends']['quantity']['quantity']:.4g}; knee at {f['knee'][f['quantity']]:.4g} "
+                 f"({f['knee'][f['objective']]:.4g}).", ""]
+        if figure:
+            lines += [f"![front]({figure})", ""]
+        lines += [f"Sensitivities of the optimum ({h['objective']['name']} = {h['objective']['value']:.4g} "
+                  f"{h['objective']['unit']}; limits from the multipliers, data from the KKT system):", "",
+                  self.sensitivity.markdown(rows), ""]
+        mc = self.monte_carlo
+        tol = ", ".join(f"{t.name} [{t.lower:+g}, {t.upper:+g}] ({t.distribution})" for t in mc.tolerances)
+        cols = ["quantity", "unit", "nominal", "mean", "std", "p05", "p95", "lower", "upper", "probability_broken"]
+        s = mc.summary[cols]
+        lines += [f"Robustness: {len(mc.table)} {mc.method} samples (seed {mc.seed}) of {tol}:", "",
+                  "| " + " | ".join(cols) + " |", "|" + "---|" * len(cols)]
+        for r in s.itertuples(index=False):
+            cells = [r.quantity, r.unit] + [_cell(getattr(r, c)) for c in cols[2:]]
+            lines.append("| " + " | ".join(cells) + " |")
+        return "\n".join(lines)
+
+
+def scene_study(scene: Scene, quantity: str, target: str, *, points: int = 9, samples: int = 1000, seed: int = 0,
+                starts: int = 4, executor: Any = "serial", tolerances: Sequence[Tolerance] | None = None,
+                **ipopt: Any) -> SceneStudy:
+    """Front of ``scene`` against ``quantity`` of ``target``, sensitivity report and Monte Carlo of its optimum
+    (best of ``starts``, as the front's ends); see the module docstring."""
+    front = pareto_front(scene, quantity, target, points=points, executor=executor, starts=starts, **ipopt)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", InitialGuessWarning)
+        optimum = scene.build().solve(starts=starts, **ipopt)
+    report = sensitivity_report(optimum)
+    mc = monte_carlo(optimum, samples=samples, seed=seed, executor=executor, tolerances=tolerances)
+    return SceneStudy(front, optimum, report, mc)
+
+
+def relief_scene_from_data(data: dict, train, mesh: str = "crank-cam", *, positions: int | None = None) -> Scene:
+    """The data's tip-relief scene of ``mesh``: the four relief variables, the largest PPTE over the design torque
+    range (``[design_loads]`` ``<mesh>_torque_Nm`` x ``torque_range_fractions``) minimised, the loaded contact ratio
+    >= ``[design_limits] min_loaded_contact_ratio`` and the largest contact stress not above the unmodified pair's
+    own maximum over the range (exact LTCA). ``positions``: NLP positions of the smooth LTCA (default 40)."""
+    from ..contact.ltca import ltca
+    from ..data import values
+
+    d = values(data)
+    loads, limits = d["design_loads"], d["design_limits"]
+    torques = [loads[f"{mesh.replace('-', '_')}_torque_Nm"] * f for f in loads["torque_range_fractions"]]
+    stress = max(ltca(train.pairs[mesh], t).max_contact_stress_MPa for t in torques)
+    return Scene(f"{mesh} tip relief", train=train, load_cases=[LoadCase(f"T{t:g}", t) for t in torques],
+                 variables=[DesignVariable(v, mesh) for v in RELIEF],
+                 objectives=[Objective("ppte_um", mesh, aggregate="max")],
+                 limits=[Limit("max_contact_stress_MPa", mesh, upper=stress),
+                         Limit("loaded_contact_ratio", mesh, lower=limits["min_loaded_contact_ratio"])],
+                 ltca_options={} if positions is None else {"positions": positions})
+
+
+def _cell(v) -> str:
+    if v is None or (isinstance(v, float) and np.isnan(v)):
+        return ""
+    return f"{float(v):.4g}"
+
+
+__all__ = ["SceneStudy", "scene_study", "relief_scene_from_data"]

@@ -1,0 +1,215 @@
+"""Sensitivity report of a solved scene: which limit or datum holds the design back, and by how much.
+
+For the objective at the optimum, :func:`sensitivity_report` tables
+
+- every limit of the scene and every bound of a design variable (``kind="limit"``): ``sensitivity`` = d objective /
+  d bound from the solve's multipliers (zero for an inactive one), in objective units per unit of the bound;
+- every datum the scene's quantities use (``kind="parameter"``): load-case torques, joint demands, the oil
+  temperature and the friction coefficient of contact temperatures -- the scene is rebuilt with them as NLP parameters
+  (``Scene.build(parametric=True)``), re-solved from the optimum, and differentiated through its KKT system
+  (:mod:`gearopt.studies.parametric`);
+
+each also as a logarithmic sensitivity, ``d ln objective / d ln value`` -- the % change of the objective per % change
+of the datum, as GPkit reports them (Burnell et al. 2020, "GPkit: a human-centered approach to convex optimization
+in engineering design", CHI '20) -- sorted by its magnitude. ``quantity_table`` gives the same derivatives of every
+reported quantity of the scene (a margin, a stress) with respect to every datum.
+
+Data the models take as built numbers (materials, fixed geometry, speeds, the friction of anything but the flash
+temperature) are not parameters yet and do not appear; the table says which data it covers by its rows.
+"""
+
+from __future__ import annotations
+
+import warnings
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pandas as pd
+
+from ..design.scene import SceneResult
+from ..design.scene_terms import quantity_kind
+from ..errors import GearoptInputError
+from ..nlp import InitialGuessWarning
+from .parametric import kkt_sensitivity
+
+COLUMNS = ["name", "kind", "value", "unit", "sensitivity", "log_sensitivity", "active", "of", "of_unit"]
+
+
+@dataclass
+class SensitivityReport:
+    """Sensitivities of a solved scene (see the module docstring). ``table``: one row per limit, variable bound and
+    datum: ``name``, ``kind`` ("limit"/"parameter"), ``value`` (the bound or datum), ``unit``, ``sensitivity``
+    (d objective / d value, objective units per ``unit``), ``log_sensitivity`` (d ln objective / d ln value),
+    ``active`` (a limit: at its bound with a multiplier; a datum: |log_sensitivity| > 1e-6), ``of`` (the objective's
+    name) and ``of_unit``; sorted by |log_sensitivity|. ``quantity_table``:
+    ``quantity`` x ``parameter`` rows with ``value``, ``sensitivity``, ``log_sensitivity``. ``objective``: the
+    objective's value; ``kkt_residual``: relative residual of the KKT solve (0 at a regular optimum)."""
+
+    scene: str
+    objective_name: str
+    objective_unit: str
+    objective: float
+    table: pd.DataFrame
+    quantity_table: pd.DataFrame
+    kkt_residual: float
+
+    def markdown(self, rows: int | None = None) -> str:
+        """The table as Markdown (the ``rows`` largest, default all)."""
+        t = self.table if rows is None else self.table.head(rows)
+        cols = ["name", "kind", "value", "unit", "sensitivity", "log_sensitivity", "active"]
+        lines = ["| " + " | ".join(cols) + " |", "|" + "---|" * len(cols)]
+        for r in t.itertuples(index=False):
+            lines.append(f"| {r.name} | {r.kind} | {r.value:.5g} | {r.unit} | {r.sensitivity:.4g} | "
+                         f"{r.log_sensitivity:.4g} | {'yes' if r.active else ''} |")
+        return "\n".join(lines)
+
+    def to_csv(self, path: str | Path) -> Path:
+        """Write ``table`` as CSV; returns the path."""
+        path = Path(path)
+        self.table.to_csv(path, index=False)
+        return path
+
+
+def sensitivity_report(result: SceneResult, *, active_tol: float = 1e-9, **ipopt: Any) -> SensitivityReport:
+    """The sensitivity report of a solved scene (``scene.build().solve()``); see the module docstring.
+
+    Raises:
+        GearoptInputError: ``result`` is not a solved scene result, or the parametric re-solve lands on another
+            optimum than ``result`` (the report would then describe a different design).
+    """
+    built = getattr(result, "source", None)
+    if not isinstance(result, SceneResult) or built is None:
+        raise GearoptInputError(f"result={type(result).__name__} must be the SceneResult of a solved scene "
+                                f"(scene.build().solve())")
+    scene = built.scene
+    name, unit, factor = objective_meta(scene)
+    objective = float(result.solve.objective) * factor
+    rows = _limit_rows(built, result, factor, objective, name, unit)
+    qrows: list[dict[str, Any]] = []
+    residual = 0.0
+    pb = scene.build(parametric=True)
+    if pb.data_parameters:
+        solved = _resolve_at(pb, result, **ipopt)
+        sens = kkt_sensitivity(pb.problem.opti, active_tol=active_tol)
+        residual = sens.residual
+        names = list(pb.problem.parameter_names)
+        for i, pname in enumerate(names):
+            entry = pb.data_parameters[pname]
+            s = float(sens.df_dp[i]) * factor
+            rows.append(_row(pname, "parameter", entry["value"], entry["unit"], s, objective,
+                             abs(s * entry["value"]) > 1e-6 * abs(objective), name, unit))
+        qrows = _quantity_rows(pb, solved, sens, names)
+    table = pd.DataFrame(rows, columns=COLUMNS)
+    table = table.iloc[np.argsort(-np.nan_to_num(np.abs(table["log_sensitivity"].to_numpy(float)), nan=-1.0),
+                                  kind="stable")].reset_index(drop=True)
+    return SensitivityReport(scene.name, name, unit, objective, table, pd.DataFrame(qrows), residual)
+
+
+def objective_meta(scene) -> tuple[str, str, float]:
+    """Name, unit and factor from the NLP objective to the objective quantity (one objective: the NLP minimises
+    ``weight / scale * (±quantity)``; several: the NLP's weighted sum itself, factor 1)."""
+    if len(scene.objectives) != 1:
+        return "objective", "", 1.0
+    obj = scene.objectives[0]
+    kind = quantity_kind(obj.quantity)
+    scale = obj.scale or kind.scale
+    return f"{obj.quantity}[{obj.target}]", kind.unit, (scale / obj.weight) * (1.0 if obj.sense == "min" else -1.0)
+
+
+def _row(name, kind, value, unit, sens, objective, active, of, of_unit) -> dict[str, Any]:
+    log = sens * value / objective if objective != 0.0 else np.nan
+    return {"name": name, "kind": kind, "value": float(value), "unit": unit, "sensitivity": float(sens),
+            "log_sensitivity": float(log), "active": bool(active), "of": of, "of_unit": of_unit}
+
+
+def _limit_rows(built, result: SceneResult, factor: float, objective: float, of: str, of_unit: str) -> list:
+    """Scene limits and design-variable bounds from the solve's multipliers (d objective / d bound)."""
+    cons = result.solve.constraints
+    rows = []
+    seen = set()
+    for r in built.records:
+        if r["role"] != "limit" or r["label"] in seen:
+            continue
+        seen.add(r["label"])
+        block = cons[cons["base"] == r["label"]]
+        if block.empty:          # a constant limit, never handed to the solver
+            continue
+        kind = r["kind"]
+        mults = block["multiplier"].to_numpy(float)
+        two_sided = r["lower"] is not None and r["upper"] is not None
+        for side in ("lower", "upper"):
+            bound = r[side]
+            if bound is None:
+                continue
+            # the NLP minimises: an active lower bound has a positive multiplier, an active upper one a negative
+            mult = float(mults.sum()) if not two_sided else float(
+                mults[mults > 0].sum() if side == "lower" else mults[mults < 0].sum())
+            # a squared quantity is imposed as elements <= bound^2: d f / d bound = multiplier * 2 bound
+            s = mult * (2.0 * bound if kind.squared else 1.0) * factor
+            unit = kind.unit if kind.shape != "named" else ""
+            rows.append(_row(f"{r['label']} ({side})", "limit", bound, unit, s, objective,
+                             bool(block["active"].any()) and (not two_sided or mult != 0.0), of, of_unit))
+    design = {f"{v.target}.{v.name}" for v in built.scene.variables}
+    for v in result.solve.variables.itertuples(index=False):
+        if v.base not in design:
+            continue
+        for side in ("lower", "upper"):
+            bound = getattr(v, side)
+            if not np.isfinite(bound):
+                continue
+            on_side = abs(v.value - bound) <= 1e-6 * v.scale
+            s = float(v.multiplier) * factor if on_side else 0.0
+            rows.append(_row(f"{v.name} ({side} bound)", "limit", bound, v.unit, s, objective, on_side and s != 0,
+                             of, of_unit))
+    return rows
+
+
+def _resolve_at(pb, result: SceneResult, **ipopt):
+    """Re-solve the parametric build from the result's point; it must land on the same optimum."""
+    p = pb.problem
+    for name, value in result.solve.values.items():
+        if name in p.variable_names:
+            p.set_initial(name, value)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", InitialGuessWarning)
+        solved = p.solve(tol=1e-10, **ipopt)
+    for name, value in result.values.items():
+        new = float(np.asarray(solved.values[name]).ravel()[0])
+        scale = float(result.solve.variables.set_index("name").loc[name, "scale"])
+        if abs(new - value) > 1e-4 * scale:
+            raise GearoptInputError(f"the parametric re-solve moved {name} from {value:.6g} to {new:.6g}: the result "
+                                    f"is not a regular local optimum of its scene (limit: within 1e-4 x its scale)")
+    return solved
+
+
+def _quantity_rows(pb, solved, sens, names: list[str]) -> list[dict[str, Any]]:
+    """d quantity / d datum of every reported quantity (the element that sets a largest/smallest value)."""
+    opti = pb.problem.opti
+    rows = []
+    table = pb.quantity_table(solved)
+    for rec, (_, qrow) in zip(pb.records, table.iterrows()):
+        kind, expr = rec["kind"], rec["expr"]
+        if kind.shape == "named" or isinstance(expr, (int, float, np.floating)):
+            continue
+        values = np.atleast_1d(np.asarray(solved.value(expr), dtype=float)).ravel()
+        d = sens.expression_derivative(opti, expr)
+        if kind.shape == "ppte":
+            grad = d[int(np.argmax(values))] - d[int(np.argmin(values))]
+        elif kind.shape in ("max", "min"):
+            i = int(np.argmax(values) if kind.shape == "max" else np.argmin(values))
+            grad = d[i] / (2.0 * np.sqrt(values[i])) if kind.squared else d[i]
+        else:
+            grad = d[0]
+        label = rec["label"]
+        for j, pname in enumerate(names):
+            value = float(qrow["value"])
+            pval = pb.data_parameters[pname]["value"]
+            rows.append({"quantity": label, "value": value, "unit": kind.unit, "parameter": pname,
+                         "parameter_value": pval, "sensitivity": float(grad[j]),
+                         "log_sensitivity": float(grad[j] * pval / value) if value != 0 else np.nan})
+    return rows
+
+
+__all__ = ["sensitivity_report", "SensitivityReport", "objective_meta"]

@@ -1,0 +1,134 @@
+"""What does a smaller PPTE cost? Trade-off front, sensitivity report and tolerance robustness of the crank-cam tip
+relief over its torque range.
+
+Scene: the spur crank-cam pair's four tip-relief variables (amounts and start roll angles of both gears), the
+largest PPTE over the data's torque range (``[design_loads] crank_cam_torque_Nm`` x ``torque_range_fractions``)
+minimised, with the limits of the data (``[design_limits]``): loaded contact ratio >= ``min_loaded_contact_ratio``
+at every torque, and the largest contact stress not above the unmodified pair's own maximum (exact LTCA).
+
+1. Fronts (:func:`gearopt.studies.pareto_front`): PPTE against the loaded contact ratio; and PPTE against the
+   contact-stress limit -- for this spur pair the largest stress sits in single-pair contact where tip relief does
+   not act, so the two ends coincide and the script records that finding instead of a front.
+2. Sensitivity report (:func:`gearopt.studies.sensitivity_report`) of the optimum with the data's limits.
+3. Robustness (:func:`gearopt.studies.monte_carlo`) under the default tolerances (tip-relief amounts ±2 µm, starts
+   ±0.5°, :mod:`gearopt.studies.tolerances`), and the robust design (:func:`gearopt.studies.robust_design`: limits
+   held at the tolerance corners) on the same samples; Sobol indices (SALib) of every quantity over the tolerances.
+
+Writes to ``out/ppte_trade_off/``: ``front.csv``, ``front.png``, ``sensitivity.csv``, ``sensitivity.md``,
+``monte_carlo_summary.csv`` (nominal and robust design), ``sobol_indices.csv``, ``summary.json``.
+
+Usage: ``python problems/ppte_trade_off.py [--points 9] [--samples 2000] [--executor serial|processes|dask]
+[--quick] [--out DIR]``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import time
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import pandas as pd
+
+import gearopt as go
+from gearopt.data import load_default_data
+from gearopt.design.scene import Scene
+from gearopt.errors import GearoptInputError
+from gearopt.studies import (Tolerance, monte_carlo, pareto_front, relief_scene_from_data, robust_design,
+                             sensitivity_report, sobol_indices)
+from gearopt.studies.tolerances import MICROGEOMETRY_TOLERANCES
+
+MESH = "crank-cam"
+from gearopt.studies.scene_study import RELIEF  # noqa: E402  (the four relief variables of the scene)
+DEFAULT_OUT = Path("out") / "ppte_trade_off"
+
+
+def build_scene(quick: bool) -> tuple[Scene, dict]:
+    """The data's tip-relief scene of crank-cam (``quick``: 24 NLP positions instead of 40) and its data."""
+    scene = relief_scene_from_data(load_default_data(), go.load_default_train("spur"), MESH,
+                                   positions=24 if quick else None)
+    return scene, {"torques_Nm": [lc.torque_Nm for lc in scene.load_cases],
+                   "max_contact_stress_limit_MPa": scene.limits[0].upper,
+                   "min_loaded_contact_ratio": scene.limits[1].lower}
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--points", type=int, default=9, help="points of the front (default 9)")
+    parser.add_argument("--samples", type=int, default=2000, help="Monte Carlo samples (default 2000)")
+    parser.add_argument("--executor", default="serial", help="serial, processes, dask or a scheduler address")
+    parser.add_argument("--quick", action="store_true",
+                        help="4 points (ends from one start), 256 samples, 24 NLP positions")
+    parser.add_argument("--out", type=Path, default=DEFAULT_OUT, help=f"output directory (default {DEFAULT_OUT})")
+    args = parser.parse_args(argv)
+    points, samples = (4, 256) if args.quick else (args.points, args.samples)
+    if points < 3 or samples < 1:
+        parser.error(f"--points {points} must be >= 3 and --samples {samples} >= 1")
+    args.out.mkdir(parents=True, exist_ok=True)
+    t0 = time.perf_counter()
+    scene, data = build_scene(args.quick)
+
+    front = pareto_front(scene, "loaded_contact_ratio", MESH, points=points, starts=1 if args.quick else 4,
+                         executor=args.executor)
+    front.table.to_csv(args.out / "front.csv", index=False)
+    front.plot().savefig(args.out / "front.png", dpi=110)
+    try:
+        pareto_front(scene, "max_contact_stress_MPa", MESH, points=3)
+        stress_front = "a front exists"
+    except GearoptInputError as exc:
+        stress_front = str(exc)
+
+    nominal = scene.build().solve(starts=4)          # several local optima: the best of four starts
+    report = sensitivity_report(nominal)
+    report.to_csv(args.out / "sensitivity.csv")
+    (args.out / "sensitivity.md").write_text(report.markdown() + "\n")
+
+    names = RELIEF[:2] if args.quick else RELIEF      # quick: the two amounts only (4 corners instead of 16)
+    tolerances = [Tolerance.symmetric(f"{MESH}.{v}", MICROGEOMETRY_TOLERANCES[v]) for v in names]
+    robust = robust_design(scene, tolerances, start=nominal)        # from the nominal optimum
+    mc = {name: monte_carlo(r, samples=samples, seed=0, executor=args.executor, tolerances=tolerances)
+          for name, r in (("nominal", nominal), ("robust", robust))}
+    summary_table = pd.concat([m.summary.assign(design=name) for name, m in mc.items()], ignore_index=True)
+    summary_table.to_csv(args.out / "monte_carlo_summary.csv", index=False)
+    sobol = sobol_indices(nominal, samples=64 if args.quick else 512, seed=0, executor=args.executor,
+                          tolerances=tolerances)
+    sobol.to_csv(args.out / "sobol_indices.csv", index=False)
+    lcr = sobol[sobol["quantity"].str.startswith("loaded_contact_ratio")].sort_values("ST", ascending=False)
+
+    def ppte_of(r):
+        return float(r.quantities.query("quantity == 'ppte_um'")["value"].max())
+
+    def worst_break(m):
+        return float(m.summary["probability_broken"].max())
+
+    knee = front.knee()
+    summary = {
+        "data": data,
+        "front": {"points": len(front.table), "failed": int((front.table["status"] != "ok").sum()),
+                  "ends": front.ends, "knee": {c: float(knee[c]) for c in
+                                               [front.objective_column, front.quantity_column]}},
+        "contact_stress_front": stress_front,
+        "nominal": {"ppte_um": ppte_of(nominal), "values": nominal.values,
+                    "top_sensitivities": report.table.head(5)[["name", "sensitivity", "log_sensitivity"]]
+                    .to_dict("records"), "worst_probability_broken": worst_break(mc["nominal"])},
+        "robust": {"ppte_um": ppte_of(robust), "values": robust.values,
+                   "worst_probability_broken": worst_break(mc["robust"])},
+        "tolerances": [t.__dict__ for t in tolerances], "samples": samples,
+        "largest_total_sobol_index_of_loaded_contact_ratio": {k: (v if isinstance(v, str) else float(v))
+                                                              for k, v in lcr.iloc[0][["quantity", "input", "ST"]]
+                                                              .items()}, "elapsed_s": time.perf_counter() - t0,
+    }
+    (args.out / "summary.json").write_text(json.dumps(summary, indent=1, default=float))
+    print(f"front: {len(front.solved)} points, PPTE {front.ends['objective']['objective']:.3f}-"
+          f"{front.ends['quantity']['objective']:.3f} um; nominal PPTE {summary['nominal']['ppte_um']:.3f} um "
+          f"(worst P(limit broken) {summary['nominal']['worst_probability_broken']:.2f}), robust "
+          f"{summary['robust']['ppte_um']:.3f} um ({summary['robust']['worst_probability_broken']:.2f}); "
+          f"{args.out}")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

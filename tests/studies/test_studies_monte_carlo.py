@@ -1,0 +1,134 @@
+"""Tolerance robustness: Monte Carlo tables identical on every executor (one two-worker Dask LocalCluster), each
+sample equal to a direct evaluation of the LTCA model, limit-break probabilities counted from the table, Sobol
+indices of a quantity that depends on one input, a robust design that keeps its limit over the tolerances."""
+
+import numpy as np
+import pytest
+
+import gearopt as go
+from gearopt.errors import GearoptInputError
+from gearopt.studies import Tolerance, monte_carlo, robust_design, sobol_indices, using_executor
+from studies_scenes import MESH, RELIEF, relief_scene
+
+LCR = f"loaded_contact_ratio[{MESH}]@T150"
+
+
+@pytest.fixture(scope="module")
+def scene():
+    return relief_scene(min_lcr=1.3, stress_limit=True)
+
+
+@pytest.fixture(scope="module")
+def result(scene):
+    return scene.build().solve(check=False)
+
+
+@pytest.fixture(scope="module")
+def serial(result):
+    return monte_carlo(result, samples=300, seed=7, executor="serial")
+
+
+def test_same_seed_same_table_on_every_executor(result, serial):
+    # 300 samples = two chunks, so both workers get work
+    other = monte_carlo(result, samples=300, seed=7, executor="processes", workers=2)
+    assert other.table.equals(serial.table)
+    # "dask": a two-worker LocalCluster; its dask.distributed.Client is accepted as the executor too
+    with using_executor("dask", workers=2) as ex:
+        assert len(ex.client.scheduler_info()["workers"]) == 2
+        for executor in (ex, ex.client):
+            assert monte_carlo(result, samples=300, seed=7, executor=executor).table.equals(serial.table)
+    assert not monte_carlo(result, samples=300, seed=8).table.equals(serial.table)
+
+
+def test_samples_equal_a_direct_evaluation_of_the_ltca_model(result, serial):
+    model = result.source.models[f"ltca_smooth:{MESH}"]
+    base = result.microgeometry[MESH]
+    for i in (0, 123, 299):
+        row = serial.table.iloc[i]
+        x = [row[f"{MESH}.{v}"] for v in RELIEF]
+        mods = go.Microgeometry(tip_relief_um=(x[0], x[1]), tip_relief_start_roll_deg=(x[2], x[3]),
+                                relief_smoothing_deg=base.relief_smoothing_deg)
+        r = model.evaluate(mods, [150.0, 450.0])
+        np.testing.assert_allclose(np.ptp(r.transmission_error_um, axis=0),
+                                   [row[f"ppte_um[{MESH}]@T150"], row[f"ppte_um[{MESH}]@T450"]], rtol=1e-9)
+        np.testing.assert_allclose(r.loaded_contact_ratio, [row[LCR], row[f"loaded_contact_ratio[{MESH}]@T450"]],
+                                   rtol=1e-9)
+
+
+def test_summary_counts_the_broken_limits_of_the_table(result, serial):
+    s = serial.summary.set_index("quantity")
+    assert (serial.table["status"] == "ok").all()
+    assert set(serial.inputs) == {f"{MESH}.{v}" for v in RELIEF}          # the default tolerances
+    broken = (serial.table[LCR] < 1.3).mean()
+    assert s.loc[LCR, "probability_broken"] == pytest.approx(broken) and 0.2 < broken < 0.8   # optimum on the limit
+    assert s.loc[LCR, "nominal"] == pytest.approx(result.quantities.query(
+        "quantity == 'loaded_contact_ratio' and load_case == 'T150'")["value"].item(), rel=1e-9)
+    assert s.loc[LCR, "std"] == pytest.approx(serial.table[LCR].std(), rel=1e-12)
+
+
+def test_operating_spread_of_torque_moves_the_stress_by_hertz(result):
+    # the largest stress at 450 N m is in single-pair contact (no relief there): sigma ~ sqrt(T) (Hertz)
+    name = f"torque_Nm[{MESH}]@T450"
+    mc = monte_carlo(result, samples=64, seed=1, tolerances=[Tolerance(name, -45.0, 45.0, "normal")], method="sobol")
+    stress = mc.table[f"max_contact_stress_MPa[{MESH}]@T450"].to_numpy()
+    nominal = mc.summary.set_index("quantity").loc[f"max_contact_stress_MPa[{MESH}]@T450", "nominal"]
+    np.testing.assert_allclose(stress, nominal * np.sqrt(mc.table[name] / 450.0), rtol=1e-6)
+
+
+def test_sobol_indices_of_a_quantity_driven_by_one_input(result):
+    tols = [Tolerance(f"torque_Nm[{MESH}]@T450", -45.0, 45.0), Tolerance.symmetric(f"{MESH}.tip_relief_1_um", 2.0)]
+    s = sobol_indices(result, samples=64, seed=2, tolerances=tols).set_index(["quantity", "input"])
+    stress = f"max_contact_stress_MPa[{MESH}]@T450"
+    assert s.loc[(stress, tols[0].name), "ST"] == pytest.approx(1.0, abs=0.05)
+    assert abs(s.loc[(stress, tols[1].name), "ST"]) < 1e-9
+    # the PPTE at 150 N m does not see the 450 N m torque at all
+    assert abs(s.loc[(f"ppte_um[{MESH}]@T150", tols[0].name), "ST"]) < 1e-9
+
+
+def test_robust_design_keeps_its_limit_over_the_tolerances(scene, result, serial):
+    tols = [Tolerance.symmetric(f"{MESH}.tip_relief_1_um", 2.0), Tolerance.symmetric(f"{MESH}.tip_relief_2_um", 2.0)]
+    robust = robust_design(relief_scene(min_lcr=1.3, stress_limit=False), tols, check=False)
+    nominal_mc = monte_carlo(result, samples=300, seed=7, tolerances=tols)
+    robust_mc = monte_carlo(robust, samples=300, seed=7, tolerances=tols)
+    p_nominal = nominal_mc.summary.set_index("quantity").loc[LCR, "probability_broken"]
+    p_robust = robust_mc.summary.set_index("quantity").loc[LCR, "probability_broken"]
+    assert p_nominal > 0.2 and p_robust == 0.0
+    # the price: a larger PPTE at the nominal point
+    ppte = [r.quantities.query("quantity == 'ppte_um'")["value"].max() for r in (result, robust)]
+    assert ppte[1] > ppte[0]
+
+
+def test_bad_monte_carlo_input(result):
+    with pytest.raises(GearoptInputError, match="samples=0"):
+        monte_carlo(result, samples=0)
+    with pytest.raises(GearoptInputError, match="negative spread"):
+        Tolerance(f"{MESH}.tip_relief_1_um", 1.0, -1.0)
+    with pytest.raises(GearoptInputError, match="negative spread"):
+        Tolerance.symmetric(f"{MESH}.tip_relief_1_um", -2.0)
+    with pytest.raises(GearoptInputError, match="no_such_input"):
+        monte_carlo(result, samples=4, tolerances=[Tolerance.symmetric("no_such_input", 1.0)])
+    with pytest.raises(GearoptInputError, match="method"):
+        monte_carlo(result, samples=4, method="latin")
+
+
+def test_a_failed_sample_is_recorded_and_the_others_kept(result):
+    from gearopt.studies.evaluator import STATUS, evaluate_chunk, scene_evaluator
+
+    class Fussy:
+        """Wraps the scene's evaluator; raises on a tip relief above 20 um (a model that fails at one sample)."""
+
+        def __init__(self, inner):
+            self.inner, self.quantities = inner, inner.quantities
+
+        def evaluate(self, values):
+            if np.any(np.asarray(values[f"{MESH}.tip_relief_1_um"]) > 20.0):
+                raise FloatingPointError("relief too large")
+            return self.inner.evaluate(values)
+
+    inner = scene_evaluator(result)
+    values = {f"{MESH}.tip_relief_1_um": np.array([10.0, 25.0, 12.0])}
+    out = evaluate_chunk((Fussy(inner), values))
+    assert list(out[STATUS]) == ["ok", "FloatingPointError", "ok"]
+    ppte = out[f"ppte_um[{MESH}]@T150"]
+    assert np.isnan(ppte[1]) and np.allclose(ppte[[0, 2]], inner.evaluate({k: v[[0, 2]] for k, v in values.items()})[
+        f"ppte_um[{MESH}]@T150"], rtol=1e-12)

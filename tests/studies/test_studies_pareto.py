@@ -1,0 +1,121 @@
+"""Trade-off fronts: the ends are the two single-objective optima (solved independently), the front is monotone and
+not dominated by any sampled feasible design, its slope agrees with the ε multipliers, and failed points are
+recorded with their typed failure."""
+
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from gearopt.design.scene import Objective
+from gearopt.errors import GearoptInputError
+from gearopt.studies import pareto_front
+from gearopt.studies.epsilon import FrontSpec
+from gearopt.studies.evaluator import scene_evaluator
+from gearopt.studies.pareto import OK, run_segment
+from studies_scenes import MESH, RELIEF, relief_scene
+
+LCR = "loaded_contact_ratio"
+
+
+def front_scene():
+    return relief_scene(min_lcr=1.2, stress_limit=False)
+
+
+@pytest.fixture(scope="module")
+def scene():
+    return front_scene()
+
+
+@pytest.fixture(scope="module")
+def front(scene):
+    return pareto_front(scene, LCR, MESH, points=5, starts=4)
+
+
+def test_front_table_has_every_variable_quantity_and_a_status(front):
+    t = front.table
+    assert len(t) == 5 and (t["status"] == OK).all()
+    for name in RELIEF:
+        assert f"{MESH}.{name}" in t.columns
+    for case in ("T150", "T450"):
+        assert f"ppte_um[{MESH}]@{case}" in t.columns and f"{LCR}[{MESH}]@{case}" in t.columns
+    assert front.sense == "max"           # the scene's lower limit on the quantity: the front makes it large
+
+
+def test_front_ends_are_the_single_objective_optima(scene, front):
+    # end A: the scene itself without its limit on the quantity, solved independently from four starts (the problem
+    # has several local minima; a single start from the default guess may stop at a worse one)
+    free = replace(scene, limits=[]).build().solve(check=False, starts=4)
+    ppte_a = free.quantities.query("quantity == 'ppte_um'")["value"].max()
+    first, last = front.table.iloc[0], front.table.iloc[-1]
+    assert first[front.objective_column] == pytest.approx(ppte_a, rel=1e-5)
+    # end B: an independent scene maximising the smallest loaded contact ratio over the load cases
+    best = replace(scene, objectives=[Objective(LCR, MESH, sense="max")], limits=[]).build().solve(check=False)
+    lcr_b = best.quantities.query("quantity == @LCR")["value"].min()
+    assert last[front.quantity_column] == pytest.approx(lcr_b, rel=1e-5)
+    assert front.ends["quantity"]["quantity"] == pytest.approx(lcr_b, rel=1e-5)
+
+
+def test_front_is_monotone(front):
+    t = front.solved
+    q, f = t[front.quantity_column].to_numpy(), t[front.objective_column].to_numpy()
+    assert np.all(np.diff(q) > 0) and np.all(np.diff(f) >= -1e-7)
+
+
+def test_front_slope_from_the_multiplier_matches_re_solves_with_epsilon_moved(front):
+    # d PPTE*/d ε from the ε multiplier against a central difference of two re-solves on the same branch of the
+    # front (each started from the point itself)
+    spec = FrontSpec(front_scene(), LCR, MESH, "max")
+    eps, h = 1.45, 2e-3
+    point = run_segment((spec, [eps], None))[0]
+    lo, hi = (run_segment((spec, [e], point["_values"]))[0] for e in (eps - h, eps + h))
+    assert point["status"] == lo["status"] == hi["status"] == OK
+    difference = (hi["_objective"] - lo["_objective"]) / (2 * h)
+    assert point["front_slope"] == pytest.approx(difference, rel=0.03)
+
+
+def test_no_sampled_design_dominates_the_front(scene, front):
+    # brute force: 400 random designs in the variable bounds, evaluated by the scene's model; none may beat a front
+    # point in both PPTE (smaller) and smallest loaded contact ratio (larger)
+    result = scene.build().solve(check=False)
+    ev = scene_evaluator(result)
+    table = result.solve.variables.set_index("name")
+    rng = np.random.default_rng(0)
+    values = {f"{MESH}.{v}": rng.uniform(table.loc[f"{MESH}.{v}", "lower"], table.loc[f"{MESH}.{v}", "upper"],
+                                         400) for v in RELIEF}
+    out = ev.evaluate(values)
+    ppte = np.max([out[f"ppte_um[{MESH}]@T{t}"] for t in (150, 450)], axis=0)
+    lcr = np.min([out[f"{LCR}[{MESH}]@T{t}"] for t in (150, 450)], axis=0)
+    for _, row in front.solved.iterrows():
+        better = (ppte < row[front.objective_column] - 1e-3) & (lcr > row[front.quantity_column] + 1e-4)
+        assert not better.any()
+
+
+def test_a_failed_point_is_recorded_with_its_typed_failure_and_the_study_goes_on(scene, front):
+    spec = FrontSpec(front_scene(), LCR, MESH, "max")
+    rows = run_segment((spec, [2.5, 1.4], None))      # LCR >= 2.5 is beyond the largest reachable (~1.63)
+    assert rows[0]["status"] in ("InfeasibleProblemError", "NumericalSolveError", "IterationLimitError")
+    assert rows[0]["error"]
+    assert rows[1]["status"] == OK and rows[1]["_quantity"] >= 1.4 - 1e-6
+
+
+def test_front_plot_draws_and_annotates_the_knee(front, tmp_path):
+    fig = front.plot()
+    fig.savefig(tmp_path / "front.png")
+    assert (tmp_path / "front.png").stat().st_size > 5000
+    knee = front.knee()
+    assert knee["status"] == OK
+    assert any("knee" in t.get_text() for t in fig.axes[0].texts)
+
+
+def test_bad_fronts_raise_clear_errors(scene):
+    with pytest.raises(GearoptInputError, match="not in the scene vocabulary"):
+        pareto_front(scene, "no_such_quantity", MESH)
+    with pytest.raises(GearoptInputError, match="points=2"):
+        pareto_front(scene, LCR, MESH, points=2)
+    with pytest.raises(GearoptInputError, match="not a mesh"):
+        pareto_front(scene, LCR, "no-mesh", points=3)
+    # tip relief does not change the largest contact stress (single-pair contact mid-profile): the ends coincide
+    with pytest.raises(GearoptInputError, match="coinciding ends"):
+        pareto_front(scene, "max_contact_stress_MPa", MESH, points=3)
+
