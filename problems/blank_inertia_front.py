@@ -24,7 +24,7 @@ import matplotlib
 
 matplotlib.use("Agg")
 
-import gearopt as go
+from gearopt.data import load_default_data, train_from_data
 from gearopt.design.scene import DesignVariable, Limit, Objective, Scene
 from gearopt.studies import pareto_front, sensitivity_report
 
@@ -33,9 +33,11 @@ THICKNESS_BOUNDS_MM = (4.0, 20.0)
 MIN_BACKUP_RATIO = 1.2
 
 
-def build_scene(gear: str) -> Scene:
+def build_scene(gear: str, data: dict | None = None) -> Scene:
+    """The blank scene of ``gear`` in the spur train of ``data`` (default: the packaged data)."""
     lo, hi = THICKNESS_BOUNDS_MM
-    return Scene(f"{gear} blank", train=go.load_default_train("spur"),
+    data = data if data is not None else load_default_data()
+    return Scene(f"{gear} blank", train=train_from_data(data, "spur"), data=data,
                  variables=[DesignVariable("web_thickness_mm", gear, lo, hi),
                             DesignVariable("rim_thickness_mm", gear, lo, hi)],
                  objectives=[Objective("inertia_kgm2", gear)],
@@ -48,13 +50,15 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--points", type=int, default=11, help="points of the front (default 11)")
     parser.add_argument("--quick", action="store_true", help="5 points")
     parser.add_argument("--out", type=Path, default=DEFAULT_OUT, help=f"output directory (default {DEFAULT_OUT})")
+    parser.add_argument("--data", type=Path, default=None, metavar="FILE",
+                        help="train data file (TOML in the format of the packaged default data; default: that data)")
     args = parser.parse_args(argv)
     points = 5 if args.quick else args.points
     if points < 3:
         parser.error(f"--points {points} must be >= 3")
     args.out.mkdir(parents=True, exist_ok=True)
     t0 = time.perf_counter()
-    scene = build_scene(args.gear)
+    scene = build_scene(args.gear, load_default_data(args.data))
     front = pareto_front(scene, "rim_backup_ratio", args.gear, points=points)
     front.table.to_csv(args.out / "front.csv", index=False)
     front.plot().savefig(args.out / "front.png", dpi=110)

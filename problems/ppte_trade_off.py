@@ -33,8 +33,7 @@ import matplotlib
 matplotlib.use("Agg")
 import pandas as pd
 
-import gearopt as go
-from gearopt.data import load_default_data
+from gearopt.data import load_default_data, train_from_data
 from gearopt.design.scene import Scene
 from gearopt.errors import GearoptInputError
 from gearopt.studies import (Tolerance, monte_carlo, pareto_front, relief_scene_from_data, robust_design,
@@ -46,9 +45,11 @@ from gearopt.studies.scene_study import RELIEF  # noqa: E402  (the four relief v
 DEFAULT_OUT = Path("out") / "ppte_trade_off"
 
 
-def build_scene(quick: bool) -> tuple[Scene, dict]:
-    """The data's tip-relief scene of crank-cam (``quick``: 24 NLP positions instead of 40) and its data."""
-    scene = relief_scene_from_data(load_default_data(), go.load_default_train("spur"), MESH,
+def build_scene(quick: bool, data_file: Path | None = None) -> tuple[Scene, dict]:
+    """The data's tip-relief scene of crank-cam (``quick``: 24 NLP positions instead of 40) and its data
+    (``data_file``: your own train; default the packaged data)."""
+    data = load_default_data(data_file)
+    scene = relief_scene_from_data(data, train_from_data(data, "spur"), MESH,
                                    positions=24 if quick else None)
     return scene, {"torques_Nm": [lc.torque_Nm for lc in scene.load_cases],
                    "max_contact_stress_limit_MPa": scene.limits[0].upper,
@@ -63,13 +64,15 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--quick", action="store_true",
                         help="4 points (ends from one start), 256 samples, 24 NLP positions")
     parser.add_argument("--out", type=Path, default=DEFAULT_OUT, help=f"output directory (default {DEFAULT_OUT})")
+    parser.add_argument("--data", type=Path, default=None, metavar="FILE",
+                        help="train data file (TOML in the format of the packaged default data; default: that data)")
     args = parser.parse_args(argv)
     points, samples = (4, 256) if args.quick else (args.points, args.samples)
     if points < 3 or samples < 1:
         parser.error(f"--points {points} must be >= 3 and --samples {samples} >= 1")
     args.out.mkdir(parents=True, exist_ok=True)
     t0 = time.perf_counter()
-    scene, data = build_scene(args.quick)
+    scene, data = build_scene(args.quick, args.data)
 
     front = pareto_front(scene, "loaded_contact_ratio", MESH, points=points, starts=1 if args.quick else 4,
                          executor=args.executor)
