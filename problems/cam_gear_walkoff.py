@@ -667,8 +667,10 @@ def summary_inputs(data: dict, dynamics: dict | None, out: Path) -> dict:
     loads, limits = values["design_loads"], dict(values.get("design_limits", {}))
     basis = {"rating": ("ISO 6336 method B at the static design torques ("
                         + ", ".join(f"{m} {loads[k]:g} N m" for m, k in RATED_MESHES.items())
-                        + f"), K_A {loads['application_factor_K_A']:g}, K_v = K_Hbeta = K_Halpha = K_Fbeta = K_Falpha "
-                          "= 1, life factors Z_NT = Y_NT = 1 (endurance: unlimited load cycles)"),
+                        + f"), K_A {loads['application_factor_K_A']:g}; K_v, K_Hbeta, K_Fbeta, K_Halpha, K_Falpha and the "
+                          "life, lubrication, roughness and size factors computed (gearopt.rating.rate_iso6336) "
+                          "for endurance, N_L = 1e10 load cycles; the dynamic mesh torques are tabled in the "
+                          "dynamics section"),
              "joints at design load": "static design torques on each gear",
              "contact": (f"exact LTCA at {', '.join(f'{f:g}' for f in loads['torque_range_fractions'])} x the design "
                          f"torque, {loads['speed_rpm']:g} rpm crank")}

@@ -99,8 +99,16 @@ def build_summary(result: dict, *, train: str = "spur", limits: dict | None = No
                                 "hub yield strength / von Mises stress at the bore"))
     else:
         left_out.append("joints at the design load")
+    computed = (result.get("rating") or {}).get(f"{train}_computed_factors") or {}
     rating = (result.get("rating") or {}).get(train) or {}
-    if rating:
+    if computed:  # every load factor computed (rate_iso6336): the rating an engineer would sign
+        rows.append(requirement("Contact safety S_H (ISO 6336-2, computed factors)",
+                                [(f"{m} gear {g}", r[f"S_H_{g}"]) for m, r in computed.items() for g in (1, 2)],
+                                lim["min_S_H"], "-", ">=", "see load basis"))
+        rows.append(requirement("Root safety S_F (ISO 6336-3, computed factors)",
+                                [(f"{m} gear {g}", r[f"S_F_{g}"]) for m, r in computed.items() for g in (1, 2)],
+                                lim["min_S_F"], "-", ">=", "see load basis"))
+    elif rating:
         rows.append(requirement("Contact safety S_H (ISO 6336-2 method B)", [(m, r["S_H"]) for m, r in rating.items()],
                                 lim["min_S_H"], "-", ">=", "see load basis"))
         rows.append(requirement("Root safety S_F (ISO 6336-3 method B)",

@@ -41,6 +41,17 @@ def test_worst_instance_decides_and_every_failure_is_named():
     assert build_summary(_result(1.2), limits={"min_S_F": 1.2, "min_hub_yield_safety": 0.8})["verdict"] == "PASS"
 
 
+def test_computed_factor_rating_decides_over_the_unit_factor_one():
+    # with every ISO 6336 factor computed, that rating is the one judged (both gears' S_H), not the K = 1 table
+    r = _result(2.0)
+    r["rating"]["spur_computed_factors"] = {"crank-cam": {"S_H_1": 1.3, "S_H_2": 0.9, "S_F_1": 2.0, "S_F_2": 1.6}}
+    rows = {x["requirement"].split(" (")[0]: x for x in build_summary(r)["requirements"]}
+    assert "computed factors" in next(x["requirement"] for x in build_summary(r)["requirements"]
+                                      if x["requirement"].startswith("Contact safety"))
+    assert (rows["Contact safety S_H"]["value"], rows["Contact safety S_H"]["worst_case"]) == (0.9, "crank-cam gear 2")
+    assert rows["Contact safety S_H"]["verdict"] == "FAIL" and rows["Root safety S_F"]["verdict"] == "PASS"
+
+
 @pytest.fixture(scope="module")
 def design():
     pair = go.load_default_train("spur").pairs["crank-cam"]
