@@ -40,7 +40,6 @@ Modelling choices (all stated, [E] where no source fixes them):
 from __future__ import annotations
 
 import math
-import shutil
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -48,6 +47,7 @@ import pandas as pd
 
 from ..rating.stiffness import mesh_stiffness_table
 from ..data import load_default_data, train_from_data, values
+from .. import compile_cache
 from ..errors import GearoptInputError
 from ..validation import check_range
 from .mesh import (
@@ -99,8 +99,10 @@ class TimingModel:
                  on_shooting_failure: str = "raise", **options) -> Simulation:
         """Simulate ``cycles`` engine cycles (720 deg) at ``speed_rpm`` [rpm] (flywheel speed); ``backlash``
         selects the lash model (else linear meshes). ``parameters`` override network parameters (e.g.
-        ``{"crank-cam.backlash_mm": 0.2}``); ``jit``: compile the equations with the system C compiler (default
-        ``None``: if one is found -- about 2 s once per option set, then about 3x faster); the rest as
+        ``{"crank-cam.backlash_mm": 0.2}``); ``jit``: compile the equations with the system C compiler, once:
+        the binaries are kept in the on-disk cache of :mod:`gearopt.compile_cache` (default ``None``: unless
+        ``GEAROPT_JIT=0``; without a compiler the interpreted path with a notice; speed-ups measured in
+        ``benchmarks/results/dynamics_speed.json``); the rest as
         :meth:`gearopt.dynamics.simulate.Simulator.run` and :class:`~gearopt.dynamics.simulate.Simulator` options
         (``method``, ``atol``, ``output_step_deg``, ``external_torques``; ``steady_state="shooting"`` solves the
         periodic state by shooting, see :meth:`~gearopt.dynamics.simulate.Simulator.periodic_state`; here the
@@ -126,9 +128,10 @@ class TimingModel:
 
 
 def _auto_jit(jit: bool | None) -> bool:
-    """``jit=None``: compile if a C compiler is on the PATH (CasADi's "shell" compiler calls ``gcc``)."""
+    """``jit=None``: compile (through the cache) unless ``GEAROPT_JIT=0``; without a C compiler the cache falls
+    back to the interpreted functions with a notice (:mod:`gearopt.compile_cache`)."""
     if jit is None:
-        return shutil.which("gcc") is not None
+        return compile_cache.jit_enabled()
     return bool(jit)
 
 

@@ -42,6 +42,7 @@ import pandas as pd
 from scipy.linalg import lu_factor as scipy_lu_factor
 from scipy.linalg import lu_solve as scipy_lu_solve
 
+from .. import compile_cache
 from ..errors import GearoptInputError, SolveError
 from ..validation import check_range
 from .network import ANGLE_UNIT_RAD, OFFSET_PARAMETER, SPEED_PARAMETER, TorsionalNetwork
@@ -173,7 +174,9 @@ class Simulator:
     ``max_step_deg`` (step limit of CVODES/IDAS; default for the lash model from the contact half-periods at
     ``min_speed_rpm``, see the module docstring; none for linear meshes), ``fixed_step_deg`` (collocation/rk step),
     ``options`` (extra CasADi integrator options), ``jit`` (compile the
-    equations and outputs with the system C compiler: about 1-3 s to build, 3-5x faster to run),
+    integrator and the output functions with the system C compiler, once: :mod:`gearopt.compile_cache` keeps the
+    binaries on disk; ``compiled`` says per function whether it was ``"cached"``, ``"compiled"`` or
+    ``"interpreted"``; run-time gains are measured in ``benchmarks/results/dynamics_speed.json``),
     ``external_torques`` (also record the external torques, which re-evaluates the excitation at every output),
     ``contact_quadratures`` (integrate the contact-indicator variations, lash model; about 15 % of the run time on the
     default train -- without them only the sampled contact counts are reported).
@@ -220,26 +223,43 @@ class Simulator:
                 opts["max_step_size"] = math.radians(self.max_step_deg)
         else:
             opts["number_of_finite_elements"] = max(self.n_out, int(math.ceil(network.cycle_deg / fixed_step_deg)))
-        jit_opts = {"jit": True, "compiler": "shell", "jit_options": {"flags": ["-O2"], "verbose": False}}
-        if jit:
-            opts.update(jit_opts)
         opts.update(options or {})
         self.options = opts
+        self.jit = bool(jit) and not any(k.startswith("jit") or k == "compiler" for k in opts)
         t0 = time.perf_counter()
-        self.integrator = ca.integrator("torsional_cycle", method, dae, 0.0, self.grid_rad, opts)
+        self.compiled: dict = {}
+        self.integrator = self._build("torsional_cycle", {k: dae[k] for k in ("ode", "quad") if k in dae}, lambda extra: ca.integrator(
+            "torsional_cycle", method, dae, 0.0, self.grid_rad, dict(opts, **extra)),
+            repr((method, sorted(opts.items()), self.grid_rad.tolist())))
         self._dae = {"x": self.eq.x, "p": self.eq.p, "t": self.eq.tau, "ode": rhs}
         self._shooting_cache: dict = {}
         names = self.eq.output_names
         keep = [i for i, (q, _) in enumerate(names) if external_torques or q != "external_torque_Nm"]
         self.output_names = [names[i] for i in keep]
-        fopts = dict({"cse": True}, **(jit_opts if jit else {}))
-        self.output_function = ca.Function("outputs", [self.eq.tau, self.eq.x, self.eq.p],
-                                           [self.eq.outputs[keep]], fopts).map(self.n_out)
+        args = [self.eq.tau, self.eq.x, self.eq.p]
+        out_expr = {"outputs": self.eq.outputs[keep]}
+        self.output_function = self._build("outputs", out_expr, lambda extra: ca.Function(
+            "outputs", args, [out_expr["outputs"]], dict({"cse": True}, **extra)).map(self.n_out),
+            repr(("map", self.n_out)))
         check = [i for i, (q, _) in enumerate(names) if q in ("mesh_force_N", "shaft_torque_Nm")]
-        self.check_function = ca.Function("check", [self.eq.tau, self.eq.x, self.eq.p],
-                                          [self.eq.outputs[check]], {"cse": True}).map(self.n_out)
+        check_expr = {"check": self.eq.outputs[check]}
+        self.check_function = self._build("check", check_expr, lambda extra: ca.Function(
+            "check", args, [check_expr["check"]], dict({"cse": True}, **extra)).map(self.n_out),
+            repr(("map", self.n_out)))
         self.build_time_s = time.perf_counter() - t0
         self.cycle_rad = cycle_rad
+
+    def _build(self, name: str, expressions: dict, build, options_repr: str):
+        """``build(extra_options)`` through the on-disk compile cache (:mod:`gearopt.compile_cache`) when ``jit``:
+        keyed by the serialized graph of ``expressions`` (over tau, x, p) and ``options_repr``; records how the
+        function was obtained in ``self.compiled``."""
+        if not self.jit:
+            self.compiled[name] = "interpreted"
+            return build({})
+        graph = ca.Function(name, [self.eq.tau, self.eq.x, self.eq.p], list(expressions.values()))
+        fun, how = compile_cache.compiled(name, graph.serialize() + options_repr, build)
+        self.compiled[name] = how
+        return fun
 
     # ------------------------------------------------------------------------------------------------------------
 
@@ -322,7 +342,7 @@ class Simulator:
     def _sensitivity_options(self) -> dict:
         # JIT-compiling the forward-sensitivity equations of the default train takes minutes (measured 160 s):
         # the shooting integrator is interpreted
-        return {k: v for k, v in self.options.items() if k not in ("jit", "compiler", "jit_options")}
+        return {k: v for k, v in self.options.items() if not (k.startswith("jit") or k == "compiler")}
 
     def _newton_solver(self, tol: float, max_iter: int):
         key = ("newton", float(tol), int(max_iter))
