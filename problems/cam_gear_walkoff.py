@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import logging
 import sys
 import time
 from pathlib import Path
@@ -44,6 +45,17 @@ from gearopt.report.macro_design import (change_table, conversion_table, mesh_ch
                                          sum_shift_table)
 
 DEFAULT_OUT = Path("out") / "cam_gear_walkoff"
+LOG = logging.getLogger("cam_gear_walkoff")
+
+
+class StageTimings(dict):
+    """``{stage: elapsed [s]}`` that logs each stage as it is recorded: start and end clock time and elapsed."""
+
+    def __setitem__(self, stage: str, elapsed_s: float) -> None:
+        super().__setitem__(stage, elapsed_s)
+        end = time.time()
+        LOG.info("stage %-36s %7.2f s  (%s -> %s)", stage, elapsed_s,
+                 time.strftime("%H:%M:%S", time.localtime(end - elapsed_s)), time.strftime("%H:%M:%S", time.localtime(end)))
 
 
 def macro_design(data: dict, thesis: dict) -> dict:
@@ -471,7 +483,9 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--out", type=Path, default=DEFAULT_OUT, help=f"output directory (default {DEFAULT_OUT})")
     args = parser.parse_args(argv)
 
-    timings: dict[str, float] = {}
+    if not logging.getLogger().handlers:
+        logging.basicConfig(level=logging.INFO, format="%(message)s")
+    timings = StageTimings()
     t0 = time.perf_counter()
     data, thesis = load_default_data(), load_thesis_tables()
     macro = macro_design(data, thesis)

@@ -42,6 +42,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
+import casadi as ca
 import numpy as np
 import pandas as pd
 
@@ -96,7 +97,7 @@ class TimingModel:
                  steady_state_tol: float | None = None, x0=None, jit: bool | None = None,
                  steady_state: str = "run-in", shooting_tol: float | None = None,
                  shooting_jacobian: str = "linear", shooting_max_iter: int = 20,
-                 on_shooting_failure: str = "raise", **options) -> Simulation:
+                 on_shooting_failure: str = "raise", reuse: bool = True, **options) -> Simulation:
         """Simulate ``cycles`` engine cycles (720 deg) at ``speed_rpm`` [rpm] (flywheel speed); ``backlash``
         selects the lash model (else linear meshes). ``parameters`` override network parameters (e.g.
         ``{"crank-cam.backlash_mm": 0.2}``); ``jit``: compile the equations with the system C compiler, once:
@@ -107,7 +108,8 @@ class TimingModel:
         (``method``, ``atol``, ``output_step_deg``, ``external_torques``; ``steady_state="shooting"`` solves the
         periodic state by shooting, see :meth:`~gearopt.dynamics.simulate.Simulator.periodic_state`; here the
         default ``shooting_jacobian="linear"``, the chord iteration: the exact forward-sensitivity Newton costs
-        about 20 s per iteration on this 46-state model).
+        about 20 s per iteration on this 46-state model). ``reuse``: an identical run of this model is computed once
+        per session and shared (:func:`gearopt.dynamics.simulate.simulate`).
         """
         p = self.parameters_at(speed_rpm, load)
         p.update(parameters or {})
@@ -115,7 +117,7 @@ class TimingModel:
                         run_in_cycles=run_in_cycles, steady_state_tol=steady_state_tol, x0=x0,
                         steady_state=steady_state, shooting_tol=shooting_tol, shooting_jacobian=shooting_jacobian,
                         shooting_max_iter=shooting_max_iter, on_shooting_failure=on_shooting_failure,
-                        jit=_auto_jit(jit), **options)
+                        jit=_auto_jit(jit), reuse=reuse, **options)
 
     def simulator(self, backlash: bool = True, rtol: float = 1e-6, jit: bool | None = None, **options):
         """The cached :class:`~gearopt.dynamics.simulate.Simulator` of this model for these options (``jit`` as
@@ -133,6 +135,22 @@ def _auto_jit(jit: bool | None) -> bool:
     if jit is None:
         return compile_cache.jit_enabled()
     return bool(jit)
+
+
+_PRESSURE_FUNCTIONS: dict = {}
+
+
+def _nominal_pressures(exc) -> ca.Function:
+    """SX Function: engine crank angle [rad] -> the cylinder pressures [bar] of ``exc`` (one shared harmonic basis),
+    built once per pressure series and re-used by every model and lash option: calling it on a symbol copies the
+    graph (C++) instead of rebuilding the Fourier basis in Python for each cylinder and equation set."""
+    key = tuple((p.series.period, p.series.mean, p.series.cos_coefficients, p.series.sin_coefficients)
+                for p in exc._cylinder_pressures)
+    if key not in _PRESSURE_FUNCTIONS:
+        angle = ca.SX.sym("crank_angle_rad")
+        _PRESSURE_FUNCTIONS[key] = ca.Function("cylinder_pressures", [angle],
+                                               [ca.vertcat(*exc.cylinder_pressures_bar(angle))])
+    return _PRESSURE_FUNCTIONS[key]
 
 
 def _check_kind(kind: str) -> None:
@@ -304,7 +322,10 @@ def default_timing_model(kind: str = "spur", *, data: dict | None = None, load: 
             # speed and acceleration (gearopt.engine kinematics and pressure; engine.excitation's formulas)
             k = slider_crank(angle_rad - _tdc, exc.crank_radius_mm, exc.rod_length_mm)
             ds, d2s = k["ds_dtheta_mm"] * 1e-3, k["d2s_dtheta2_mm"] * 1e-3
-            p = exc.cylinder_pressure_bar(_cyl, nominal_angle_rad if excitation_angle == "nominal" else angle_rad)
+            if excitation_angle == "nominal" and isinstance(nominal_angle_rad, ca.SX):
+                p = _nominal_pressures(exc)(nominal_angle_rad)[_cyl - 1]  # one shared SX graph (see there)
+            else:
+                p = exc.cylinder_pressure_bar(_cyl, nominal_angle_rad if excitation_angle == "nominal" else angle_rad)
             gas = (pressure_scale * p - p_cc) * 0.1 * area_mm2 * ds
             return gas - mass * ds * (d2s * speed_rad_s * speed_rad_s + ds * accel_rad_s2)
 

@@ -638,14 +638,27 @@ def simulate(network: TorsionalNetwork, speed_rpm: float, cycles: int = 10, *, b
              rtol: float = 1e-6, parameters: dict | None = None, run_in_cycles: int = 0,
              steady_state_tol: float | None = None, x0=None, steady_state: str = "run-in",
              shooting_tol: float | None = None, shooting_jacobian: str = "sensitivity",
-             shooting_max_iter: int = 20, on_shooting_failure: str = "raise", **options) -> Simulation:
+             shooting_max_iter: int = 20, on_shooting_failure: str = "raise", reuse: bool = True,
+             **options) -> Simulation:
     """Simulate a network (cached :class:`Simulator` with ``lash=backlash``, ``rtol`` and ``options``; see
-    :meth:`Simulator.run` for the rest, including ``steady_state="shooting"``)."""
+    :meth:`Simulator.run` for the rest, including ``steady_state="shooting"``).
+
+    ``reuse``: a run with the same arguments (speed, cycles, lash, tolerances, parameters, options; ``x0`` not
+    given) on the same, unchanged network is computed once per session and the same :class:`Simulation` returned
+    again (treat it as read-only); ``reuse=False`` always integrates (e.g. to time a run)."""
     sim = simulator(network, lash=backlash, rtol=rtol, **options)
-    return sim.run(speed_rpm, cycles, parameters=parameters, x0=x0, run_in_cycles=run_in_cycles,
-                   steady_state_tol=steady_state_tol, steady_state=steady_state, shooting_tol=shooting_tol,
-                   shooting_jacobian=shooting_jacobian, shooting_max_iter=shooting_max_iter,
-                   on_shooting_failure=on_shooting_failure)
+    kwargs = dict(parameters=parameters, x0=x0, run_in_cycles=run_in_cycles, steady_state_tol=steady_state_tol,
+                  steady_state=steady_state, shooting_tol=shooting_tol, shooting_jacobian=shooting_jacobian,
+                  shooting_max_iter=shooting_max_iter, on_shooting_failure=on_shooting_failure)
+    if not reuse or x0 is not None:
+        return sim.run(speed_rpm, cycles, **kwargs)
+    key = ("run", id(sim), float(speed_rpm), int(cycles),
+           repr(sorted((k, v) for k, v in kwargs.items() if k not in ("parameters", "x0"))),
+           repr(sorted((parameters or {}).items())))
+    runs = network._cache
+    if key not in runs:
+        runs[key] = sim.run(speed_rpm, cycles, **kwargs)
+    return runs[key]
 
 
 __all__ = ["INTEGRATORS", "Simulation", "Simulator", "simulator", "simulate", "node_accelerations",

@@ -340,10 +340,14 @@ class GearPair:
         ``*_roll_deg`` are roll angles (rho / r_b) of SAP, EAP, LPSTC, HPSTC and the pitch point on each gear.
         ``specific_sliding_root`` are gear 1's specific sliding at A and gear 2's at E (their roots; negative).
         """
-        g = self._geometry
         if self.is_symbolic:
-            return dict(g)
-        return {k: _to_number(v) for k, v in g.items()}
+            return dict(self._geometry)
+        return dict(self._numeric_geometry)
+
+    @cached_property
+    def _numeric_geometry(self) -> dict:
+        """:meth:`geometry` of a numeric pair, converted once (the pair is frozen; values are floats/tuples)."""
+        return {k: _to_number(v) for k, v in self._geometry.items()}
 
     # ------------------------------------------------------------------------------------------------------------
     # checks and constraints
