@@ -39,6 +39,8 @@ LOG = logging.getLogger("gearopt.compile")
 JIT_FLAGS: tuple[str, ...] = ("-O1",)
 """Compiler flags of every cached kernel (``benchmarks/bench_compile.py`` measures the alternatives)."""
 
+_FORMAT = "gearopt-compile-cache-2"  # bump when jit_options() changes what a saved entry does on load
+_RESERVED = "gearopt_jit_src"  # CasADi reserves "<name><suffix>.c" in the working directory when it loads an entry
 _STATS = {"hits": 0, "compiled": 0, "interpreted": 0, "load_time_s": 0.0, "compile_time_s": 0.0}
 _NOTICE_GIVEN = False
 
@@ -74,7 +76,7 @@ def cache_stats() -> dict:
 def cache_key(name: str, definition: bytes | str, flags=JIT_FLAGS) -> str:
     """Hex SHA-256 of the entry (module docstring)."""
     h = hashlib.sha256()
-    for part in (ca.__version__, platform.machine(), platform.system(), " ".join(flags), name):
+    for part in (_FORMAT, ca.__version__, platform.machine(), platform.system(), " ".join(flags), name):
         h.update(part.encode())
         h.update(b"\0")
     h.update(definition.encode() if isinstance(definition, str) else definition)
@@ -85,7 +87,7 @@ def jit_options(directory: Path, flags=JIT_FLAGS) -> dict:
     """CasADi options that JIT-compile a function with ``flags`` in ``directory``, its library kept there and linked
     (not embedded) when the function is saved: loading then opens it in place, without a compiler or a temporary
     copy. CasADi's own clean-up is off (:func:`compiled` removes the C source and object files)."""
-    return {"jit": True, "compiler": "shell", "jit_serialize": "link", "jit_cleanup": False, "jit_name": "jit_src",
+    return {"jit": True, "compiler": "shell", "jit_serialize": "link", "jit_cleanup": False, "jit_name": _RESERVED,
             "jit_options": {"flags": list(flags), "verbose": False, "cleanup": False,
                             "directory": str(directory) + os.sep}}
 
@@ -108,13 +110,16 @@ def compiled(name: str, definition: bytes | str, build: Callable[[dict], ca.Func
     library = root / f"{name}-{key[:24]}.lib"
     if path.exists() and any(f.suffix in (".so", ".dylib", ".dll") for f in library.rglob("*")):
         t0 = time.perf_counter()
+        before = set(Path.cwd().glob(_RESERVED + "*.c"))
         try:
             fun = ca.Function.load(str(path))
         except Exception as exc:  # noqa: BLE001 -- a damaged entry is rebuilt, never fatal
             LOG.info("compile cache: entry %s did not load (%s); rebuilding", path.name, exc)
         else:
-            for junk in library.rglob("*.c"):  # CasADi reserves an (empty) source name on load
-                junk.unlink(missing_ok=True)
+            reserved = (set(Path.cwd().glob(_RESERVED + "*.c")) - before) | set(library.rglob("*.c"))
+            for junk in reserved:  # the (empty) source names reserved by the load
+                if junk.stat().st_size == 0:
+                    junk.unlink(missing_ok=True)
             _STATS["hits"] += 1
             _STATS["load_time_s"] += time.perf_counter() - t0
             return fun, "cached"
@@ -129,6 +134,7 @@ def compiled(name: str, definition: bytes | str, build: Callable[[dict], ca.Func
     entry_dir = Path(tempfile.mkdtemp(dir=library))  # own directory per build (concurrent cold processes)
     fd, partial = tempfile.mkstemp(prefix=path.name + ".", suffix=".partial", dir=root)
     os.close(fd)
+    before = set(Path.cwd().glob(_RESERVED + "*.c"))
     try:
         fun = build(jit_options(entry_dir, flags))
         fun.save(partial)
@@ -137,6 +143,8 @@ def compiled(name: str, definition: bytes | str, build: Callable[[dict], ca.Func
         if os.path.exists(partial):
             os.remove(partial)
         for junk in list(entry_dir.glob("*.c")) + list(entry_dir.glob("*.o")):
+            junk.unlink(missing_ok=True)
+        for junk in set(Path.cwd().glob(_RESERVED + "*.c")) - before:  # sources CasADi wrote to the cwd
             junk.unlink(missing_ok=True)
     _STATS["compiled"] += 1
     _STATS["compile_time_s"] += time.perf_counter() - t0

@@ -25,6 +25,10 @@ def _definition() -> str:
 
 @pytest.fixture
 def cache(tmp_path, monkeypatch):
+    work = tmp_path / "work"
+    work.mkdir()
+    monkeypatch.chdir(work)
+    tmp_path = tmp_path / "cache"
     monkeypatch.setenv("GEAROPT_CACHE_DIR", str(tmp_path))
     monkeypatch.delenv("GEAROPT_JIT", raising=False)
     return tmp_path
@@ -44,6 +48,7 @@ def test_compiled_once_then_loaded_with_equal_values(cache):
     library = entries[0].with_suffix(".lib")
     assert sorted(p.name for p in cache.iterdir()) == sorted([entries[0].name, library.name])
     assert [p.suffix for p in library.rglob("*") if p.is_file()] == [".so"]  # no build leftovers
+    assert list(Path.cwd().iterdir()) == []  # nor in the working directory
     np.testing.assert_allclose(np.array(first(x)), ref, rtol=1e-14)
     np.testing.assert_allclose(np.array(second(x)), ref, rtol=1e-14)
     # another definition or other flags: another entry
