@@ -52,13 +52,16 @@ SETTINGS = {
     "rtol 1e-5": {"rtol": 1e-5},
     "rtol 1e-4": {"rtol": 1e-4},
     "rtol 1e-3": {"rtol": 1e-3},
+    "rtol 1e-3, no quadratures": {"rtol": 1e-3, "contact_quadratures": False},
     "rtol 1e-4, step limit at run speed": {"rtol": 1e-4, "min_speed_rpm": SPEED},
-    "rtol 1e-4, step limit at run speed, no quadratures": {"rtol": 1e-4, "min_speed_rpm": SPEED,
+    "rtol 1e-3, step limit at run speed": {"rtol": 1e-3, "min_speed_rpm": SPEED},
+    "rtol 1e-3, step limit at run speed, no quadratures": {"rtol": 1e-3, "min_speed_rpm": SPEED,
                                                            "contact_quadratures": False},
     "rtol 1e-6, step limit at run speed": {"rtol": 1e-6, "min_speed_rpm": SPEED},
     "rtol 1e-4, contact width x4": {"rtol": 1e-4, "model": {"contact_width_um": 4 * 0.05}},
 }
-QUICK_SETTINGS = ("rtol 1e-6 (default)", "rtol 1e-4, step limit at run speed")
+QUICK_SETTINGS = ("rtol 1e-6 (default)", "rtol 1e-3, no quadratures")
+ACCEPTANCE_REPEATS = 7
 
 
 def per_cycle_statistics(sim, skip: int = 1) -> dict:
@@ -104,11 +107,12 @@ def run_setting(models, name, setting, stat_cycles, repeats, timed_cycles=10):
         models[key] = default_timing_model("spur", **setting.get("model", {}))
     model = models[key]
     simulator = model.simulator(backlash=True, **kw)          # loaded or compiled outside the timing
-    times, sim = [], None
+    times, cpu, sim = [], [], None
     for _ in range(repeats):
-        t0 = time.perf_counter()
+        t0, c0 = time.perf_counter(), time.process_time()
         sim = model.simulate(SPEED, cycles=timed_cycles, backlash=True, reuse=False, **kw)
         times.append(time.perf_counter() - t0)
+        cpu.append(time.process_time() - c0)
     floor = floor_fraction(simulator)  # CVODES statistics of the last cycle of the timed run
     one_cycle = sim.stats["integration_time_s"] / sim.stats["cycles_integrated"]
     floor["integration_time_per_cycle_s"] = one_cycle
@@ -116,7 +120,7 @@ def run_setting(models, name, setting, stat_cycles, repeats, timed_cycles=10):
     long = (sim if stat_cycles is None else
             model.simulate(SPEED, cycles=stat_cycles + 1, backlash=True, reuse=False, **kw))
     row = {"setting": name, **{k: v for k, v in setting.items() if k != "model"}, **setting.get("model", {}),
-           "wall_time_s": statistics.median(times), "wall_times_s": times,
+           "wall_time_s": statistics.median(times), "wall_times_s": times, "cpu_time_s": statistics.median(cpu),
            "integration_time_s": sim.stats["integration_time_s"],
            "steps_per_cycle_mean": float(np.mean(sim.stats["steps_per_cycle"])),
            "time_per_step_us": 1e6 * sim.stats["integration_time_s"] / float(np.sum(sim.stats["steps_per_cycle"])),
@@ -202,16 +206,32 @@ def main(argv=None):
     base = rows[0]
     for r in rows:
         r["time_ratio_to_default"] = r["wall_time_s"] / base["wall_time_s"]
+        r["cpu_time_ratio_to_default"] = r["cpu_time_s"] / base["cpu_time_s"]
     admissible = [r for r in rows if r["against_reference"]["admissible"] and "model" not in SETTINGS[r["setting"]]
                   and "contact_width_um" not in r]
-    pick = min(admissible, key=lambda r: r["wall_time_s"]) if admissible else base
+    # CPU time: the machine is shared, wall times of single runs carry other sessions' load
+    pick = min(admissible, key=lambda r: r["cpu_time_s"]) if admissible else base
     result["picked"] = pick["setting"]
+    result["pick_rule"] = ("the least CPU time among the settings of the default model whose per-cycle RMS and peak "
+                           "force are within 2 combined standard errors of the reference (|z| <= 2; about 1 in 10 "
+                           "admissible settings fails this by chance: two statistics at 5 % each)")
+    print("acceptance run", flush=True)
+    kw = {k: v for k, v in SETTINGS[pick["setting"]].items() if k != "model"}
+    model = models[repr([])]
+    times, cpu = [], []
+    for _ in range(1 if quick else ACCEPTANCE_REPEATS):
+        t0, c0 = time.perf_counter(), time.process_time()
+        model.simulate(SPEED, cycles=timed, backlash=True, reuse=False, **kw)
+        times.append(time.perf_counter() - t0)
+        cpu.append(time.process_time() - c0)
     result["acceptance_run"] = {
         "call": f"default_timing_model('spur').simulate(2500, cycles={timed}, backlash=True, "
-                + ", ".join(f"{k}={v!r}" for k, v in SETTINGS[pick["setting"]].items()) + ")",
-        "wall_time_s": pick["wall_time_s"], "steps_per_cycle_mean": pick["steps_per_cycle_mean"],
+                + ", ".join(f"{k}={v!r}" for k, v in kw.items()) + ")",
+        "wall_time_s": statistics.median(times), "wall_times_s": times, "cpu_time_s": statistics.median(cpu),
+        "load_average": list(os.getloadavg()), "steps_per_cycle_mean": pick["steps_per_cycle_mean"],
         "statistics": pick["statistics"], "reference_statistics": result["reference"]["statistics"],
-        "against_reference": pick["against_reference"], "speed_up_over_default": 1.0 / pick["time_ratio_to_default"],
+        "against_reference": pick["against_reference"],
+        "speed_up_over_default": base["cpu_time_s"] / pick["cpu_time_s"],
         "integration_over_function_evaluations": pick["floor"]["integration_over_function_evaluations"]}
     print("JIT gain", flush=True)
     result["jit_gain"] = jit_gain(ref_model, 1 if quick else 3, 0.25)
@@ -221,7 +241,7 @@ def main(argv=None):
     result["machine"]["load_average_end"] = list(os.getloadavg())
     (args.out / "dynamics_speed.json").write_text(json.dumps(result, indent=2, default=float) + "\n")
     plot(result, args.out / "dynamics_speed.png")
-    print(f"picked: {result['picked']}: {pick['wall_time_s']:.3f} s for {timed} cycles "
+    print(f"picked: {result['picked']}: {result['acceptance_run']['wall_time_s']:.3f} s for {timed} cycles "
           f"({result['acceptance_run']['speed_up_over_default']:.2f}x the default)")
     return result
 

@@ -33,7 +33,7 @@ Modelling choices (all stated, [E] where no source fixes them):
   Fourier basis of the cam-phase angle -- while the slider-crank kinematics, the reciprocating inertia torque and
   its angle-dependent inertia use each throw's actual angle, speed and acceleration. The error is the vibratory
   angle times the slope of the pressure trace; ``excitation_angle="actual"`` evaluates everything at the vibrating
-  angles (about 2x slower). Measured (benchmarks/bench_dynamics.py, spur, no lash, 2500 rpm, third cycle): peak
+  angles (slower; the run times are in ``benchmarks/results/dynamics.json``). Measured (benchmarks/bench_dynamics.py, spur, no lash, 2500 rpm, third cycle): peak
   crank-cam force 8096 vs 8132 N (-0.4 %), RMS 2550 vs 2512 N (+1.5 %), largest trace difference 4.9 % of the peak.
 """
 
@@ -153,6 +153,17 @@ def _nominal_pressures(exc) -> ca.Function:
     return _PRESSURE_FUNCTIONS[key]
 
 
+def _shared_series(series):
+    """``x -> series(x)``: on a CasADi SX symbol through an SX Function built once per series (the graph is copied
+    in C++ instead of rebuilt in Python for every station, model and lash option); numbers as ``series`` itself."""
+    key = (series.period, series.mean, series.cos_coefficients, series.sin_coefficients)
+    if key not in _PRESSURE_FUNCTIONS:
+        x = ca.SX.sym("x")
+        _PRESSURE_FUNCTIONS[key] = ca.Function("fourier_series", [x], [series(x)])
+    fun = _PRESSURE_FUNCTIONS[key]
+    return lambda x: fun(x) if isinstance(x, ca.SX) else series(x)
+
+
 def _check_kind(kind: str) -> None:
     if kind not in KINDS:
         raise GearoptInputError(f"kind={kind!r} must be one of {KINDS}")
@@ -188,8 +199,8 @@ def default_timing_model(kind: str = "spur", *, data: dict | None = None, load: 
     ``stiffness_harmonics``/``stiffness_variation`` of the mesh-stiffness shape (0 variation: constant mean
     stiffness); ``contact_width_um`` of the smooth dead zone, ``damping_width_um`` over which the mesh dashpot
     engages; ``air_compressor_loaded``; ``excitation_angle``
-    ``"nominal"`` (cylinder pressure and accessory maps evaluated along the nominal motion, one shared Fourier basis:
-    about 5x cheaper) or ``"actual"`` (at each node's vibrating angle). ``mesh_stiffness``: ``"iso6336"`` (ISO
+    ``"nominal"`` (cylinder pressure and accessory maps evaluated along the nominal motion, one shared Fourier basis;
+    run times of both in ``benchmarks/results/dynamics.json``, ``approximations.excitation_angle``) or ``"actual"`` (at each node's vibrating angle). ``mesh_stiffness``: ``"iso6336"`` (ISO
     6336-1 mean ``c_gamma_alpha b`` with the contact-line-length shape) or ``"ltca"`` (mean and shape over the mesh
     cycle from the exact LTCA of each pair, :func:`gearopt.dynamics.ltca_stiffness.ltca_mesh_stiffness`, at
     ``ltca_torques_Nm`` {mesh: torque on gear 1 [N m]}, default the data's ``[design_loads]``; ``ltca_options``
@@ -334,9 +345,10 @@ def default_timing_model(kind: str = "spur", *, data: dict | None = None, load: 
                        description=f"cylinder {cylinder}: gas + reciprocating inertia (gearopt.engine)")
 
     def load_torque(series, share=1.0):
+        shared = _shared_series(series.series)  # the Fourier graph built once per series, copied per use
         if excitation_angle == "nominal":
-            return lambda t_s, a, w, nominal_angle_rad: -share * series(nominal_angle_rad)
-        return lambda t_s, a, w: -share * series(a)
+            return lambda t_s, a, w, nominal_angle_rad: -share * shared(nominal_angle_rad)
+        return lambda t_s, a, w: -share * shared(a)
 
     valve = AccessoryTorque.camshaft(raw)
     for s in stations:

@@ -524,10 +524,10 @@ class Simulator:
             p = pvec.copy()
             p[i_off] = cycle * self.cycle_rad
             res = self.integrator(x0=x, p=p)
-            xs = np.array(res["xf"])
+            xs = res["xf"].full()
             stats = self.integrator.stats()
             nsteps.append(stats.get("nsteps", stats.get("n_step", 0)))
-            check = np.array(self.check_function(self.grid_rad[None, :], xs, np.repeat(p[:, None], self.n_out, 1)))
+            check = self.check_function(self.grid_rad[None, :], xs, np.repeat(p[:, None], self.n_out, 1)).full()
             if previous is not None and check.size:
                 scale = max(float(np.max(np.abs(check))), 1e-9)
                 changes.append(float(np.max(np.abs(check - previous)) / scale))
@@ -558,8 +558,8 @@ class Simulator:
         tau = np.concatenate([c * self.cycle_rad + self.grid_rad for c, _, _ in recorded])
         tau = tau - recorded[0][0] * self.cycle_rad  # recorded time starts at 0
         xs = np.concatenate([x for _, x, _ in recorded], axis=1)
-        outs = np.concatenate([np.array(self.output_function(self.grid_rad[None, :], x, np.repeat(p[:, None],
-                                                                                              self.n_out, 1)))
+        outs = np.concatenate([self.output_function(self.grid_rad[None, :], x, np.repeat(p[:, None],
+                                                                                         self.n_out, 1)).full()
                                for _, x, p in recorded], axis=1)
         time_s = tau / omega
         index = pd.Index(time_s, name="time_s")
