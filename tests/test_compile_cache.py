@@ -2,6 +2,7 @@
 or GEAROPT_JIT=0 -> interpreted with the same values."""
 
 import logging
+import os
 import sys
 from pathlib import Path
 
@@ -91,14 +92,17 @@ def test_jit_off_by_environment(cache, monkeypatch):
 
 
 @needs_compiler
-def test_simulator_loads_its_kernels_from_the_cache(cache):
+def test_simulator_loads_its_kernels_from_the_cache(cache, monkeypatch):
     from dynamics_networks import forced_pair
 
     from gearopt.dynamics.simulate import Simulator
 
     net = forced_pair(ripple_Nm=50.0)
     first = Simulator(net, lash=True, jit=True, output_step_deg=5.0)
+    path = os.environ["PATH"]
+    monkeypatch.setenv("PATH", "")        # no compiler can start now: the second build must only load
     second = Simulator(net, lash=True, jit=True, output_step_deg=5.0)
+    monkeypatch.setenv("PATH", path)
     interp = Simulator(net, lash=True, jit=False, output_step_deg=5.0)
     assert set(first.compiled.values()) == {"compiled"} and set(second.compiled.values()) == {"cached"}
     assert set(interp.compiled.values()) == {"interpreted"}
