@@ -11,7 +11,8 @@ unchanged one is never compiled twice. A cache file that does not load (truncate
 transparently. Writes go to a temporary file renamed into place, so concurrent processes never read a half-written
 entry (two cold processes may both compile; the last rename wins, both entries are equal).
 
-Where: ``$GEAROPT_CACHE_DIR`` if set, else ``$XDG_CACHE_HOME/gearopt/compiled`` (default ``~/.cache``).
+Where: ``$GEAROPT_CACHE_DIR`` if set, else ``$XDG_CACHE_HOME/gearopt/compiled`` (default ``~/.cache``); at most
+``$GEAROPT_CACHE_MAX_MB`` megabytes (default 1000), the least recently used entries pruned after a compilation.
 ``GEAROPT_JIT=0`` turns compilation off (interpreted functions; cached entries are still not used, so the
 interpreted path can be measured). Without a C compiler (``gcc``, what CasADi's ``shell`` compiler calls) and
 without a cached entry, the function is built interpreted and one notice is logged per process.
@@ -41,6 +42,7 @@ JIT_FLAGS: tuple[str, ...] = ("-O1",)
 
 _FORMAT = "gearopt-compile-cache-2"  # bump when jit_options() changes what a saved entry does on load
 _RESERVED = "gearopt_jit_src"  # CasADi reserves "<name><suffix>.c" in the working directory when it loads an entry
+DEFAULT_MAX_MB = 1000.0
 _STATS = {"hits": 0, "compiled": 0, "interpreted": 0, "load_time_s": 0.0, "compile_time_s": 0.0}
 _NOTICE_GIVEN = False
 
@@ -122,6 +124,10 @@ def compiled(name: str, definition: bytes | str, build: Callable[[dict], ca.Func
                     junk.unlink(missing_ok=True)
             _STATS["hits"] += 1
             _STATS["load_time_s"] += time.perf_counter() - t0
+            try:
+                os.utime(path)  # last use, for the pruning of the least recently used entries
+            except OSError:
+                pass
             return fun, "cached"
     if not compiler_available():
         if not _NOTICE_GIVEN:
@@ -148,8 +154,35 @@ def compiled(name: str, definition: bytes | str, build: Callable[[dict], ca.Func
             junk.unlink(missing_ok=True)
     _STATS["compiled"] += 1
     _STATS["compile_time_s"] += time.perf_counter() - t0
+    prune(root)
     return fun, "compiled"
 
 
+def prune(root: Path | None = None, max_mb: float | None = None) -> list[str]:
+    """Remove the least recently used entries until the cache holds at most ``max_mb`` megabytes (default
+    ``$GEAROPT_CACHE_MAX_MB`` or 1000); run after every compilation. Returns the names of the removed entries."""
+    root = cache_dir() if root is None else root
+    if max_mb is None:
+        max_mb = float(os.environ.get("GEAROPT_CACHE_MAX_MB", DEFAULT_MAX_MB))
+    entries = []
+    for path in root.glob("*.casadi"):
+        library = path.with_suffix(".lib")
+        try:
+            size = path.stat().st_size + sum(f.stat().st_size for f in library.rglob("*") if f.is_file())
+            entries.append((path.stat().st_mtime, size, path, library))
+        except OSError:
+            continue
+    total = sum(e[1] for e in entries)
+    removed = []
+    for _, size, path, library in sorted(entries):
+        if total <= max_mb * 1e6:
+            break
+        path.unlink(missing_ok=True)
+        shutil.rmtree(library, ignore_errors=True)
+        total -= size
+        removed.append(path.stem)
+    return removed
+
+
 __all__ = ["JIT_FLAGS", "cache_dir", "cache_key", "cache_stats", "compiled", "compiler_available", "jit_enabled",
-           "jit_options"]
+           "jit_options", "prune"]

@@ -110,3 +110,20 @@ def test_simulator_loads_its_kernels_from_the_cache(cache, monkeypatch):
     f = [r.mesh_force_N["g1-g2"].to_numpy() for r in runs]
     np.testing.assert_allclose(f[1], f[0], rtol=0, atol=1e-9 * np.max(np.abs(f[0])))
     np.testing.assert_allclose(f[2], f[0], rtol=0, atol=1e-6 * np.max(np.abs(f[0])))
+
+
+@needs_compiler
+def test_prune_removes_the_least_recently_used_entries(cache):
+    compile_cache.compiled("kernel", _definition(), _kernel)
+    compile_cache.compiled("kernel", _definition() + "b", _kernel)
+    first, second = (next(cache.glob(f"kernel-{compile_cache.cache_key('kernel', d)[:24]}.casadi"))
+                     for d in (_definition(), _definition() + "b"))
+    os.utime(first, (1e9, 1e9))
+    os.utime(second, (1e9 + 10, 1e9 + 10))
+    compile_cache.compiled("kernel", _definition(), _kernel)   # a hit: the first entry is now the recent one
+
+    def size(p):
+        return p.stat().st_size + sum(f.stat().st_size for f in p.with_suffix(".lib").rglob("*") if f.is_file())
+
+    assert compile_cache.prune(cache, max_mb=1.5 * max(size(first), size(second)) / 1e6) == [second.stem]
+    assert first.exists() and not second.exists() and not second.with_suffix(".lib").exists()
