@@ -610,8 +610,10 @@ def node_accelerations(network: TorsionalNetwork, sim: Simulation) -> pd.DataFra
     n = len(eq.free_nodes)
     if key not in network._cache:
         i_speed = eq.parameter_names.index(SPEED_PARAMETER)
-        network._cache[key] = ca.Function("accelerations", [eq.tau, eq.x, eq.p],
-                                          [eq.rhs[n:] * eq.p[i_speed]], {"cse": True})
+        acc = eq.rhs[n:] * eq.p[i_speed]
+        definition = ca.Function("accelerations", [eq.tau, eq.x, eq.p], [acc]).serialize()
+        network._cache[key] = compile_cache.compiled("accelerations", definition, lambda extra: ca.Function(
+            "accelerations", [eq.tau, eq.x, eq.p], [acc], dict({"cse": True}, **extra)))[0]
     fun = network._cache[key]
     pvec = np.array([sim.parameters[k] for k in eq.parameter_names], dtype=float)
     pvec[eq.parameter_names.index(OFFSET_PARAMETER)] = 0.0
