@@ -166,7 +166,8 @@ def compile_flags(model, flags_list, repeats):
                 t0 = time.perf_counter()
                 integ(x0=x0, p=p)
                 times.append(time.perf_counter() - t0)
-        rows.append({"flags": " ".join(flags), "compile_time_s": build, "run_time_one_cycle_s": statistics.median(times)})
+        rows.append({"flags": " ".join(flags), "compile_time_s": build,
+                     "run_time_one_cycle_s": statistics.median(times)})
         print(f"  {' '.join(flags):5s} compile {build:.2f} s, one cycle {rows[-1]['run_time_one_cycle_s']:.3f} s",
               flush=True)
     return rows

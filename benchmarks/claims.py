@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import json
 import sys
+import textwrap
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
@@ -116,7 +117,9 @@ def render(results: Path = RESULTS) -> str:
     for name, fun in (("geometry", geometry), ("ltca", ltca), ("microgeometry_nlp", microgeometry_nlp),
                       ("stability", stability), ("dynamics_speed", dynamics_speed)):
         d = _load(results, name)
-        blocks.append(f"- {fun(d)}" if d is not None else f"- `{name}.json`: not run yet.")
+        text = fun(d) if d is not None else f"`{name}.json`: not run yet."
+        blocks.append(textwrap.fill(text, width=118, initial_indent="- ", subsequent_indent="  ",
+                                    break_on_hyphens=False, break_long_words=False))
     return "\n".join([START, "", "Last runs (numbers from the JSON in `results/`):", "", *blocks, "", END])
 
 

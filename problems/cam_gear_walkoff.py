@@ -54,8 +54,9 @@ class StageTimings(dict):
     def __setitem__(self, stage: str, elapsed_s: float) -> None:
         super().__setitem__(stage, elapsed_s)
         end = time.time()
-        LOG.info("stage %-36s %7.2f s  (%s -> %s)", stage, elapsed_s,
-                 time.strftime("%H:%M:%S", time.localtime(end - elapsed_s)), time.strftime("%H:%M:%S", time.localtime(end)))
+        start = time.strftime("%H:%M:%S", time.localtime(end - elapsed_s))
+        LOG.info("stage %-36s %7.2f s  (%s -> %s)", stage, elapsed_s, start,
+                 time.strftime("%H:%M:%S", time.localtime(end)))
 
 
 def macro_design(data: dict, thesis: dict) -> dict:

@@ -33,8 +33,8 @@ Modelling choices (all stated, [E] where no source fixes them):
   Fourier basis of the cam-phase angle -- while the slider-crank kinematics, the reciprocating inertia torque and
   its angle-dependent inertia use each throw's actual angle, speed and acceleration. The error is the vibratory
   angle times the slope of the pressure trace; ``excitation_angle="actual"`` evaluates everything at the vibrating
-  angles (slower; the run times are in ``benchmarks/results/dynamics.json``). Measured (benchmarks/bench_dynamics.py, spur, no lash, 2500 rpm, third cycle): peak
-  crank-cam force 8096 vs 8132 N (-0.4 %), RMS 2550 vs 2512 N (+1.5 %), largest trace difference 4.9 % of the peak.
+  angles (slower; the run times are in ``benchmarks/results/dynamics.json``). Measured
+  (benchmarks/bench_dynamics.py, spur, no lash, 2500 rpm, third cycle): peak crank-cam force 8096 vs 8132 N (-0.4 %), RMS 2550 vs 2512 N (+1.5 %), largest trace difference 4.9 % of the peak.
 """
 
 from __future__ import annotations
@@ -200,8 +200,8 @@ def default_timing_model(kind: str = "spur", *, data: dict | None = None, load: 
     stiffness); ``contact_width_um`` of the smooth dead zone, ``damping_width_um`` over which the mesh dashpot
     engages; ``air_compressor_loaded``; ``excitation_angle``
     ``"nominal"`` (cylinder pressure and accessory maps evaluated along the nominal motion, one shared Fourier basis;
-    run times of both in ``benchmarks/results/dynamics.json``, ``approximations.excitation_angle``) or ``"actual"`` (at each node's vibrating angle). ``mesh_stiffness``: ``"iso6336"`` (ISO
-    6336-1 mean ``c_gamma_alpha b`` with the contact-line-length shape) or ``"ltca"`` (mean and shape over the mesh
+    run times of both in ``benchmarks/results/dynamics.json``, ``approximations.excitation_angle``) or ``"actual"``
+    (at each node's vibrating angle). ``mesh_stiffness``: ``"iso6336"`` (ISO 6336-1 mean ``c_gamma_alpha b`` with the contact-line-length shape) or ``"ltca"`` (mean and shape over the mesh
     cycle from the exact LTCA of each pair, :func:`gearopt.dynamics.ltca_stiffness.ltca_mesh_stiffness`, at
     ``ltca_torques_Nm`` {mesh: torque on gear 1 [N m]}, default the data's ``[design_loads]``; ``ltca_options``
     go to it, e.g. ``{"stiffness": "iso6336"}``; damping rescaled to the same ratio ``zeta``). Measured on the

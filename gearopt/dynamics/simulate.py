@@ -228,8 +228,9 @@ class Simulator:
         self.jit = bool(jit) and not any(k.startswith("jit") or k == "compiler" for k in opts)
         t0 = time.perf_counter()
         self.compiled: dict = {}
-        self.integrator = self._build("torsional_cycle", {k: dae[k] for k in ("ode", "quad") if k in dae}, lambda extra: ca.integrator(
-            "torsional_cycle", method, dae, 0.0, self.grid_rad, dict(opts, **extra)),
+        self.integrator = self._build(
+            "torsional_cycle", {k: dae[k] for k in ("ode", "quad") if k in dae},
+            lambda extra: ca.integrator("torsional_cycle", method, dae, 0.0, self.grid_rad, dict(opts, **extra)),
             repr((method, sorted(opts.items()), self.grid_rad.tolist())))
         self._dae = {"x": self.eq.x, "p": self.eq.p, "t": self.eq.tau, "ode": rhs}
         self._shooting_cache: dict = {}
@@ -242,6 +243,8 @@ class Simulator:
             "outputs", args, [out_expr["outputs"]], dict({"cse": True}, **extra)).map(self.n_out),
             repr(("map", self.n_out)))
         check = [i for i, (q, _) in enumerate(names) if q in ("mesh_force_N", "shaft_torque_Nm")]
+        self._check_rows = [i for i, (q, _) in enumerate(self.output_names)
+                            if q in ("mesh_force_N", "shaft_torque_Nm")]
         check_expr = {"check": self.eq.outputs[check]}
         self.check_function = self._build("check", check_expr, lambda extra: ca.Function(
             "check", args, [check_expr["check"]], dict({"cse": True}, **extra)).map(self.n_out),
@@ -527,7 +530,12 @@ class Simulator:
             xs = res["xf"].full()
             stats = self.integrator.stats()
             nsteps.append(stats.get("nsteps", stats.get("n_step", 0)))
-            check = self.check_function(self.grid_rad[None, :], xs, np.repeat(p[:, None], self.n_out, 1)).full()
+            pmat = np.repeat(p[:, None], self.n_out, 1)
+            if recording:  # the recorded cycle's outputs hold the checked quantities: evaluate once
+                outs = self.output_function(self.grid_rad[None, :], xs, pmat).full()
+                check = outs[self._check_rows]
+            else:
+                check = self.check_function(self.grid_rad[None, :], xs, pmat).full()
             if previous is not None and check.size:
                 scale = max(float(np.max(np.abs(check))), 1e-9)
                 changes.append(float(np.max(np.abs(check - previous)) / scale))
@@ -535,7 +543,7 @@ class Simulator:
                 changes.append(float("nan"))
             previous = check
             if recording:
-                recorded.append((cycle, xs, p))
+                recorded.append((cycle, xs, p, outs))
                 if self.contact_quadratures:
                     quads.append(np.array(res["qf"])[:, -1])
             else:
@@ -555,12 +563,10 @@ class Simulator:
 
     def _result(self, speed_rpm, pvec, recorded, quads, changes, run_in, tol, x_final, stats) -> Simulation:
         omega = speed_rpm * math.pi / 30.0
-        tau = np.concatenate([c * self.cycle_rad + self.grid_rad for c, _, _ in recorded])
+        tau = np.concatenate([c * self.cycle_rad + self.grid_rad for c, _, _, _ in recorded])
         tau = tau - recorded[0][0] * self.cycle_rad  # recorded time starts at 0
-        xs = np.concatenate([x for _, x, _ in recorded], axis=1)
-        outs = np.concatenate([self.output_function(self.grid_rad[None, :], x, np.repeat(p[:, None],
-                                                                                         self.n_out, 1)).full()
-                               for _, x, p in recorded], axis=1)
+        xs = np.concatenate([x for _, x, _, _ in recorded], axis=1)
+        outs = np.concatenate([o for _, _, _, o in recorded], axis=1)
         time_s = tau / omega
         index = pd.Index(time_s, name="time_s")
         frames = {q: {} for q in _QUANTITIES}
