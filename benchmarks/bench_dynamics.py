@@ -179,8 +179,8 @@ def acceptance_runs(model):
     rows = {}
     for jit in (False, True):
         model.simulator(backlash=True, rtol=1e-6, jit=jit)      # build outside the timing
-        t, sim = median_time(lambda: model.simulate(SPEED, cycles=10, backlash=True, rtol=1e-6, jit=jit),
-                             repeats=REPEATS if jit else 1)
+        t, sim = median_time(lambda: model.simulate(SPEED, cycles=10, backlash=True, rtol=1e-6, jit=jit,
+                                                    reuse=False), repeats=REPEATS if jit else 1)
         rows["jit" if jit else "interpreted"] = {
             "wall_time_s": t, "integration_time_s": sim.stats["integration_time_s"],
             "steps_per_cycle": sim.stats["steps_per_cycle"],

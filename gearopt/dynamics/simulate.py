@@ -175,8 +175,8 @@ class Simulator:
     ``min_speed_rpm``, see the module docstring; none for linear meshes), ``fixed_step_deg`` (collocation/rk step),
     ``options`` (extra CasADi integrator options), ``jit`` (compile the
     integrator and the output functions with the system C compiler, once: :mod:`gearopt.compile_cache` keeps the
-    binaries on disk; ``compiled`` says per function whether it was ``"cached"``, ``"compiled"`` or
-    ``"interpreted"``; run-time gains are measured in ``benchmarks/results/dynamics_speed.json``),
+    binaries on disk; ``compiled`` says per function whether it was ``"cached"``, ``"compiled"``,
+    ``"interpreted"`` or ``"uncached"`` (JIT options passed in ``options``: compiled by CasADi, not cached); run-time gains are measured in ``benchmarks/results/dynamics_speed.json``),
     ``external_torques`` (also record the external torques, which re-evaluates the excitation at every output),
     ``contact_quadratures`` (integrate the contact-indicator variations, lash model; about 15 % of the run time on the
     default train -- without them only the sampled contact counts are reported).
@@ -256,8 +256,9 @@ class Simulator:
         """``build(extra_options)`` through the on-disk compile cache (:mod:`gearopt.compile_cache`) when ``jit``:
         keyed by the serialized graph of ``expressions`` (over tau, x, p) and ``options_repr``; records how the
         function was obtained in ``self.compiled``."""
-        if not self.jit:
-            self.compiled[name] = "interpreted"
+        if not self.jit:  # interpreted, or JIT options of the caller's own (not cached)
+            self.compiled[name] = "uncached" if self.options.get("jit") and name == "torsional_cycle" else \
+                "interpreted"
             return build({})
         graph = ca.Function(name, [self.eq.tau, self.eq.x, self.eq.p], list(expressions.values()))
         fun, how = compile_cache.compiled(name, graph.serialize() + options_repr, build)
