@@ -23,6 +23,7 @@ and run time of the default train's lash integrator at -O0..-O3).
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import logging
 import os
@@ -92,6 +93,18 @@ def jit_options(directory: Path, flags=JIT_FLAGS) -> dict:
     return {"jit": True, "compiler": "shell", "jit_serialize": "link", "jit_cleanup": False, "jit_name": _RESERVED,
             "jit_options": {"flags": list(flags), "verbose": False, "cleanup": False,
                             "directory": str(directory) + os.sep}}
+
+
+@contextlib.contextmanager
+def stray_sources_removed():
+    """Context: C sources CasADi writes to the working directory under this module's reserved JIT name while
+    building or loading (it ignores the JIT directory for them) are removed on exit."""
+    before = set(Path.cwd().glob(_RESERVED + "*.c"))
+    try:
+        yield
+    finally:
+        for junk in set(Path.cwd().glob(_RESERVED + "*.c")) - before:
+            junk.unlink(missing_ok=True)
 
 
 def compiled(name: str, definition: bytes | str, build: Callable[[dict], ca.Function], *,
