@@ -125,14 +125,13 @@ def compiled(name: str, definition: bytes | str, build: Callable[[dict], ca.Func
     library = root / f"{name}-{key[:24]}.lib"
     if path.exists() and any(f.suffix in (".so", ".dylib", ".dll") for f in library.rglob("*")):
         t0 = time.perf_counter()
-        before = set(Path.cwd().glob(_RESERVED + "*.c"))
         try:
-            fun = ca.Function.load(str(path))
+            with stray_sources_removed():  # the (empty) source name a load reserves
+                fun = ca.Function.load(str(path))
         except Exception as exc:  # noqa: BLE001 -- a damaged entry is rebuilt, never fatal
             LOG.info("compile cache: entry %s did not load (%s); rebuilding", path.name, exc)
         else:
-            reserved = (set(Path.cwd().glob(_RESERVED + "*.c")) - before) | set(library.rglob("*.c"))
-            for junk in reserved:  # the (empty) source names reserved by the load
+            for junk in library.rglob("*.c"):
                 if junk.stat().st_size == 0:
                     junk.unlink(missing_ok=True)
             _STATS["hits"] += 1
@@ -153,17 +152,19 @@ def compiled(name: str, definition: bytes | str, build: Callable[[dict], ca.Func
     entry_dir = Path(tempfile.mkdtemp(dir=library))  # own directory per build (concurrent cold processes)
     fd, partial = tempfile.mkstemp(prefix=path.name + ".", suffix=".partial", dir=root)
     os.close(fd)
-    before = set(Path.cwd().glob(_RESERVED + "*.c"))
     try:
-        fun = build(jit_options(entry_dir, flags))
-        fun.save(partial)
+        with stray_sources_removed():
+            fun = build(jit_options(entry_dir, flags))
+            fun.save(partial)
         os.replace(partial, path)
+    except RuntimeError as exc:  # the compiler or the file system failed: run interpreted, say so once
+        LOG.warning("gearopt: compiling %s failed (%s); it runs interpreted", name, str(exc).splitlines()[-1][:200])
+        _STATS["interpreted"] += 1
+        return build({}), "interpreted"
     finally:
         if os.path.exists(partial):
             os.remove(partial)
         for junk in list(entry_dir.glob("*.c")) + list(entry_dir.glob("*.o")):
-            junk.unlink(missing_ok=True)
-        for junk in set(Path.cwd().glob(_RESERVED + "*.c")) - before:  # sources CasADi wrote to the cwd
             junk.unlink(missing_ok=True)
     _STATS["compiled"] += 1
     _STATS["compile_time_s"] += time.perf_counter() - t0

@@ -127,3 +127,17 @@ def test_prune_removes_the_least_recently_used_entries(cache):
 
     assert compile_cache.prune(cache, max_mb=1.5 * max(size(first), size(second)) / 1e6) == [second.stem]
     assert first.exists() and not second.exists() and not second.with_suffix(".lib").exists()
+
+
+@needs_compiler
+def test_a_failing_compiler_falls_back_to_interpreted(cache, monkeypatch, caplog):
+    def broken(options):
+        if options:
+            raise RuntimeError("compiler exploded\nshell: gcc: error")
+        return _kernel(options)
+
+    with caplog.at_level(logging.WARNING, logger="gearopt.compile"):
+        fun, how = compile_cache.compiled("kernel", _definition(), broken)
+    assert how == "interpreted" and any("compiling kernel failed" in r.getMessage() for r in caplog.records)
+    np.testing.assert_allclose(np.array(fun([0.1, 0.2, 0.3])), np.array(_kernel({})([0.1, 0.2, 0.3])), rtol=1e-15)
+    assert list(cache.glob("*.casadi")) == []
