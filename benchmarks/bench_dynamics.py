@@ -17,14 +17,12 @@
    modes and forced response, and sensitivities of the crank-cam force (CVODES forward sensitivities vs finite
    differences).
 
-5. ``--speed`` (separately, about 2 minutes): the acceptance run (10 cycles with lash, 2500 rpm, JIT) with CVODES
-   variants in one run -- contact quadratures off, sparse LU (csparse), the impact step limit at the run's own
-   speed, BDF order 3, combined -- wall time, mean steps per cycle and the 10-cycle peak/RMS crank-cam force (the
-   lash response is chaotic, so the statistics are the error measure), and the shooting periodic state of the
-   no-lash model against run-in. Writes ``benchmarks/results/dynamics_speed.json``.
+The speed study of the 10-cycle lash run (work against statistical precision, JIT gain, compiler flags) is
+``bench_dynamics_speed.py``.
 
 Writes ``benchmarks/results/dynamics.json`` and ``benchmarks/results/dynamics.png``.
-Run: ``python benchmarks/bench_dynamics.py`` (about 35 minutes on the 2-core test machine).
+Run: ``python benchmarks/bench_dynamics.py [--quick] [--out DIR]`` (about 35 minutes on the 2-core test machine;
+``--quick``: the no-lash work-precision of two CVODES tolerances against scipy LSODA only, seconds).
 """
 
 from __future__ import annotations
@@ -46,7 +44,10 @@ import numpy as np  # noqa: E402
 import scipy  # noqa: E402
 from scipy.integrate import solve_ivp  # noqa: E402
 
+from _timing import bench_args  # noqa: E402  (benchmarks/_timing.py)
+
 import gearopt  # noqa: E402
+from gearopt import compile_cache  # noqa: E402
 from gearopt.dynamics import campbell_diagram, default_timing_model, forced_response  # noqa: E402
 from gearopt.dynamics.modes import damped_modes  # noqa: E402
 from gearopt.dynamics.sensitivity import response_sensitivities  # noqa: E402
@@ -57,6 +58,8 @@ SPEED = 2500.0
 MESH = "crank-cam"
 EARLY_DEG = 60.0
 REPEATS = 3
+REFERENCE_RTOL = 1e-10
+QUICK = {"REPEATS": 1, "REFERENCE_RTOL": 1e-8}
 
 
 def median_time(fun, repeats=REPEATS):
@@ -74,7 +77,7 @@ class Case:
     def __init__(self, model, lash):
         self.model, self.lash = model, lash
         self.params = model.parameters_at(SPEED)
-        self.ref_sim = model.simulator(backlash=lash, rtol=1e-10, atol=1e-11, jit=True)
+        self.ref_sim = model.simulator(backlash=lash, rtol=REFERENCE_RTOL, atol=0.1 * REFERENCE_RTOL, jit=True)
         self.pvec = self.ref_sim.parameter_vector(SPEED, self.params)
         self.x0 = self.ref_sim.static_state(SPEED, self.params)
         self.grid = self.ref_sim.grid_rad
@@ -109,9 +112,11 @@ def casadi_runs(case, configs):
 
 def scipy_runs(case, tolerances, methods=("LSODA", "BDF", "Radau")):
     eq = case.ref_sim.eq
-    opts = {"cse": True, "jit": True, "compiler": "shell", "jit_options": {"flags": ["-O2"]}}
-    f = ca.Function("rhs", [eq.tau, eq.x, eq.p], [eq.rhs], opts)
-    jf = ca.Function("rhs_jac", [eq.tau, eq.x, eq.p], [ca.jacobian(eq.rhs, eq.x)], opts)
+    graph = ca.Function("rhs_def", [eq.tau, eq.x, eq.p], [eq.rhs]).serialize()
+    f = compile_cache.compiled("scipy_rhs", graph, lambda extra: ca.Function(
+        "rhs", [eq.tau, eq.x, eq.p], [eq.rhs], dict({"cse": True}, **extra)))[0]
+    jf = compile_cache.compiled("scipy_rhs_jac", graph, lambda extra: ca.Function(
+        "rhs_jac", [eq.tau, eq.x, eq.p], [ca.jacobian(eq.rhs, eq.x)], dict({"cse": True}, **extra)))[0]
     p = case.pvec
 
     def fun(t, x):
@@ -174,8 +179,8 @@ def acceptance_runs(model):
     rows = {}
     for jit in (False, True):
         model.simulator(backlash=True, rtol=1e-6, jit=jit)      # build outside the timing
-        t, sim = median_time(lambda: model.simulate(SPEED, cycles=10, backlash=True, rtol=1e-6, jit=jit),
-                             repeats=REPEATS if jit else 1)
+        t, sim = median_time(lambda: model.simulate(SPEED, cycles=10, backlash=True, rtol=1e-6, jit=jit,
+                                                    reuse=False), repeats=REPEATS if jit else 1)
         rows["jit" if jit else "interpreted"] = {
             "wall_time_s": t, "integration_time_s": sim.stats["integration_time_s"],
             "steps_per_cycle": sim.stats["steps_per_cycle"],
@@ -278,15 +283,17 @@ def sensitivities():
     return out
 
 
-def main():
-    OUT.mkdir(exist_ok=True)
+def main(argv=None):
+    args = bench_args(__doc__, argv, globals(), QUICK)
+    if args.quick:
+        return quick_main()
     result = {
         "machine": {"platform": platform.platform(), "processor": platform.processor(),
                     "python": platform.python_version(), "cpus": os.cpu_count(),
                     "load_average_start": list(os.getloadavg())},
         "versions": {"gearopt": gearopt.__version__, "casadi": ca.__version__, "numpy": np.__version__,
                      "scipy": scipy.__version__},
-        "speed_rpm": SPEED, "mesh": MESH,
+        "speed_rpm": SPEED, "mesh": MESH, "quick": False,
     }
     model = default_timing_model("spur")
     for lash in (True, False):
@@ -329,6 +336,7 @@ def main():
     result["machine"]["load_average_end"] = list(os.getloadavg())
     (OUT / "dynamics.json").write_text(json.dumps(result, indent=2, default=float) + "\n")
     plot(result, sweep, hsweep, model)
+    return result
 
 
 def plot(result, sweep, hsweep, model):
@@ -400,57 +408,21 @@ def plot(result, sweep, hsweep, model):
     fig.savefig(OUT / "dynamics.png", dpi=120)
 
 
-SPEED_VARIANTS = {
-    "baseline": {},
-    "no_contact_quadratures": {"contact_quadratures": False},
-    "csparse": {"options": {"linear_solver": "csparse"}},
-    "step_limit_at_2500rpm": {"min_speed_rpm": SPEED},
-    "max_order_3": {"options": {"max_order": 3}},
-    "combined": {"contact_quadratures": False, "min_speed_rpm": SPEED, "options": {"linear_solver": "csparse"}},
-}
-
-
-def speed_study():
-    """Item 5 of issue 5: where the acceptance run's time goes and what the CVODES options buy (one run, ratios)."""
+def quick_main():
+    """The no-lash work-precision of CVODES (JIT, two tolerances) against scipy LSODA at one tolerance, one cycle
+    (the test suite's run: scipy must be slower than CVODES at equal error, as in the full run)."""
     model = default_timing_model("spur")
-    out = {"machine": {"platform": platform.platform(), "cpus": os.cpu_count(),
-                       "load_average_start": list(os.getloadavg())},
-           "versions": {"casadi": ca.__version__}, "case": "spur, lash, 2500 rpm, 10 cycles, rtol 1e-6, JIT",
-           "variants": {}}
-    for name, opt in SPEED_VARIANTS.items():
-        sim_obj = model.simulator(backlash=True, rtol=1e-6, jit=True, **opt)          # build outside the timing
-        t, sim = median_time(lambda opt=opt: model.simulate(SPEED, cycles=10, backlash=True, rtol=1e-6, jit=True,
-                                                             **opt), repeats=2)
-        f = sim.mesh_force_N[MESH]
-        out["variants"][name] = {"wall_time_s": t, "integration_time_s": sim.stats["integration_time_s"],
-                                 "steps_per_cycle_mean": float(np.mean(sim.stats["steps_per_cycle"])),
-                                 "max_step_deg": sim_obj.max_step_deg, "peak_drive_force_N": float(f.max()),
-                                 "rms_force_N": float(np.sqrt((f ** 2).mean())),
-                                 "time_per_step_us": 1e6 * sim.stats["integration_time_s"]
-                                 / float(np.sum(sim.stats["steps_per_cycle"]))}
-        print(name, out["variants"][name], flush=True)
-    base = out["variants"]["baseline"]
-    for v in out["variants"].values():
-        v["time_ratio_to_baseline"] = v["wall_time_s"] / base["wall_time_s"]
-        v["rms_change_vs_baseline"] = v["rms_force_N"] / base["rms_force_N"] - 1.0
-    shoot = {}
-    for label, kwargs in (("shooting_linear", {"steady_state": "shooting"}),
-                          ("run_in_6", {"run_in_cycles": 6})):
-        t0 = time.perf_counter()
-        sim = model.simulate(SPEED, cycles=1, backlash=False, jit=True, **kwargs)
-        shoot[label] = {"wall_time_s": time.perf_counter() - t0, "peak_force_N": float(sim.mesh_force_N[MESH].max()),
-                        **({k: v for k, v in sim.shooting.items() if k in ("residual", "relative_residual",
-                                                                           "iterations")} if sim.shooting else {})}
-    out["no_lash_periodic_state"] = shoot
-    out["machine"]["load_average_end"] = list(os.getloadavg())
-    (OUT / "dynamics_speed.json").write_text(json.dumps(out, indent=2, default=float) + "\n")
-    return out
+    case = Case(model, False)
+    rows = casadi_runs(case, [(f"cvodes jit rtol {r:g}", "cvodes", {"rtol": r, "jit": True}) for r in (1e-4, 1e-6)])
+    rows += scipy_runs(case, (1e-4,), methods=("LSODA",))
+    result = {"quick": True, "speed_rpm": SPEED, "mesh": MESH,
+              "work_precision_no_lash": {"error_metric": "error_cycle", "rows": rows,
+                                         "reference": f"cvodes rtol {REFERENCE_RTOL:g} jit",
+                                         "scipy_over_cvodes_at_equal_error": ratios_at_equal_error(rows,
+                                                                                                   "error_cycle")}}
+    (OUT / "dynamics.json").write_text(json.dumps(result, indent=2, default=float) + "\n")
+    return result
 
 
 if __name__ == "__main__":
-    import sys
-
-    if "--speed" in sys.argv:
-        speed_study()
-    else:
-        main()
+    main()

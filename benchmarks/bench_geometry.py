@@ -7,7 +7,7 @@
    finite differences -- objective error against a tight Ipopt reference.
 
 Writes ``benchmarks/results/geometry.json`` (machine, versions, medians of repeats, ratios measured in this run) and
-``benchmarks/results/geometry.png``. Run: ``python benchmarks/bench_geometry.py``.
+``benchmarks/results/geometry.png``. Run: ``python benchmarks/bench_geometry.py [--quick] [--out DIR]``.
 """
 
 from __future__ import annotations
@@ -28,7 +28,7 @@ import numpy as np  # noqa: E402
 import scipy  # noqa: E402
 from scipy.optimize import brentq, minimize  # noqa: E402
 
-from _timing import median_time  # noqa: E402  (benchmarks/_timing.py)
+from _timing import bench_args, median_time  # noqa: E402  (benchmarks/_timing.py)
 
 import gearopt as go  # noqa: E402
 from gearopt import numerics as nm  # noqa: E402
@@ -37,13 +37,18 @@ from gearopt.errors import GeometryError  # noqa: E402
 
 OUT = Path(__file__).resolve().parent / "results"
 REPEATS = 7
+INV_POINTS = 100_000
+NEWTON_STEPS = tuple(range(1, 7))
+GRID_SIZES = (11, 41, 161, 641)
+QUICK = {"INV_POINTS": 2_000, "NEWTON_STEPS": (1, 2, 3), "GRID_SIZES": (11, 41)}
 
 
-def bench_inverse_involute(n=100_000):
+def bench_inverse_involute(n=None):
+    n = INV_POINTS if n is None else n
     alpha = np.linspace(1e-3, math.radians(75.0), n)
     y = nm.involute(alpha)
     rows = []
-    for steps in range(1, 7):
+    for steps in NEWTON_STEPS:
         nm._SYMBOLIC_NEWTON_STEPS, saved = steps, nm._SYMBOLIC_NEWTON_STEPS
         v = ca.SX.sym("v")
         f = ca.Function("inv_inv", [v], [nm.inverse_involute(v)]).map(n)
@@ -87,7 +92,7 @@ def bench_shift_split():
     # the same solve without building the NLP (Ipopt's own wall time): what a re-solve with new data costs
     rows.append({"method": "ipopt_solve_only", "time_s": res["solve_time_s"],
                  "objective_error_mm": abs(res["objective_value"] - reference)})
-    for n in (11, 41, 161, 641):
+    for n in GRID_SIZES:
         grid = np.linspace(-0.8, 1.6, n)
 
         def scan():
@@ -121,8 +126,8 @@ def bench_shift_split():
     return {"reference_min_tip_thickness_mm": reference, "rows": rows}
 
 
-def main():
-    OUT.mkdir(parents=True, exist_ok=True)
+def main(argv=None):
+    args = bench_args(__doc__, argv, globals(), QUICK)
     inv = bench_inverse_involute()
     split = bench_shift_split()
     result = {
@@ -130,7 +135,7 @@ def main():
                     platform.python_version()},
         "versions": {"casadi": ca.__version__, "numpy": np.__version__, "scipy": scipy.__version__,
                      "gearopt": go.__version__},
-        "repeats": REPEATS, "statistic": "median wall time",
+        "repeats": REPEATS, "statistic": "median wall time", "quick": args.quick,
         "inverse_involute": inv, "shift_split": split,
     }
     (OUT / "geometry.json").write_text(json.dumps(result, indent=2) + "\n")
@@ -150,6 +155,7 @@ def main():
     for block in (inv, split):
         for r in block["rows"]:
             print({k: (f"{v:.3g}" if isinstance(v, float) else v) for k, v in r.items()})
+    return result
 
 
 if __name__ == "__main__":

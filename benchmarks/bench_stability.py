@@ -24,7 +24,7 @@ Also: the generic Latin-hypercube multi-start (:func:`gearopt.nlp.multistart.mul
 Problem (50 starts), and elastic mode on just-infeasible contact-ratio limits against the brute-force gap.
 
 Writes ``benchmarks/results/stability.json`` and ``benchmarks/results/stability.png``.
-Run: ``python benchmarks/bench_stability.py`` (about a minute here).
+Run: ``python benchmarks/bench_stability.py [--quick] [--out DIR]`` (about a minute here).
 """
 
 from __future__ import annotations
@@ -44,7 +44,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
-from _timing import median_time  # benchmarks/_timing.py
+from _timing import bench_args, median_time  # benchmarks/_timing.py
 
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT / "tests" / "stability"))
@@ -55,6 +55,9 @@ import gearopt as go
 
 OUT = Path(__file__).resolve().parent / "results"
 N_PER_FAMILY = 50
+ELASTIC_CASES = 10
+NOMINAL_REPEATS = 5
+QUICK = {"N_PER_FAMILY": 2, "ELASTIC_CASES": 2, "NOMINAL_REPEATS": 1}
 SEED = 20240611
 NOMINAL = {"shift_split_random": {"centre_distance_mm": None}, "shift_split_extreme": {"centre_distance_mm": None},
            "microgeometry_random": {}, "microgeometry_load": {}, "microgeometry_smoothing": {}}
@@ -142,9 +145,10 @@ def bench_multistart() -> dict:
             "solver_builds": p.solver_builds}
 
 
-def bench_elastic(n: int = 10) -> dict:
+def bench_elastic(n: int | None = None) -> dict:
     """Elastic mode on contact-ratio limits above the achievable maximum (gap U(0.001, 0.3)), against the gap from
     the brute-force scan (grid 1e-4 in x1)."""
+    n = ELASTIC_CASES if n is None else n
     rng = np.random.default_rng(SEED)
     best = sc.split_limits(sc.default_pair())["max_contact_ratio"]
     rows = []
@@ -205,8 +209,8 @@ def plot(result: dict, path: Path) -> None:
     plt.close(fig)
 
 
-def main() -> int:
-    OUT.mkdir(parents=True, exist_ok=True)
+def main(argv=None) -> int:
+    args = bench_args(__doc__, argv, globals(), QUICK)
     t_start = time.perf_counter()
     warnings.simplefilter("ignore")       # Ipopt-start warnings of random starts; outcomes are recorded per case
     families = {}
@@ -214,7 +218,8 @@ def main() -> int:
         cases = family_cases(name)
         outcomes = [sc.run_case(name, c) for c in cases]
         summary = summarise(outcomes)
-        summary["nominal_case_median_time_s"] = median_time(lambda name=name: sc.run_case(name, NOMINAL[name]), repeats=5)
+        summary["nominal_case_median_time_s"] = median_time(lambda name=name: sc.run_case(name, NOMINAL[name]),
+                                                                 repeats=NOMINAL_REPEATS)
         families[name] = {"summary": summary, "runs": [row(o) for o in outcomes]}
         print(f"{name}: success {summary['success_rate']:.0%}, typed {summary['typed_failure_rate']:.0%}, "
               f"check_failed {summary['check_failed']}, unnamed {summary['unnamed_failures']}, "
@@ -238,7 +243,7 @@ def main() -> int:
                        "microgeometry_loaded_contact_ratio": sc.LCR_TOL, "check_positions": sc.CHECK_POSITIONS},
         "references": {"feasible_centre_distance_range_mm": [lo, hi],
                        **sc.split_limits(sc.default_pair())},
-        "families": families, "multistart": multi, "elastic": elastic, "run_time_s": None,
+        "families": families, "multistart": multi, "elastic": elastic, "run_time_s": None, "quick": args.quick,
     }
     result["untyped_failures_total"] = sum(f["summary"]["untyped_failures"] + f["summary"]["unnamed_failures"]
                                            for f in families.values())

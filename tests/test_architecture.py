@@ -3,7 +3,7 @@ same subpackage or to a lower layer, and the NLP framework imports nothing of ge
 
 The order (``docs/architecture.md``)::
 
-    errors, units -> numerics -> validation, nlp -> geometry -> data -> rating -> contact
+    errors, units -> numerics -> validation, nlp, compile_cache -> geometry -> data -> rating -> contact
       -> joints | blank | engine -> dynamics -> design -> studies -> report -> cli, the package facade
 
 Siblings on one layer (joints, blank, engine) may not import each other: what two of them share moves down.
@@ -18,8 +18,8 @@ import gearopt
 
 PACKAGE = pathlib.Path(gearopt.__file__).parent
 
-LAYERS = [("errors", "units"), ("numerics",), ("validation", "nlp"), ("geometry",), ("data",), ("rating",),
-          ("contact",), ("joints", "blank", "engine"), ("dynamics",), ("design",), ("studies",), ("report",),
+LAYERS = [("errors", "units"), ("numerics",), ("validation", "nlp", "compile_cache"), ("geometry",), ("data",),
+          ("rating",), ("contact",), ("joints", "blank", "engine"), ("dynamics",), ("design",), ("studies",), ("report",),
           ("cli", "__init__")]
 RANK = {name: rank for rank, names in enumerate(LAYERS) for name in names}
 

@@ -33,21 +33,22 @@ Modelling choices (all stated, [E] where no source fixes them):
   Fourier basis of the cam-phase angle -- while the slider-crank kinematics, the reciprocating inertia torque and
   its angle-dependent inertia use each throw's actual angle, speed and acceleration. The error is the vibratory
   angle times the slope of the pressure trace; ``excitation_angle="actual"`` evaluates everything at the vibrating
-  angles (about 2x slower). Measured (benchmarks/bench_dynamics.py, spur, no lash, 2500 rpm, third cycle): peak
-  crank-cam force 8096 vs 8132 N (-0.4 %), RMS 2550 vs 2512 N (+1.5 %), largest trace difference 4.9 % of the peak.
+  angles (slower; the run times are in ``benchmarks/results/dynamics.json``). Measured
+  (benchmarks/bench_dynamics.py, spur, no lash, 2500 rpm, third cycle): peak crank-cam force 8096 vs 8132 N (-0.4 %), RMS 2550 vs 2512 N (+1.5 %), largest trace difference 4.9 % of the peak.
 """
 
 from __future__ import annotations
 
 import math
-import shutil
 from dataclasses import dataclass, field
 
+import casadi as ca
 import numpy as np
 import pandas as pd
 
 from ..rating.stiffness import mesh_stiffness_table
 from ..data import load_default_data, train_from_data, values
+from .. import compile_cache
 from ..errors import GearoptInputError
 from ..validation import check_range
 from .mesh import (
@@ -96,16 +97,19 @@ class TimingModel:
                  steady_state_tol: float | None = None, x0=None, jit: bool | None = None,
                  steady_state: str = "run-in", shooting_tol: float | None = None,
                  shooting_jacobian: str = "linear", shooting_max_iter: int = 20,
-                 on_shooting_failure: str = "raise", **options) -> Simulation:
+                 on_shooting_failure: str = "raise", reuse: bool = True, **options) -> Simulation:
         """Simulate ``cycles`` engine cycles (720 deg) at ``speed_rpm`` [rpm] (flywheel speed); ``backlash``
         selects the lash model (else linear meshes). ``parameters`` override network parameters (e.g.
-        ``{"crank-cam.backlash_mm": 0.2}``); ``jit``: compile the equations with the system C compiler (default
-        ``None``: if one is found -- about 2 s once per option set, then about 3x faster); the rest as
+        ``{"crank-cam.backlash_mm": 0.2}``); ``jit``: compile the equations with the system C compiler, once:
+        the binaries are kept in the on-disk cache of :mod:`gearopt.compile_cache` (default ``None``: unless
+        ``GEAROPT_JIT=0``; without a compiler the interpreted path with a notice; speed-ups measured in
+        ``benchmarks/results/dynamics_speed.json``); the rest as
         :meth:`gearopt.dynamics.simulate.Simulator.run` and :class:`~gearopt.dynamics.simulate.Simulator` options
         (``method``, ``atol``, ``output_step_deg``, ``external_torques``; ``steady_state="shooting"`` solves the
         periodic state by shooting, see :meth:`~gearopt.dynamics.simulate.Simulator.periodic_state`; here the
         default ``shooting_jacobian="linear"``, the chord iteration: the exact forward-sensitivity Newton costs
-        about 20 s per iteration on this 46-state model).
+        about 20 s per iteration on this 46-state model). ``reuse``: an identical run of this model is computed once
+        per session and shared (:func:`gearopt.dynamics.simulate.simulate`).
         """
         p = self.parameters_at(speed_rpm, load)
         p.update(parameters or {})
@@ -113,7 +117,7 @@ class TimingModel:
                         run_in_cycles=run_in_cycles, steady_state_tol=steady_state_tol, x0=x0,
                         steady_state=steady_state, shooting_tol=shooting_tol, shooting_jacobian=shooting_jacobian,
                         shooting_max_iter=shooting_max_iter, on_shooting_failure=on_shooting_failure,
-                        jit=_auto_jit(jit), **options)
+                        jit=_auto_jit(jit), reuse=reuse, **options)
 
     def simulator(self, backlash: bool = True, rtol: float = 1e-6, jit: bool | None = None, **options):
         """The cached :class:`~gearopt.dynamics.simulate.Simulator` of this model for these options (``jit`` as
@@ -126,10 +130,38 @@ class TimingModel:
 
 
 def _auto_jit(jit: bool | None) -> bool:
-    """``jit=None``: compile if a C compiler is on the PATH (CasADi's "shell" compiler calls ``gcc``)."""
+    """``jit=None``: compile (through the cache) unless ``GEAROPT_JIT=0``; without a C compiler the cache falls
+    back to the interpreted functions with a notice (:mod:`gearopt.compile_cache`)."""
     if jit is None:
-        return shutil.which("gcc") is not None
+        return compile_cache.jit_enabled()
     return bool(jit)
+
+
+_PRESSURE_FUNCTIONS: dict = {}
+
+
+def _nominal_pressures(exc) -> ca.Function:
+    """SX Function: engine crank angle [rad] -> the cylinder pressures [bar] of ``exc`` (one shared harmonic basis),
+    built once per pressure series and re-used by every model and lash option: calling it on a symbol copies the
+    graph (C++) instead of rebuilding the Fourier basis in Python for each cylinder and equation set."""
+    key = tuple((p.series.period, p.series.mean, p.series.cos_coefficients, p.series.sin_coefficients)
+                for p in exc._cylinder_pressures)
+    if key not in _PRESSURE_FUNCTIONS:
+        angle = ca.SX.sym("crank_angle_rad")
+        _PRESSURE_FUNCTIONS[key] = ca.Function("cylinder_pressures", [angle],
+                                               [ca.vertcat(*exc.cylinder_pressures_bar(angle))])
+    return _PRESSURE_FUNCTIONS[key]
+
+
+def _shared_series(series):
+    """``x -> series(x)``: on a CasADi SX symbol through an SX Function built once per series (the graph is copied
+    in C++ instead of rebuilt in Python for every station, model and lash option); numbers as ``series`` itself."""
+    key = (series.period, series.mean, series.cos_coefficients, series.sin_coefficients)
+    if key not in _PRESSURE_FUNCTIONS:
+        x = ca.SX.sym("x")
+        _PRESSURE_FUNCTIONS[key] = ca.Function("fourier_series", [x], [series(x)])
+    fun = _PRESSURE_FUNCTIONS[key]
+    return lambda x: fun(x) if isinstance(x, ca.SX) else series(x)
 
 
 def _check_kind(kind: str) -> None:
@@ -167,9 +199,9 @@ def default_timing_model(kind: str = "spur", *, data: dict | None = None, load: 
     ``stiffness_harmonics``/``stiffness_variation`` of the mesh-stiffness shape (0 variation: constant mean
     stiffness); ``contact_width_um`` of the smooth dead zone, ``damping_width_um`` over which the mesh dashpot
     engages; ``air_compressor_loaded``; ``excitation_angle``
-    ``"nominal"`` (cylinder pressure and accessory maps evaluated along the nominal motion, one shared Fourier basis:
-    about 5x cheaper) or ``"actual"`` (at each node's vibrating angle). ``mesh_stiffness``: ``"iso6336"`` (ISO
-    6336-1 mean ``c_gamma_alpha b`` with the contact-line-length shape) or ``"ltca"`` (mean and shape over the mesh
+    ``"nominal"`` (cylinder pressure and accessory maps evaluated along the nominal motion, one shared Fourier basis;
+    run times of both in ``benchmarks/results/dynamics.json``, ``approximations.excitation_angle``) or ``"actual"``
+    (at each node's vibrating angle). ``mesh_stiffness``: ``"iso6336"`` (ISO 6336-1 mean ``c_gamma_alpha b`` with the contact-line-length shape) or ``"ltca"`` (mean and shape over the mesh
     cycle from the exact LTCA of each pair, :func:`gearopt.dynamics.ltca_stiffness.ltca_mesh_stiffness`, at
     ``ltca_torques_Nm`` {mesh: torque on gear 1 [N m]}, default the data's ``[design_loads]``; ``ltca_options``
     go to it, e.g. ``{"stiffness": "iso6336"}``; damping rescaled to the same ratio ``zeta``). Measured on the
@@ -301,7 +333,10 @@ def default_timing_model(kind: str = "spur", *, data: dict | None = None, load: 
             # speed and acceleration (gearopt.engine kinematics and pressure; engine.excitation's formulas)
             k = slider_crank(angle_rad - _tdc, exc.crank_radius_mm, exc.rod_length_mm)
             ds, d2s = k["ds_dtheta_mm"] * 1e-3, k["d2s_dtheta2_mm"] * 1e-3
-            p = exc.cylinder_pressure_bar(_cyl, nominal_angle_rad if excitation_angle == "nominal" else angle_rad)
+            if excitation_angle == "nominal" and isinstance(nominal_angle_rad, ca.SX):
+                p = _nominal_pressures(exc)(nominal_angle_rad)[_cyl - 1]  # one shared SX graph (see there)
+            else:
+                p = exc.cylinder_pressure_bar(_cyl, nominal_angle_rad if excitation_angle == "nominal" else angle_rad)
             gas = (pressure_scale * p - p_cc) * 0.1 * area_mm2 * ds
             return gas - mass * ds * (d2s * speed_rad_s * speed_rad_s + ds * accel_rad_s2)
 
@@ -310,9 +345,10 @@ def default_timing_model(kind: str = "spur", *, data: dict | None = None, load: 
                        description=f"cylinder {cylinder}: gas + reciprocating inertia (gearopt.engine)")
 
     def load_torque(series, share=1.0):
+        shared = _shared_series(series.series)  # the Fourier graph built once per series, copied per use
         if excitation_angle == "nominal":
-            return lambda t_s, a, w, nominal_angle_rad: -share * series(nominal_angle_rad)
-        return lambda t_s, a, w: -share * series(a)
+            return lambda t_s, a, w, nominal_angle_rad: -share * shared(nominal_angle_rad)
+        return lambda t_s, a, w: -share * shared(a)
 
     valve = AccessoryTorque.camshaft(raw)
     for s in stations:

@@ -42,6 +42,7 @@ import pandas as pd
 from scipy.linalg import lu_factor as scipy_lu_factor
 from scipy.linalg import lu_solve as scipy_lu_solve
 
+from .. import compile_cache
 from ..errors import GearoptInputError, SolveError
 from ..validation import check_range
 from .network import ANGLE_UNIT_RAD, OFFSET_PARAMETER, SPEED_PARAMETER, TorsionalNetwork
@@ -173,7 +174,9 @@ class Simulator:
     ``max_step_deg`` (step limit of CVODES/IDAS; default for the lash model from the contact half-periods at
     ``min_speed_rpm``, see the module docstring; none for linear meshes), ``fixed_step_deg`` (collocation/rk step),
     ``options`` (extra CasADi integrator options), ``jit`` (compile the
-    equations and outputs with the system C compiler: about 1-3 s to build, 3-5x faster to run),
+    integrator and the output functions with the system C compiler, once: :mod:`gearopt.compile_cache` keeps the
+    binaries on disk; ``compiled`` says per function whether it was ``"cached"``, ``"compiled"``,
+    ``"interpreted"`` or ``"uncached"`` (JIT options passed in ``options``: compiled by CasADi, not cached); run-time gains are measured in ``benchmarks/results/dynamics_speed.json``),
     ``external_torques`` (also record the external torques, which re-evaluates the excitation at every output),
     ``contact_quadratures`` (integrate the contact-indicator variations, lash model; about 15 % of the run time on the
     default train -- without them only the sampled contact counts are reported).
@@ -220,26 +223,47 @@ class Simulator:
                 opts["max_step_size"] = math.radians(self.max_step_deg)
         else:
             opts["number_of_finite_elements"] = max(self.n_out, int(math.ceil(network.cycle_deg / fixed_step_deg)))
-        jit_opts = {"jit": True, "compiler": "shell", "jit_options": {"flags": ["-O2"], "verbose": False}}
-        if jit:
-            opts.update(jit_opts)
         opts.update(options or {})
         self.options = opts
+        self.jit = bool(jit) and not any(k.startswith("jit") or k == "compiler" for k in opts)
         t0 = time.perf_counter()
-        self.integrator = ca.integrator("torsional_cycle", method, dae, 0.0, self.grid_rad, opts)
+        self.compiled: dict = {}
+        self.integrator = self._build(
+            "torsional_cycle", {k: dae[k] for k in ("ode", "quad") if k in dae},
+            lambda extra: ca.integrator("torsional_cycle", method, dae, 0.0, self.grid_rad, dict(opts, **extra)),
+            repr((method, sorted(opts.items()), self.grid_rad.tolist())))
         self._dae = {"x": self.eq.x, "p": self.eq.p, "t": self.eq.tau, "ode": rhs}
         self._shooting_cache: dict = {}
         names = self.eq.output_names
         keep = [i for i, (q, _) in enumerate(names) if external_torques or q != "external_torque_Nm"]
         self.output_names = [names[i] for i in keep]
-        fopts = dict({"cse": True}, **(jit_opts if jit else {}))
-        self.output_function = ca.Function("outputs", [self.eq.tau, self.eq.x, self.eq.p],
-                                           [self.eq.outputs[keep]], fopts).map(self.n_out)
+        args = [self.eq.tau, self.eq.x, self.eq.p]
+        out_expr = {"outputs": self.eq.outputs[keep]}
+        self.output_function = self._build("outputs", out_expr, lambda extra: ca.Function(
+            "outputs", args, [out_expr["outputs"]], dict({"cse": True}, **extra)).map(self.n_out),
+            repr(("map", self.n_out)))
         check = [i for i, (q, _) in enumerate(names) if q in ("mesh_force_N", "shaft_torque_Nm")]
-        self.check_function = ca.Function("check", [self.eq.tau, self.eq.x, self.eq.p],
-                                          [self.eq.outputs[check]], {"cse": True}).map(self.n_out)
+        self._check_rows = [i for i, (q, _) in enumerate(self.output_names)
+                            if q in ("mesh_force_N", "shaft_torque_Nm")]
+        check_expr = {"check": self.eq.outputs[check]}
+        self.check_function = self._build("check", check_expr, lambda extra: ca.Function(
+            "check", args, [check_expr["check"]], dict({"cse": True}, **extra)).map(self.n_out),
+            repr(("map", self.n_out)))
         self.build_time_s = time.perf_counter() - t0
         self.cycle_rad = cycle_rad
+
+    def _build(self, name: str, expressions: dict, build, options_repr: str):
+        """``build(extra_options)`` through the on-disk compile cache (:mod:`gearopt.compile_cache`) when ``jit``:
+        keyed by the serialized graph of ``expressions`` (over tau, x, p) and ``options_repr``; records how the
+        function was obtained in ``self.compiled``."""
+        if not self.jit:  # interpreted, or JIT options of the caller's own (not cached)
+            self.compiled[name] = "uncached" if self.options.get("jit") and name == "torsional_cycle" else \
+                "interpreted"
+            return build({})
+        graph = ca.Function(name, [self.eq.tau, self.eq.x, self.eq.p], list(expressions.values()))
+        fun, how = compile_cache.compiled(name, graph.serialize() + options_repr, build)
+        self.compiled[name] = how
+        return fun
 
     # ------------------------------------------------------------------------------------------------------------
 
@@ -322,7 +346,7 @@ class Simulator:
     def _sensitivity_options(self) -> dict:
         # JIT-compiling the forward-sensitivity equations of the default train takes minutes (measured 160 s):
         # the shooting integrator is interpreted
-        return {k: v for k, v in self.options.items() if k not in ("jit", "compiler", "jit_options")}
+        return {k: v for k, v in self.options.items() if not (k.startswith("jit") or k == "compiler")}
 
     def _newton_solver(self, tol: float, max_iter: int):
         key = ("newton", float(tol), int(max_iter))
@@ -504,10 +528,15 @@ class Simulator:
             p = pvec.copy()
             p[i_off] = cycle * self.cycle_rad
             res = self.integrator(x0=x, p=p)
-            xs = np.array(res["xf"])
+            xs = res["xf"].full()
             stats = self.integrator.stats()
             nsteps.append(stats.get("nsteps", stats.get("n_step", 0)))
-            check = np.array(self.check_function(self.grid_rad[None, :], xs, np.repeat(p[:, None], self.n_out, 1)))
+            pmat = np.repeat(p[:, None], self.n_out, 1)
+            if recording:  # the recorded cycle's outputs hold the checked quantities: evaluate once
+                outs = self.output_function(self.grid_rad[None, :], xs, pmat).full()
+                check = outs[self._check_rows]
+            else:
+                check = self.check_function(self.grid_rad[None, :], xs, pmat).full()
             if previous is not None and check.size:
                 scale = max(float(np.max(np.abs(check))), 1e-9)
                 changes.append(float(np.max(np.abs(check - previous)) / scale))
@@ -515,7 +544,7 @@ class Simulator:
                 changes.append(float("nan"))
             previous = check
             if recording:
-                recorded.append((cycle, xs, p))
+                recorded.append((cycle, xs, p, outs))
                 if self.contact_quadratures:
                     quads.append(np.array(res["qf"])[:, -1])
             else:
@@ -535,12 +564,10 @@ class Simulator:
 
     def _result(self, speed_rpm, pvec, recorded, quads, changes, run_in, tol, x_final, stats) -> Simulation:
         omega = speed_rpm * math.pi / 30.0
-        tau = np.concatenate([c * self.cycle_rad + self.grid_rad for c, _, _ in recorded])
+        tau = np.concatenate([c * self.cycle_rad + self.grid_rad for c, _, _, _ in recorded])
         tau = tau - recorded[0][0] * self.cycle_rad  # recorded time starts at 0
-        xs = np.concatenate([x for _, x, _ in recorded], axis=1)
-        outs = np.concatenate([np.array(self.output_function(self.grid_rad[None, :], x, np.repeat(p[:, None],
-                                                                                              self.n_out, 1)))
-                               for _, x, p in recorded], axis=1)
+        xs = np.concatenate([x for _, x, _, _ in recorded], axis=1)
+        outs = np.concatenate([o for _, _, _, o in recorded], axis=1)
         time_s = tau / omega
         index = pd.Index(time_s, name="time_s")
         frames = {q: {} for q in _QUANTITIES}
@@ -590,8 +617,10 @@ def node_accelerations(network: TorsionalNetwork, sim: Simulation) -> pd.DataFra
     n = len(eq.free_nodes)
     if key not in network._cache:
         i_speed = eq.parameter_names.index(SPEED_PARAMETER)
-        network._cache[key] = ca.Function("accelerations", [eq.tau, eq.x, eq.p],
-                                          [eq.rhs[n:] * eq.p[i_speed]], {"cse": True})
+        acc = eq.rhs[n:] * eq.p[i_speed]
+        definition = ca.Function("accelerations", [eq.tau, eq.x, eq.p], [acc]).serialize()
+        network._cache[key] = compile_cache.compiled("accelerations", definition, lambda extra: ca.Function(
+            "accelerations", [eq.tau, eq.x, eq.p], [acc], dict({"cse": True}, **extra)))[0]
     fun = network._cache[key]
     pvec = np.array([sim.parameters[k] for k in eq.parameter_names], dtype=float)
     pvec[eq.parameter_names.index(OFFSET_PARAMETER)] = 0.0
@@ -618,14 +647,27 @@ def simulate(network: TorsionalNetwork, speed_rpm: float, cycles: int = 10, *, b
              rtol: float = 1e-6, parameters: dict | None = None, run_in_cycles: int = 0,
              steady_state_tol: float | None = None, x0=None, steady_state: str = "run-in",
              shooting_tol: float | None = None, shooting_jacobian: str = "sensitivity",
-             shooting_max_iter: int = 20, on_shooting_failure: str = "raise", **options) -> Simulation:
+             shooting_max_iter: int = 20, on_shooting_failure: str = "raise", reuse: bool = True,
+             **options) -> Simulation:
     """Simulate a network (cached :class:`Simulator` with ``lash=backlash``, ``rtol`` and ``options``; see
-    :meth:`Simulator.run` for the rest, including ``steady_state="shooting"``)."""
+    :meth:`Simulator.run` for the rest, including ``steady_state="shooting"``).
+
+    ``reuse``: a run with the same arguments (speed, cycles, lash, tolerances, parameters, options; ``x0`` not
+    given) on the same, unchanged network is computed once per session and the same :class:`Simulation` returned
+    again (treat it as read-only); ``reuse=False`` always integrates (e.g. to time a run)."""
     sim = simulator(network, lash=backlash, rtol=rtol, **options)
-    return sim.run(speed_rpm, cycles, parameters=parameters, x0=x0, run_in_cycles=run_in_cycles,
-                   steady_state_tol=steady_state_tol, steady_state=steady_state, shooting_tol=shooting_tol,
-                   shooting_jacobian=shooting_jacobian, shooting_max_iter=shooting_max_iter,
-                   on_shooting_failure=on_shooting_failure)
+    kwargs = dict(parameters=parameters, x0=x0, run_in_cycles=run_in_cycles, steady_state_tol=steady_state_tol,
+                  steady_state=steady_state, shooting_tol=shooting_tol, shooting_jacobian=shooting_jacobian,
+                  shooting_max_iter=shooting_max_iter, on_shooting_failure=on_shooting_failure)
+    if not reuse or x0 is not None:
+        return sim.run(speed_rpm, cycles, **kwargs)
+    key = ("run", id(sim), float(speed_rpm), int(cycles),
+           repr(sorted((k, v) for k, v in kwargs.items() if k not in ("parameters", "x0"))),
+           repr(sorted((parameters or {}).items())))
+    runs = network._cache
+    if key not in runs:
+        runs[key] = sim.run(speed_rpm, cycles, **kwargs)
+    return runs[key]
 
 
 __all__ = ["INTEGRATORS", "Simulation", "Simulator", "simulator", "simulate", "node_accelerations",

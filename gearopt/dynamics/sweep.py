@@ -150,7 +150,9 @@ def speed_sweep(model, speeds_rpm, backlash=(False, True), cycles: int = 2, run_
     joint from :func:`walk_off_history`: ``peak_axial_force_N`` (largest |F_a| on the gear), ``max_off_nose_force_N``
     (largest pull off the shaft nose, +z), ``peak_torque_Nm`` (largest |joint torque|), ``min_torque_margin``,
     ``min_axial_margin``, ``min_combined_margin``, ``max_slip_utilisation`` -- the walk-off margin over speed.
-    ``options`` go to the simulator (``jit=True`` pays off for long sweeps)."""
+    ``options`` go to the simulator (JIT kernels come from the on-disk compile cache, :mod:`gearopt.compile_cache`).
+    A (speed, lash) run already computed this session with the same settings is re-used
+    (:func:`gearopt.dynamics.simulate.simulate`, ``reuse``)."""
     speeds = np.atleast_1d(np.asarray(speeds_rpm, dtype=float))
     check_range("cycles", cycles, 1, None)
     frames = []

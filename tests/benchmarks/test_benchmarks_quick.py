@@ -1,0 +1,80 @@
+"""Benchmarks that cannot rot: every script in ``benchmarks/`` runs to completion in its ``--quick`` mode, and its
+headline comparisons keep the sign the README and ``results/*.json`` state (never their size: timings are not
+asserted here beyond "slower"/"faster" by wide margins, measured in the same run)."""
+
+import importlib.util
+import sys
+from pathlib import Path
+
+import pytest
+
+BENCHMARKS = Path(__file__).resolve().parents[2] / "benchmarks"
+SCRIPTS = sorted(p.stem for p in BENCHMARKS.glob("bench_*.py"))
+
+
+def run_quick(name: str, out: Path):
+    """Import ``benchmarks/<name>.py`` afresh and run ``main(["--quick", "--out", out])``; returns its result."""
+    if str(BENCHMARKS) not in sys.path:
+        sys.path.insert(0, str(BENCHMARKS))
+    spec = importlib.util.spec_from_file_location(f"quick_{name}", BENCHMARKS / f"{name}.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module.main(["--quick", "--out", str(out)])
+
+
+def test_every_benchmark_has_a_quick_test():
+    assert set(SCRIPTS) == set(CHECKS), "add the new benchmark's quick run and headline check to CHECKS"
+
+
+def check_geometry(result, out):
+    inv = {r["method"]: r for r in result["inverse_involute"]["rows"]}
+    assert inv["numpy_newton"]["time_s"] < inv["scipy_brentq_per_point"]["time_s"]   # README: ~140x faster
+    assert inv["casadi_newton_3"]["max_error_rad"] < 1e-12                          # 3 unrolled steps: exact
+    split = {r["method"]: r for r in result["shift_split"]["rows"]}
+    assert split["ipopt_exact_derivatives"]["objective_error_mm"] < 1e-8
+    assert split["grid_11"]["objective_error_mm"] > split["ipopt_exact_derivatives"]["objective_error_mm"]
+    assert (out / "geometry.json").exists() and (out / "geometry.png").exists()
+
+
+def check_ltca(result, out):
+    case = result["cases"]["spur_crowned"]
+    assert case["library_default"]["stress_rel_error"] < 0.01   # README: stress within 0.2 % at the defaults
+    assert case["reference"]["ppte_um"] < case["reference"]["unmodified_ppte_um"]
+    assert (out / "ltca.json").exists()
+
+
+def check_microgeometry_nlp(result, out):
+    ratios = result["time_ratios_to_ipopt_build_and_solve"]
+    assert ratios["slsqp_fd_exact_ltca"] > 1.0                      # README: SLSQP on the exact LTCA is slower
+    assert result["slsqp"][1]["ppte_um"] >= result["ipopt"]["ppte_um"] * (1 - 1e-6)  # ... and stalls higher
+    assert result["ipopt"]["feasible"]
+    assert (out / "microgeometry_nlp.json").exists()
+
+
+def check_stability(result, out):
+    assert result == 0                                              # no untyped / unnamed failure
+
+
+def check_dynamics(result, out):
+    ratios = result["work_precision_no_lash"]["scipy_over_cvodes_at_equal_error"]
+    assert ratios and all(r["ratio"] > 1.0 for r in ratios)          # scipy slower than CVODES at equal error
+
+
+def check_dynamics_speed(result, out):
+    rows = {r["setting"]: r for r in result["settings"]}
+    default, picked = rows["rtol 1e-6 (default)"], rows[result["picked"]]
+    assert picked["steps_per_cycle_mean"] < default["steps_per_cycle_mean"]   # fewer steps ...
+    assert result["acceptance_run"]["speed_up_over_default"] > 1.0            # ... and faster
+    assert result["jit_gain"]["interpreted_over_compiled"] > 1.0
+    assert (out / "dynamics_speed.json").exists() and (out / "dynamics_speed.png").exists()
+
+
+CHECKS = {"bench_geometry": check_geometry, "bench_ltca": check_ltca,
+          "bench_microgeometry_nlp": check_microgeometry_nlp, "bench_stability": check_stability,
+          "bench_dynamics": check_dynamics, "bench_dynamics_speed": check_dynamics_speed}
+
+
+@pytest.mark.parametrize("name", SCRIPTS)
+def test_benchmark_quick_mode(name, tmp_path):
+    result = run_quick(name, tmp_path)
+    CHECKS[name](result, tmp_path)
