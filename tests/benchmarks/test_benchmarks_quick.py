@@ -69,9 +69,17 @@ def check_dynamics_speed(result, out):
     assert (out / "dynamics_speed.json").exists() and (out / "dynamics_speed.png").exists()
 
 
+def check_studies(result, out):
+    warm, primal_only = result["summary"]["continuation_iterations_warm_vs_primal_only"]
+    assert warm < primal_only                               # README: warm starts save Ipopt iterations
+    assert all(r["identical_to_serial"] for r in result["monte_carlo"])   # every executor: the same table
+    assert result["nsga2"]["evaluations"] > 0 and (out / "studies.json").exists()
+
+
 CHECKS = {"bench_geometry": check_geometry, "bench_ltca": check_ltca,
           "bench_microgeometry_nlp": check_microgeometry_nlp, "bench_stability": check_stability,
-          "bench_dynamics": check_dynamics, "bench_dynamics_speed": check_dynamics_speed}
+          "bench_dynamics": check_dynamics, "bench_dynamics_speed": check_dynamics_speed,
+          "bench_studies": check_studies}
 
 
 @pytest.mark.parametrize("name", SCRIPTS)
