@@ -45,6 +45,7 @@ import numpy as np
 from .. import numerics as nm
 from ..errors import GearoptInputError
 from ..validation import check_range, per_gear
+from .validity import check_rating_validity, checked_rating
 from ..units import DEG_PER_RAD, RAD_PER_DEG
 from .contact_stress import _check_factors, nominal_tangential_force_N
 from .materials import material_pair
@@ -303,6 +304,7 @@ def root_stress_iso6336(pair, torque_Nm, *, driving_gear: int = 1, K_A=1.0, K_v=
     mats = material_pair(material)
     for mat in mats:
         mat.require("sigma_Flim_MPa")
+    check_rating_validity(pair, ISO_ROOT_METHOD, undercut=True)
     g = pair.geometry()
     F_t = nominal_tangential_force_N(pair, torque_Nm, driving_gear)
     m = g["module_mm"]
@@ -337,7 +339,8 @@ def root_stress_iso6336(pair, torque_Nm, *, driving_gear: int = 1, K_A=1.0, K_v=
             "face_width_mm": b_i,
         }
     out["safety_factor_min"] = nm.fmin(safeties[0], safeties[1])
-    return out
+    return checked_rating("root_stress_iso6336", out, pair, torque_Nm=torque_Nm, K_A=K_A, K_v=K_v,
+                          material=material)
 
 
 __all__ = ["ISO_ROOT_METHOD", "NEWTON_STEPS", "critical_section_iso6336", "stress_correction_factor", "virtual_gear",
