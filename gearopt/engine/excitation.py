@@ -79,6 +79,9 @@ def crank_torque(crank_angle_deg, speed_rpm, bore_mm, stroke_mm, rod_length_mm, 
     check_values("reciprocating_mass_kg", reciprocating_mass_kg, 0.0, unit="kg")
     check_values("cylinder_pressure_bar", cylinder_pressure_bar, unit="bar")
     check_values("crank_acceleration_rad_s2", crank_acceleration_rad_s2, unit="rad/s^2")
+    check_values("crank_angle_deg", crank_angle_deg, -1e6, 1e6, unit="deg")  # beyond, float angles lose degrees
+    check_values("crankcase_pressure_bar", crankcase_pressure_bar, 0.0, 50.0, unit="bar")
+    check_values("cylinder_pressure_bar", cylinder_pressure_bar, -50.0, 1e4, unit="bar")
     k = slider_crank(crank_angle_deg * (math.pi / 180.0), 0.5 * stroke_mm, rod_length_mm)
     area = 0.25 * math.pi * bore_mm * bore_mm
     return _torques_from_kinematics(k, speed_rpm * _RPM_TO_RAD_S, crank_acceleration_rad_s2,
