@@ -45,8 +45,10 @@ from gearopt.errors import (GearoptInputError, InfeasibleProblemError, Numerical
 
 
 DEFAULT_IPOPT_OPTIONS: dict[str, Any] = {
-    "print_level": 0, "sb": "yes", "max_iter": 1000, "tol": 1e-8, "mu_strategy": "adaptive"}
-"""Ipopt options used unless overridden by keyword arguments of :meth:`Problem.solve`."""
+    "print_level": 0, "sb": "yes", "max_iter": 1000, "tol": 1e-8, "mu_strategy": "adaptive", "max_wall_time": 600.0}
+"""Ipopt options used unless overridden by keyword arguments of :meth:`Problem.solve`. The budgets ``max_iter`` and
+``max_wall_time`` [s] stop a solve that does not converge with :class:`~gearopt.errors.IterationLimitError` (status
+``Maximum_Iterations_Exceeded`` / ``Maximum_WallTime_Exceeded``, naming the option to raise)."""
 
 DEFAULT_CASADI_OPTIONS: dict[str, Any] = {
     "print_time": False, "record_time": True, "detect_simple_bounds": True}
