@@ -88,6 +88,11 @@ class BudgetExceededError(SolveError):
         super().__init__(message, hint=hint, **kw)
 
 
+class DataFileError(GearoptInputError):
+    """A data file cannot be read or does not follow the data schema: the message names the file and, for schema
+    problems, every offending key path (``docs/data-schema.md``)."""
+
+
 class BadInitialGuessError(GearoptInputError):
     """The pre-solve check found NaN/Inf or inverted bounds at the initial guess (names listed in the message)."""
 
@@ -95,5 +100,5 @@ class BadInitialGuessError(GearoptInputError):
 __all__ = [
     "GearoptError", "GearoptInputError", "GeometryError", "ViolatedConstraint", "SolveError",
     "InfeasibleProblemError", "IterationLimitError", "NumericalSolveError", "BadInitialGuessError",
-    "NonFiniteResultError", "BudgetExceededError",
+    "NonFiniteResultError", "BudgetExceededError", "DataFileError",
 ]

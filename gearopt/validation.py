@@ -209,6 +209,10 @@ def check_result(quantity: str, value, inputs: Mapping | None = None, *, allow_i
 
     Scalars, arrays, tuples/lists and dicts (checked per key, named ``quantity.key``) are accepted; strings, ``None``
     and CasADi symbols pass through."""
+    if isinstance(value, float):  # fast path: most results are plain floats
+        if value == value and (allow_inf or value - value == 0.0):
+            return value
+        _raise_nonfinite(quantity, np.asarray(value), inputs, allow_inf)
     if isinstance(value, Mapping):
         for k, v in value.items():
             check_result(f"{quantity}.{k}", v, inputs, allow_inf=allow_inf)
@@ -216,6 +220,8 @@ def check_result(quantity: str, value, inputs: Mapping | None = None, *, allow_i
     if value is None or isinstance(value, (str, bytes, bool)) or numerics.is_symbolic(value):
         return value
     if isinstance(value, (tuple, list)):
+        if all(type(v) is float and v - v == 0.0 for v in value):
+            return value
         for i, v in enumerate(value):
             check_result(f"{quantity}[{i}]", v, inputs, allow_inf=allow_inf)
         return value
@@ -225,11 +231,16 @@ def check_result(quantity: str, value, inputs: Mapping | None = None, *, allow_i
         return value
     bad = np.isnan(arr) if allow_inf else ~np.isfinite(arr)
     if np.any(bad):
-        what = "NaN" if np.any(np.isnan(arr)) else "an infinity"
-        where = f" at index {np.unravel_index(int(np.argmax(bad)), arr.shape)}" if arr.ndim else ""
-        raise NonFiniteResultError(f"{quantity} is {what}{where}: the model has no finite answer here"
-                                   f"{_describe(inputs)}")
+        _raise_nonfinite(quantity, arr, inputs, allow_inf)
     return value
+
+
+def _raise_nonfinite(quantity: str, arr: np.ndarray, inputs, allow_inf: bool):
+    bad = np.isnan(arr) if allow_inf else ~np.isfinite(arr)
+    what = "NaN" if np.any(np.isnan(arr)) else "an infinity"
+    where = f" at index {np.unravel_index(int(np.argmax(bad)), arr.shape)}" if arr.ndim else ""
+    raise NonFiniteResultError(f"{quantity} is {what}{where}: the model has no finite answer here"
+                               f"{_describe(inputs)}")
 
 
 __all__ = ["MAX_MAGNITUDE", "as_number", "check_range", "check_number", "check_int", "per_gear", "check_per_gear",
