@@ -178,9 +178,16 @@ def nominal_tangential_force_N(pair, torque_Nm, driving_gear: int = 1):
 
 
 def _check_factors(**factors):
+    """Positive, finite rating factors; a tuple is accepted only for the per-gear life factor (length 2)."""
     for name, value in factors.items():
-        for i, v in enumerate(value if isinstance(value, tuple) else (value,)):
-            check_range(name if not isinstance(value, tuple) else f"{name}[{i}]", v, 0.0, None, low_inclusive=False)
+        if isinstance(value, (tuple, list)):
+            if name != "life_factor" or len(value) != 2:
+                raise GearoptInputError(f"{name}={value!r} must be a positive number"
+                                        + (" or a 2-tuple (gear 1, gear 2)" if name == "life_factor" else ""))
+            for i, v in enumerate(value):
+                check_range(f"{name}[{i}]", v, 0.0, None, low_inclusive=False)
+        else:
+            check_range(name, value, 0.0, None, low_inclusive=False)
 
 
 def contact_stress_iso6336(pair, torque_Nm, *, driving_gear: int = 1, K_A=1.0, K_v=1.0, K_Hbeta=1.0,
