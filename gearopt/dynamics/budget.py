@@ -19,8 +19,9 @@ import numpy as np
 from ..errors import BudgetExceededError, GearoptInputError
 from ..validation import check_int, check_range
 
-#: Default limit of the estimated integrator steps per engine cycle (the default train needs ~2e4).
-DEFAULT_MAX_STEPS_PER_CYCLE = 2_000_000
+#: Default limit of the estimated integrator steps per engine cycle (the default train: estimate ~1e4, actual ~3e4;
+#: 2e5 steps take a few seconds per cycle).
+DEFAULT_MAX_STEPS_PER_CYCLE = 200_000
 #: Default wall-time limit of one simulation run [s] (a 10-cycle default-train run takes a few seconds).
 DEFAULT_MAX_WALL_TIME_S = 900.0
 #: Steps per period of the highest mode assumed by the estimate (stiff BDF on a smooth-lash model).
