@@ -45,6 +45,8 @@ def as_number(name: str, value, *, error: type[GearoptInputError] = GearoptInput
         raise _kind_error(name, value, error)
     if isinstance(value, np.ndarray) and value.dtype.kind not in "iuf":
         raise _kind_error(name, value, error)
+    if isinstance(value, (tuple, list)):  # even of length 1: arithmetic on a sequence fails later
+        raise error(f"{name}={value!r:.80} must be a scalar (got a {type(value).__name__})")
     try:
         return numerics.to_float(value)
     except GearoptInputError:

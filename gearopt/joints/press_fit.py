@@ -109,6 +109,7 @@ def von_mises_plane_MPa(sigma_1, sigma_2):
 def _check_press_fit(d, di, do, length, delta, Es, nus, Eh, nuh, mu):
     check_range("shaft_diameter_mm", d, 0.0, None, low_inclusive=False, unit="mm")
     check_range("shaft_bore_mm", di, 0.0, None, unit="mm")
+    check_range("hub_outer_diameter_mm", do, 0.0, None, low_inclusive=False, unit="mm")
     if nm.is_numeric(d, di) and nm.to_float(di) >= nm.to_float(d):
         raise GearoptInputError(f"shaft_bore_mm={nm.to_float(di):g} mm must be smaller than shaft_diameter_mm="
                                 f"{nm.to_float(d):g} mm (bore >= diameter leaves no shaft wall)")

@@ -16,6 +16,7 @@ from __future__ import annotations
 import dataclasses
 import math
 import os
+import re
 import tempfile
 from dataclasses import dataclass, field
 from typing import Any, Callable
@@ -114,7 +115,11 @@ def classify(entry: "EntryPoint", kwargs: dict) -> tuple[str, str]:
 def names_parameter(message: str, spoiled: list[str]) -> bool:
     """True if a rejection message names one of the spoiled parameters (or its data path)."""
     low = message.lower()
-    return any(p.lower().split(".")[-1].split("[")[0] in low for p in spoiled)
+    forms = set()
+    for p in spoiled:
+        name = p.lower().split(".")[-1].split("[")[0]
+        forms |= {name, re.sub(r"_[12](?=_|$)", "", name), re.sub(r"^(mesh|shaft)_", "", name)}
+    return any(f in low for f in forms)
 
 
 # ----------------------------------------------------------------------------------------------------------------
@@ -130,6 +135,7 @@ class EntryPoint:
     infinite_ok: tuple[str, ...] = ()
     implausible: Callable[[Any], str | None] | None = None
     bad_values: tuple = BAD_VALUES
+    array_ok: tuple[str, ...] = ()  # arguments for which a tuple is a valid value (vector variables ...)
     extra_cases: Callable[[np.random.Generator], dict] | None = field(default=None, repr=False)
 
 
@@ -366,6 +372,7 @@ def entry_points() -> dict[str, EntryPoint]:
                    bad_values=BAD_VALUES + (1e-12, 1e15, 1e-9)),
         EntryPoint("Problem.solve", call_problem, dict(init=1.0, lower=-5.0, upper=5.0, target=2.0, max_iter=100),
                    ("init", "lower", "upper", "target", "max_iter"), infinite_ok=(),
+                   array_ok=("init", "lower", "upper", "target"),
                    bad_values=BAD_VALUES + (1e200, -1e200, 1e19, -1e19)),
         EntryPoint("cli", call_cli, dict(argv=("pair", "--teeth", "38", "76", "--module-mm", "3",
                                                "--profile-shifts", "0.3124", "0.1118")), ("argv",)),
