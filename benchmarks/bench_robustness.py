@@ -85,9 +85,9 @@ class Runner:
             self.proc.kill()
 
 
-def campaign(cases_per_entry: int, seed: int, timeout_s: float) -> dict:
+def campaign(cases_per_entry: int, seed: int, timeout_s: float, only: list[str] | None = None) -> dict:
     rng = np.random.default_rng(seed)
-    eps = rc.entry_points()
+    eps = {k: v for k, v in rc.entry_points().items() if not only or k in only}
     runner = Runner(timeout_s)
     table, examples, times = {}, defaultdict(list), defaultdict(list)
     try:
@@ -146,10 +146,11 @@ def main(argv=None) -> int:
     ap.add_argument("--seed", type=int, default=20261124)
     ap.add_argument("--timeout-s", type=float, default=20.0, help="per-call limit before a call counts as a hang")
     ap.add_argument("--out", type=Path, default=RESULTS)
+    ap.add_argument("--only", nargs="*", help="entry points to run (default: all)")
     args = ap.parse_args(argv)
     cases = 30 if args.quick else args.cases
     t0 = time.perf_counter()
-    result = campaign(cases, args.seed, args.timeout_s)
+    result = campaign(cases, args.seed, args.timeout_s, args.only)
     result.update({"seed": args.seed, "cases_per_entry_point": cases, "timeout_s": args.timeout_s,
                    "wall_s": time.perf_counter() - t0, "quick": bool(args.quick),
                    "python": platform.python_version(), "machine": platform.machine()})

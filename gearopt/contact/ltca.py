@@ -22,18 +22,18 @@ Lengths mm, deflections and modifications um, forces N, stresses MPa.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 from functools import cached_property
 from typing import Any
 
 import numpy as np
 
-from ..errors import GearoptInputError, GeometryError
-from ..validation import check_choice, check_int, check_range, check_result
+from ..errors import GearoptInputError
+from ..validation import check_int, check_range, check_result
 from ..geometry.pair import GearPair
 from .layout import MeshLayout, default_positions, default_slices, hertz_stress_factor, mesh_layout, single_pair_stiffness_profile
 from .microgeometry import Microgeometry
+from .validity import check_ltca_inputs, check_ltca_size
 
 
 @dataclass
@@ -200,14 +200,14 @@ def ltca(pair: GearPair, torque_Nm: float, *, driving_gear: int = 1, microgeomet
         raise GearoptInputError("ltca() is the numeric solver: give a numeric pair (the smooth CasADi form is "
                                 "LTCAModel in gearopt.contact.ltca_smooth)")
     check_range("torque_Nm", torque_Nm, 0.0, None, unit="N*m")
-    _check_ltca_inputs(pair, driving_gear, E_MPa, poisson, bulk_temperature_C, friction_coefficient)
+    check_ltca_inputs(pair, driving_gear, E_MPa, poisson, bulk_temperature_C, friction_coefficient)
     mods = microgeometry or Microgeometry()
     if slices is None:
         slices = default_slices(pair, mods)
     if positions is None:
         positions = default_positions(slices)
     positions, slices = check_int("positions", positions, 2, 100000), check_int("slices", slices, 1, 10000)
-    _check_ltca_size(pair, positions, slices)
+    check_ltca_size(pair, positions, slices)
     lay = mesh_layout(pair, driving_gear=driving_gear, positions=positions, slices=slices, stiffness=stiffness,
                       E_MPa=E_MPa, poisson=poisson)
     P = positions
@@ -232,45 +232,6 @@ def ltca(pair: GearPair, torque_Nm: float, *, driving_gear: int = 1, microgeomet
                                 "E_MPa": E_MPa, "poisson": poisson},
                       layout=lay, speed_rpm=speed_rpm, bulk_temperature_C=bulk_temperature_C,
                       friction_coefficient=friction_coefficient, materials=materials)
-
-
-#: Largest LTCA layout (positions x tooth pairs x slices) solved without complaint: ~0.5 GB of float arrays.
-MAX_LTCA_SPRINGS = 5_000_000
-
-
-def _check_ltca_inputs(pair, driving_gear, E_MPa, poisson, bulk_temperature_C, friction_coefficient) -> None:
-    """Secondary inputs of :func:`ltca` and the validity the exact LTCA needs: every tip above its base circle
-    (the involute starts there, ISO 21771 5.2) and a transverse contact ratio of at least 1 (otherwise some mesh
-    position carries no pair)."""
-    check_choice("driving_gear", driving_gear, (1, 2))
-    check_range("E_MPa", E_MPa, 0.0, None, low_inclusive=False, unit="MPa")
-    check_range("poisson", poisson, 0.0, 0.5, low_inclusive=False, high_inclusive=False)
-    check_range("bulk_temperature_C", bulk_temperature_C, -273.15, 1000.0, unit="degC")
-    check_range("friction_coefficient", friction_coefficient, 0.0, 1.0, high_inclusive=False)
-    g = pair.geometry()
-    for i in range(2):
-        d_a, d_b = g["tip_diameter_mm"][i], g["base_diameter_mm"][i]
-        if not d_a > d_b:
-            raise GeometryError(f"{pair._label()}: the LTCA needs the tip above the base circle (ISO 21771 5.2): "
-                                f"gear {i + 1} tip diameter {d_a:.4f} mm <= base diameter {d_b:.4f} mm")
-    for key in ("sap_roll_length_mm", "eap_roll_length_mm"):
-        if min(g[key]) < 0.0:
-            raise GeometryError(f"{pair._label()}: {key}={g[key]} is negative: a tip reaches past the mating base "
-                                f"circle's tangent point (interference), outside the LTCA's involute contact")
-    eps = g["transverse_contact_ratio"]
-    if eps < 1.0:
-        raise GeometryError(f"{pair._label()}: transverse_contact_ratio={eps:.4f} is below 1: the LTCA needs "
-                            f"continuous contact")
-
-
-def _check_ltca_size(pair, positions: int, slices: int) -> None:
-    g = pair.geometry()
-    pairs = math.ceil(g["total_contact_ratio"]) + 3
-    size = positions * pairs * slices
-    if size > MAX_LTCA_SPRINGS:
-        raise GearoptInputError(f"LTCA size positions x tooth pairs x slices = {positions} x {pairs} x {slices} = "
-                                f"{size} exceeds its limit MAX_LTCA_SPRINGS={MAX_LTCA_SPRINGS} (total contact ratio "
-                                f"{g['total_contact_ratio']:.3g}); reduce positions or slices")
 
 
 def _solve_approach(gaps: np.ndarray, springs: np.ndarray, force: float) -> np.ndarray:

@@ -24,6 +24,8 @@ from ..validation import check_int, check_range
 DEFAULT_MAX_STEPS_PER_CYCLE = 200_000
 #: Default wall-time limit of one simulation run [s] (a 10-cycle default-train run takes a few seconds).
 DEFAULT_MAX_WALL_TIME_S = 900.0
+#: Largest number of cycles of one run (recorded or run-in): about a day of integration for the default train.
+MAX_CYCLES = 100_000
 #: Steps per period of the highest mode assumed by the estimate (stiff BDF on a smooth-lash model).
 STEPS_PER_PERIOD = 10.0
 
@@ -87,5 +89,5 @@ def integrate(integrator, x0, p, max_num_steps: int):
         raise
 
 
-__all__ = ["DEFAULT_MAX_STEPS_PER_CYCLE", "DEFAULT_MAX_WALL_TIME_S", "STEPS_PER_PERIOD", "check_budget_settings",
+__all__ = ["MAX_CYCLES", "DEFAULT_MAX_STEPS_PER_CYCLE", "DEFAULT_MAX_WALL_TIME_S", "STEPS_PER_PERIOD", "check_budget_settings",
            "estimated_steps_per_cycle", "check_step_budget", "check_wall_time", "integrate"]

@@ -43,7 +43,7 @@ from scipy.linalg import lu_factor as scipy_lu_factor
 from scipy.linalg import lu_solve as scipy_lu_solve
 
 from ..errors import GearoptInputError, SolveError
-from ..validation import check_range
+from ..validation import check_int, check_range
 from . import budget
 from .network import ANGLE_UNIT_RAD, OFFSET_PARAMETER, SPEED_PARAMETER, TorsionalNetwork
 
@@ -468,8 +468,8 @@ class Simulator:
         ``GearoptInputError`` below ``min_speed_rpm`` (the impact step limit would not hold).
         """
         check_range("speed_rpm", speed_rpm, self.min_speed_rpm, None, unit="rpm")
-        check_range("cycles", cycles, 1, None)
-        check_range("run_in_cycles", run_in_cycles, 0, None)
+        cycles = check_int("cycles", cycles, 1, budget.MAX_CYCLES)
+        run_in_cycles = check_int("run_in_cycles", run_in_cycles, 0, budget.MAX_CYCLES)
         if steady_state_tol is not None:
             check_range("steady_state_tol", steady_state_tol, 0.0, None, low_inclusive=False)
         if steady_state not in ("run-in", "shooting"):

@@ -96,6 +96,7 @@ def lewis_bending_stress_MPa(tangential_force_N, face_width_mm, module_mm, form_
     check_range("face_width_mm", face_width_mm, 0.0, None, low_inclusive=False, unit="mm")
     check_range("module_mm", module_mm, 0.0, None, low_inclusive=False, unit="mm")
     check_range("form_factor", form_factor, 0.0, None, low_inclusive=False)
+    check_range("dynamic_factor", dynamic_factor, 0.0, None, low_inclusive=False)
     return dynamic_factor * tangential_force_N / (face_width_mm * module_mm * form_factor)
 
 

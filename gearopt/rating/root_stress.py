@@ -44,7 +44,7 @@ import numpy as np
 
 from .. import numerics as nm
 from ..errors import GearoptInputError
-from ..validation import check_range, per_gear
+from ..validation import as_number, check_range, per_gear
 from .validity import check_rating_validity, checked_rating
 from ..units import DEG_PER_RAD, RAD_PER_DEG
 from .contact_stress import _check_factors, nominal_tangential_force_N
@@ -182,6 +182,10 @@ def _check_array(name, values, low, high, unit):
     """Range check that also handles numpy arrays (check_range takes scalars)."""
     if nm.is_symbolic(values):
         return
+    if not isinstance(values, np.ndarray) and not nm.is_casadi(values):
+        as_number(name, values)  # a scalar: strings, bools, None and tuples are refused by name
+    elif isinstance(values, np.ndarray) and values.dtype.kind not in "iuf":
+        raise GearoptInputError(f"{name} must be an array of real numbers (dtype {values.dtype})")
     arr = np.atleast_1d(np.asarray(nm.value(values), dtype=float))
     bad = arr[~np.isfinite(arr) | (arr < low) | (arr > high)]
     if bad.size:

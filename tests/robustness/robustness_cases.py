@@ -118,7 +118,8 @@ def names_parameter(message: str, spoiled: list[str]) -> bool:
     forms = set()
     for p in spoiled:
         name = p.lower().split(".")[-1].split("[")[0]
-        forms |= {name, re.sub(r"_[12](?=_|$)", "", name), re.sub(r"^(mesh|shaft)_", "", name)}
+        forms |= {name, re.sub(r"_[12](?=_|$)", "", name), re.sub(r"^(mesh|shaft)_", "", name),
+                  name.replace("_torque_nm", "").replace("_", "-")}  # walk_off: mesh_torques_Nm['crank-cam']
     return any(f in low for f in forms)
 
 
@@ -196,6 +197,48 @@ def _negative_safety(result) -> str | None:
                 if x <= 0:
                     return f"{key}={x:g} is not positive"
     return None
+
+
+def call_ltca_model(**kw):
+    from gearopt.contact.ltca_smooth import LTCAModel
+    torque = kw.pop("torque_Nm")
+    pair, rest = _split(kw)
+    res = LTCAModel(pair, **rest).evaluate(torque_Nm=torque)
+    return {"ppte_um": res.ppte_um, "max_contact_stress_MPa": res.max_contact_stress_MPa,
+            "loaded_contact_ratio": res.loaded_contact_ratio}
+
+
+def call_flash(**kw):
+    return go.flash_temperature_blok_K(**kw)
+
+
+def call_lewis(**kw):
+    return go.lewis_bending_stress_MPa(**kw)
+
+
+def call_bolt(**kw):
+    return go.bolt_preload_N(**kw)
+
+
+def call_joint_margins(**kw):
+    from gearopt.joints.walk_off import joint_margins
+    return joint_margins(**kw)
+
+
+def call_walk_off(*, kind, crank_cam_torque_Nm, cam_ac_torque_Nm, root_rotation):
+    train = _default_train(kind)
+    res = go.walk_off(train, {"crank-cam": crank_cam_torque_Nm, "cam-ac": cam_ac_torque_Nm},
+                      root_rotation=root_rotation)
+    return {k: v for k, v in vars(res).items() if not k.startswith("_")}
+
+
+_TRAINS: dict = {}
+
+
+def _default_train(kind):
+    if kind not in _TRAINS:
+        _TRAINS[kind] = go.load_default_train(kind) if kind in ("spur", "helical") else go.load_default_train(kind)
+    return _TRAINS[kind]
 
 
 def call_press_fit(**kw):
@@ -339,6 +382,30 @@ def entry_points() -> dict[str, EntryPoint]:
                         rim_backup_ratio=None),
                    PAIR_KEYS + ("torque_Nm", "K_A", "K_v", "life_factor", "S_Fmin", "rim_backup_ratio"),
                    implausible=_negative_safety),
+        EntryPoint("LTCAModel", call_ltca_model,
+                   dict(PAIR_BASE, torque_Nm=300.0, positions=24, slices=1, E_MPa=206000.0, poisson=0.3,
+                        smoothing_um=0.05, driving_gear=1),
+                   PAIR_KEYS + ("torque_Nm", "positions", "slices", "E_MPa", "poisson", "smoothing_um",
+                                "driving_gear")),
+        EntryPoint("flash_temperature_blok_K", call_flash,
+                   dict(load_N_per_mm=200.0, half_width_mm=0.2, v1_m_s=10.0, v2_m_s=8.0, friction=0.06,
+                        B_M1=13.44, B_M2=13.44),
+                   ("load_N_per_mm", "half_width_mm", "v1_m_s", "v2_m_s", "friction", "B_M1", "B_M2")),
+        EntryPoint("lewis_bending_stress_MPa", call_lewis,
+                   dict(tangential_force_N=5000.0, face_width_mm=25.0, module_mm=3.0, form_factor=0.38,
+                        dynamic_factor=1.2),
+                   ("tangential_force_N", "face_width_mm", "module_mm", "form_factor", "dynamic_factor")),
+        EntryPoint("bolt_preload_N", call_bolt, dict(nut_torque_Nm=150.0, nut_factor=0.15, thread_diameter_mm=16.0),
+                   ("nut_torque_Nm", "nut_factor", "thread_diameter_mm")),
+        EntryPoint("joint_margins", call_joint_margins,
+                   dict(joint_type="press_fit", torque_Nm=300.0, axial_force_N=2000.0, torque_capacity_Nm=800.0,
+                        axial_capacity_N=40000.0),
+                   ("joint_type", "torque_Nm", "axial_force_N", "torque_capacity_Nm", "axial_capacity_N"),
+                   infinite_ok=("torque_margin", "axial_margin", "combined_margin", "slip_utilisation")),
+        EntryPoint("walk_off", call_walk_off,
+                   dict(kind="helical", crank_cam_torque_Nm=300.0, cam_ac_torque_Nm=240.0, root_rotation="cw"),
+                   ("kind", "crank_cam_torque_Nm", "cam_ac_torque_Nm", "root_rotation"),
+                   infinite_ok=("margins",)),
         EntryPoint("press_fit", call_press_fit,
                    dict(shaft_diameter_mm=42.0, shaft_bore_mm=0.0, hub_outer_diameter_mm=70.0, length_mm=25.0,
                         interference_um=65.5, shaft_E_MPa=210000.0, shaft_nu=0.3, hub_E_MPa=206000.0,
