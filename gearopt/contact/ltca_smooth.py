@@ -205,6 +205,9 @@ class LTCAModel:
         mods = microgeometry or Microgeometry()
         lay = self.layout
         P = lay.positions
+        if isinstance(torque_Nm, (list, tuple, np.ndarray)):  # load cases: each a number >= 0 or a symbol
+            for i, t in enumerate(torque_Nm.reshape(-1) if isinstance(torque_Nm, np.ndarray) else torque_Nm):
+                check_range(f"torque_Nm[{i}]", t, 0.0, None, unit="N*m")
         torques = _load_cases(torque_Nm)
         L = len(torques)
         e = self.gaps_um(mods)
