@@ -11,7 +11,9 @@ files; one spoiled value in the data; bad CLI arguments) and sorts the outcome:
   ``implausible``: e.g. a negative safety factor; ``hang``: no answer within the per-call time limit.
 
 The calls run in a worker process that is killed and restarted on a hang, so a hang costs one time limit.
-Writes ``benchmarks/results/robustness.json`` and ``robustness.png``.
+The same seeded campaign runs against the gearopt of ``--baseline`` (default: the commit before issue 18's work,
+exported with ``git archive``) in the same run, so the counts compare like with like. Writes
+``benchmarks/results/robustness.json`` and ``robustness.png`` (``robustness_quick.*`` with ``--quick``).
 
     PYTHONPATH=. python benchmarks/bench_robustness.py [--quick] [--cases N] [--seed S] [--timeout-s T]
 """
@@ -19,10 +21,14 @@ Writes ``benchmarks/results/robustness.json`` and ``robustness.png``.
 from __future__ import annotations
 
 import argparse
+import io
 import json
 import multiprocessing as mp
 import platform
+import subprocess
 import sys
+import tarfile
+import tempfile
 import time
 from collections import Counter, defaultdict
 from pathlib import Path
@@ -36,10 +42,14 @@ import numpy as np  # noqa: E402
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "tests" / "robustness"))
 sys.path.insert(0, str(ROOT))
+if "--package" in sys.argv:  # the campaign against another gearopt tree (the baseline), before gearopt is imported
+    sys.path.insert(0, sys.argv[sys.argv.index("--package") + 1])
 
 import robustness_cases as rc  # noqa: E402
 
 RESULTS = ROOT / "benchmarks" / "results"
+#: gearopt before issue 18 (the validation layer, budgets and data schema): the campaign's baseline.
+BASELINE_COMMIT = "4e3e889"
 
 
 def _worker(conn) -> None:
@@ -116,27 +126,53 @@ def campaign(cases_per_entry: int, seed: int, timeout_s: float, only: list[str] 
     return {"per_entry_point": table, "totals": totals, "examples": dict(examples)}
 
 
+def baseline_campaign(commit: str, cases: int, seed: int, timeout_s: float) -> dict:
+    """The same seeded campaign against gearopt at ``commit`` (exported with ``git archive`` to a temporary
+    directory and run in a subprocess)."""
+    with tempfile.TemporaryDirectory() as tmp:
+        archive = subprocess.run(["git", "-C", str(ROOT), "archive", commit, "gearopt"], check=True,
+                                 capture_output=True).stdout
+        with tarfile.open(fileobj=io.BytesIO(archive)) as tar:
+            tar.extractall(tmp)
+        out = Path(tmp) / "out"
+        subprocess.run([sys.executable, __file__, "--package", tmp, "--cases", str(cases), "--seed", str(seed),
+                        "--timeout-s", str(timeout_s), "--out", str(out), "--no-baseline"], check=True)
+        result = json.loads((out / "robustness.json").read_text())
+    result["commit"] = commit
+    return result
+
+
 def figure(result: dict, path: Path) -> None:
+    panels = [("this version", result)] + ([(f"baseline {result['baseline']['commit'][:8]}", result["baseline"])]
+                                           if result.get("baseline") else [])
+    names = list(result["per_entry_point"])
+    fig, axes = plt.subplots(1, len(panels), figsize=(7 * len(panels), 0.42 * len(names) + 1.8), sharey=True,
+                             squeeze=False)
+    for ax, (title, res) in zip(axes[0], panels):
+        _panel(ax, res, names, title)
+    axes[0][0].legend(ncol=7, fontsize=8, loc="upper left", bbox_to_anchor=(0.0, -0.08))
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
+def _panel(ax, result: dict, names: list, title: str) -> None:
     table = result["per_entry_point"]
-    names = list(table)
-    fig, ax = plt.subplots(figsize=(10, 0.45 * len(names) + 1.5))
     left = np.zeros(len(names))
     colours = {"rejected": "#4c9a2a", "typed_failure": "#9ac46a", "finite": "#3a75c4", "untyped": "#d62728",
                "nan": "#ff7f0e", "implausible": "#e377c2", "hang": "#000000"}
     for outcome in rc.OUTCOMES:
-        vals = np.array([table[n][outcome] / max(table[n]["cases"], 1) for n in names])
+        vals = np.array([table.get(n, {}).get(outcome, 0) / max(table.get(n, {}).get("cases", 1), 1)
+                         for n in names])
         ax.barh(names, vals, left=left, color=colours[outcome], label=outcome)
         left += vals
     ax.set_xlabel("fraction of cases")
     ax.set_xlim(0, 1)
-    ax.invert_yaxis()
-    ax.legend(ncol=4, fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.12))
+    if not ax.yaxis_inverted():
+        ax.invert_yaxis()
     t = result["totals"]
-    ax.set_title(f"Robustness campaign: {t['cases']} seeded bad-input calls; untyped {t['untyped']}, NaN {t['nan']}, "
+    ax.set_title(f"{title}: {t['cases']} seeded bad-input calls\nuntyped {t['untyped']}, NaN/inf {t['nan']}, "
                  f"implausible {t['implausible']}, hang {t['hang']}", fontsize=9)
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
 
 
 def main(argv=None) -> int:
@@ -147,6 +183,10 @@ def main(argv=None) -> int:
     ap.add_argument("--timeout-s", type=float, default=20.0, help="per-call limit before a call counts as a hang")
     ap.add_argument("--out", type=Path, default=RESULTS)
     ap.add_argument("--only", nargs="*", help="entry points to run (default: all)")
+    ap.add_argument("--baseline", default=BASELINE_COMMIT,
+                    help="git commit of the gearopt to run the same campaign against (default: before issue 18)")
+    ap.add_argument("--no-baseline", action="store_true")
+    ap.add_argument("--package", help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
     cases = 30 if args.quick else args.cases
     t0 = time.perf_counter()
@@ -154,6 +194,8 @@ def main(argv=None) -> int:
     result.update({"seed": args.seed, "cases_per_entry_point": cases, "timeout_s": args.timeout_s,
                    "wall_s": time.perf_counter() - t0, "quick": bool(args.quick),
                    "python": platform.python_version(), "machine": platform.machine()})
+    if not args.no_baseline and not args.package:
+        result["baseline"] = baseline_campaign(args.baseline, cases, args.seed, args.timeout_s)
     args.out.mkdir(parents=True, exist_ok=True)
     suffix = "_quick" if args.quick else ""
     (args.out / f"robustness{suffix}.json").write_text(json.dumps(result, indent=1))
