@@ -93,12 +93,6 @@ def _limits_text(low, high, u) -> str:
     return f"[{lo}, {hi}]"
 
 
-def check_number(name: str, value, low: float | None = None, high: float | None = None, **kw) -> float:
-    """:func:`check_range`, then the value as a float (symbols are returned unchanged)."""
-    check_range(name, value, low, high, **kw)
-    return value if numerics.is_symbolic(value) else numerics.to_float(value)
-
-
 def check_int(name: str, value, low: int | None = None, high: int | None = None, *,
               error: type[GearoptInputError] = GearoptInputError) -> int:
     """An integer count in [``low``, ``high``]: integral floats (``3.0``) are accepted, ``2.5``, bools, strings,
@@ -245,5 +239,5 @@ def _raise_nonfinite(quantity: str, arr: np.ndarray, inputs, allow_inf: bool):
                                f"{_describe(inputs)}")
 
 
-__all__ = ["MAX_MAGNITUDE", "as_number", "check_range", "check_number", "check_int", "per_gear", "check_per_gear",
+__all__ = ["MAX_MAGNITUDE", "as_number", "check_range", "check_int", "per_gear", "check_per_gear",
            "check_names", "check_choice", "check_array", "check_result"]

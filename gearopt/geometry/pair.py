@@ -20,7 +20,7 @@ from typing import Any
 
 from .. import numerics as nm
 from ..errors import GearoptInputError, GeometryError
-from ..validation import check_int, check_names, check_range, check_result, per_gear
+from ..validation import check_int, check_names, check_per_gear, check_range, check_result, per_gear
 from ..units import DEG_PER_RAD, RAD_PER_DEG
 from . import involute as inv
 from .shift import (check_centre_distance_reachable, iso_tr_4467_shift_limits, shift_split_iso_tr_4467,
@@ -344,6 +344,8 @@ class GearPair:
         (k = sum_x - y, ISO 21771's tip alteration with opposite sign) and the contact ratios are dimensionless.
         ``*_roll_deg`` are roll angles (rho / r_b) of SAP, EAP, LPSTC, HPSTC and the pitch point on each gear.
         ``specific_sliding_root`` are gear 1's specific sliding at A and gear 2's at E (their roots; negative).
+        A numeric pair whose geometry would hold NaN or an infinity raises
+        :class:`~gearopt.errors.NonFiniteResultError` naming the quantity and the pair's inputs.
         """
         g = self._geometry
         if self.is_symbolic:
@@ -513,8 +515,7 @@ def _check_scalars(module_mm, pressure_angle_deg, helix_angle_deg, face_width_mm
     check_range("pressure_angle_deg", pressure_angle_deg, 0.0, 45.0, low_inclusive=False, high_inclusive=False,
                 unit="deg")
     check_range("helix_angle_deg", helix_angle_deg, 0.0, 45.0, high_inclusive=False, unit="deg")
-    for i, b in enumerate(per_gear(face_width_mm, "face_width_mm")):
-        check_range(f"face_width_mm[{i}]", b, 0.0, None, low_inclusive=False, unit="mm")
+    check_per_gear("face_width_mm", face_width_mm, 0.0, None, low_inclusive=False, unit="mm")
 
 
 def _to_number(v):
