@@ -240,6 +240,35 @@ def _default_train(kind):
     return _TRAINS[kind]
 
 
+def call_peak_pressure(**kw):
+    return go.peak_pressure_bar(**kw)
+
+
+def call_fit_interference(**kw):
+    from gearopt.joints.iso286 import fit_interference_um
+    return fit_interference_um(**kw)
+
+
+def call_min_tip_relief(**kw):
+    torque = kw.pop("torque_Nm")
+    pair, rest = _split(kw)
+    return go.min_tip_relief_um(pair, torque, **rest)
+
+
+def call_web_stress(**kw):
+    from gearopt.blank.web import web_stress
+    return web_stress(**kw)
+
+
+def call_blank(**kw):
+    blank = go.GearBlank(**kw)
+    return {"mass_kg": blank.mass_kg(), "inertia_kgm2": blank.inertia_kgm2(), "backup_ratio": blank.backup_ratio}
+
+
+def call_lewis_form_factor(**kw):
+    return go.lewis_form_factor(**kw)
+
+
 def call_press_fit(**kw):
     return go.press_fit(**kw)
 
@@ -410,6 +439,27 @@ def entry_points() -> dict[str, EntryPoint]:
                    dict(kind="helical", crank_cam_torque_Nm=300.0, cam_ac_torque_Nm=240.0, root_rotation="cw"),
                    ("kind", "crank_cam_torque_Nm", "cam_ac_torque_Nm", "root_rotation"),
                    infinite_ok=("margins",)),
+        EntryPoint("peak_pressure_bar", call_peak_pressure, dict(speed_rpm=2500.0, load=1.0), ("speed_rpm", "load")),
+        EntryPoint("fit_interference_um", call_fit_interference, dict(nominal_mm=42.0, fit="H7/u6"),
+                   ("nominal_mm", "fit"), bad_values=BAD_VALUES + ("H7", "u6/H7", "H7/zz9", "H99/u6")),
+        EntryPoint("min_tip_relief_um", call_min_tip_relief,
+                   dict(PAIR_BASE, torque_Nm=300.0, driving_gear=1, E_MPa=206000.0, poisson=0.3),
+                   PAIR_KEYS + ("torque_Nm", "driving_gear", "E_MPa", "poisson")),
+        EntryPoint("web_stress", call_web_stress,
+                   dict(torque_Nm=300.0, hub_outer_diameter_mm=70.0, rim_inner_diameter_mm=200.0,
+                        web_thickness_mm=10.0, in_plane_force_N=2000.0, axial_force_N=500.0, nu=0.3,
+                        pocket_area_fraction=0.2, pocket_pitch_diameter_mm=135.0, stress_concentration=1.5),
+                   ("torque_Nm", "hub_outer_diameter_mm", "rim_inner_diameter_mm", "web_thickness_mm",
+                    "in_plane_force_N", "axial_force_N", "nu", "pocket_area_fraction", "pocket_pitch_diameter_mm",
+                    "stress_concentration")),
+        EntryPoint("GearBlank", call_blank,
+                   dict(tip_diameter_mm=234.0, root_diameter_mm=220.0, face_width_mm=25.0, bore_diameter_mm=42.0,
+                        hub_outer_diameter_mm=70.0, hub_length_mm=35.0, web_thickness_mm=10.0,
+                        rim_thickness_mm=12.0, pocket_area_fraction=0.2),
+                   ("tip_diameter_mm", "root_diameter_mm", "face_width_mm", "bore_diameter_mm",
+                    "hub_outer_diameter_mm", "hub_length_mm", "web_thickness_mm", "rim_thickness_mm",
+                    "pocket_area_fraction")),
+        EntryPoint("lewis_form_factor", call_lewis_form_factor, dict(teeth=38), ("teeth",)),
         EntryPoint("press_fit", call_press_fit,
                    dict(shaft_diameter_mm=42.0, shaft_bore_mm=0.0, hub_outer_diameter_mm=70.0, length_mm=25.0,
                         interference_um=65.5, shaft_E_MPa=210000.0, shaft_nu=0.3, hub_E_MPa=206000.0,
