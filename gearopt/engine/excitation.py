@@ -145,9 +145,10 @@ class EngineExcitation:
             from ..data import load_default_data
             data = load_default_data()
         e = data["engine"]
-        speed = float(e["rated_speed_rpm"] if speed_rpm is None else speed_rpm)
+        speed = e["rated_speed_rpm"] if speed_rpm is None else speed_rpm
         check_values("speed_rpm", speed, 0.0, low_inclusive=False, unit="rpm")
         check_values("load", load, 0.0, 1.0)
+        speed = float(speed)
         if pressure == "table":
             p = CylinderPressure.from_data(data, harmonics=harmonics)
         elif pressure == "wiebe":
@@ -261,6 +262,10 @@ class EngineExcitation:
 
     def total_torque_Nm(self, crank_angle_rad, speed_rad_s, crank_accel_rad_s2=0.0, **pressure):
         """Sum of all cylinders' torques [N m] (rigid-crank resultant); arguments as above."""
+        for name, value, unit in (("crank_angle_rad", crank_angle_rad, "rad"), ("speed_rad_s", speed_rad_s, "rad/s"),
+                                  ("crank_accel_rad_s2", crank_accel_rad_s2, "rad/s^2")):
+            for v in (value if isinstance(value, (list, tuple)) else (value,)):  # one value or one per cylinder
+                check_values(name, v, unit=unit)
         return nm.sum1(self.cylinder_torques_Nm(crank_angle_rad, speed_rad_s, crank_accel_rad_s2, **pressure))
 
     def reciprocating_inertia_kgm2(self, cylinder: int, crank_angle_rad):

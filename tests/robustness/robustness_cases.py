@@ -269,6 +269,26 @@ def call_lewis_form_factor(**kw):
     return go.lewis_form_factor(**kw)
 
 
+def call_excitation(*, speed_rpm, load, pressure, crank_angle_rad):
+    exc = go.EngineExcitation.from_data(speed_rpm=speed_rpm, load=load, pressure=pressure)
+    return {"total_torque_Nm": exc.total_torque_Nm(crank_angle_rad, exc.speed_rpm * math.pi / 30.0),
+            "mean_torque_Nm": exc.mean_torque_Nm()}
+
+
+def call_stiffness(**kw):
+    rest = {k: kw.pop(k) for k in ("line_load_N_per_mm", "E_MPa")}
+    pair, _ = _split(kw)
+    return go.iso6336_stiffness(pair, **rest)
+
+
+def call_shift_split(**kw):
+    from gearopt.design.shift_distribution import optimise_shift_split
+    rest = {k: kw.pop(k) for k in ("min_contact_ratio", "min_tip_thickness_ratio", "shift_split")}
+    pair, _ = _split(kw)
+    out = optimise_shift_split(pair, **rest)
+    return {k: v for k, v in out.items() if k not in ("status", "objective")}
+
+
 def call_press_fit(**kw):
     return go.press_fit(**kw)
 
@@ -460,6 +480,14 @@ def entry_points() -> dict[str, EntryPoint]:
                     "hub_outer_diameter_mm", "hub_length_mm", "web_thickness_mm", "rim_thickness_mm",
                     "pocket_area_fraction")),
         EntryPoint("lewis_form_factor", call_lewis_form_factor, dict(teeth=38), ("teeth",)),
+        EntryPoint("EngineExcitation", call_excitation,
+                   dict(speed_rpm=2500.0, load=1.0, pressure="table", crank_angle_rad=0.5),
+                   ("speed_rpm", "load", "pressure", "crank_angle_rad")),
+        EntryPoint("iso6336_stiffness", call_stiffness, dict(PAIR_BASE, line_load_N_per_mm=200.0, E_MPa=206000.0),
+                   PAIR_KEYS + ("line_load_N_per_mm", "E_MPa")),
+        EntryPoint("optimise_shift_split", call_shift_split,
+                   dict(PAIR_BASE, min_contact_ratio=1.2, min_tip_thickness_ratio=0.2, shift_split=0.5),
+                   PAIR_KEYS + ("min_contact_ratio", "min_tip_thickness_ratio", "shift_split")),
         EntryPoint("press_fit", call_press_fit,
                    dict(shaft_diameter_mm=42.0, shaft_bore_mm=0.0, hub_outer_diameter_mm=70.0, length_mm=25.0,
                         interference_um=65.5, shaft_E_MPa=210000.0, shaft_nu=0.3, hub_E_MPa=206000.0,
