@@ -39,7 +39,7 @@ import numpy as np
 
 from .. import numerics as nm
 from ..errors import GearoptInputError
-from ..validation import check_range, check_result
+from ..validation import check_array, check_range, check_result
 
 
 def web_torsion_shear_MPa(torque_Nm, radius_mm, web_thickness_mm):
@@ -76,8 +76,11 @@ def web_stress(torque_Nm, *, hub_outer_diameter_mm, rim_inner_diameter_mm, web_t
     check_range("hub_outer_diameter_mm", hub_outer_diameter_mm, 0.0, None, low_inclusive=False, unit="mm")
     check_range("rim_inner_diameter_mm", rim_inner_diameter_mm, 0.0, None, low_inclusive=False, unit="mm")
     for name, value, unit in (("torque_Nm", torque_Nm, "N m"), ("in_plane_force_N", in_plane_force_N, "N"),
-                              ("axial_force_N", axial_force_N, "N")):
-        check_range(name, value, unit=unit)
+                              ("axial_force_N", axial_force_N, "N")):  # numbers or arrays (a load history)
+        if isinstance(value, np.ndarray):
+            check_array(name, value, unit=unit)
+        else:
+            check_range(name, value, unit=unit)
     check_range("nu", nu, 0.0, 0.5, low_inclusive=False, high_inclusive=False)
     if pocket_pitch_diameter_mm is not None:
         check_range("pocket_pitch_diameter_mm", pocket_pitch_diameter_mm, hub_outer_diameter_mm

@@ -89,5 +89,6 @@ def integrate(integrator, x0, p, max_num_steps: int):
         raise
 
 
-__all__ = ["MAX_CYCLES", "DEFAULT_MAX_STEPS_PER_CYCLE", "DEFAULT_MAX_WALL_TIME_S", "STEPS_PER_PERIOD", "check_budget_settings",
+__all__ = ["MAX_CYCLES", "DEFAULT_MAX_STEPS_PER_CYCLE", "DEFAULT_MAX_WALL_TIME_S", "STEPS_PER_PERIOD",
+           "check_budget_settings",
            "estimated_steps_per_cycle", "check_step_budget", "check_wall_time", "integrate"]

@@ -81,7 +81,8 @@ def taper_fit(large_diameter_mm, small_diameter_mm, half_angle_deg, friction, bo
     ``friction_radius_mm``, ``taper_length_mm`` ((D - d)/(2 tan(theta))), ``contact_pressure_MPa`` (mean for
     uniform pressure, peak at the small end for uniform wear), ``contact_pressure_engagement_friction_MPa``,
     ``self_locking`` (tan(theta) < mu, numeric only) and, with ``hub_outer_diameter_mm``, ``hub_hoop_stress_MPa``
-    and ``hub_von_mises_MPa`` (Lame, at the bore) and with ``hub_yield_MPa`` the ``hub_yield_safety``.
+    and ``hub_von_mises_MPa`` (Lame, at the bore) and with ``hub_yield_MPa`` the ``hub_yield_safety`` (``inf`` without
+    preload: a margin with zero demand).
 
     Errors: half angle outside (0, 45) deg, friction outside (0, 1), small diameter >= large diameter, no or two
     preload inputs.

@@ -504,7 +504,7 @@ def entry_points() -> dict[str, EntryPoint]:
                         hub_yield_MPa=700.0),
                    ("large_diameter_mm", "small_diameter_mm", "half_angle_deg", "friction", "nut_torque_Nm",
                     "nut_factor", "thread_diameter_mm", "hub_outer_diameter_mm", "hub_yield_MPa"),
-                   implausible=_negative_safety),
+                   infinite_ok=("hub_yield_safety",), implausible=_negative_safety),
         EntryPoint("crank_torque", call_crank_torque,
                    dict(crank_angle_deg=30.0, speed_rpm=2500.0, bore_mm=107.0, stroke_mm=124.0,
                         rod_length_mm=192.0, reciprocating_mass_kg=2.5, cylinder_pressure_bar=120.0,

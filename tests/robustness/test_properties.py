@@ -25,7 +25,8 @@ import robustness_cases as rc
 ENTRIES = rc.entry_points()
 HANG_S = 30.0
 #: Examples per entry point (simulate builds a CasADi integrator per network: fewer examples).
-EXAMPLES = {"EngineExcitation": 15, "optimise_shift_split": 20, "LTCAModel": 20, "walk_off": 30, "simulate": 10, "Problem.solve": 50, "data file": 20, "data value": 40, "ltca": 60, "cli": 30}
+EXAMPLES = {"EngineExcitation": 15, "optimise_shift_split": 20, "LTCAModel": 20, "walk_off": 30, "simulate": 10,
+            "Problem.solve": 50, "data file": 20, "data value": 40, "ltca": 60, "cli": 30}
 DEFAULT_EXAMPLES = 60
 
 NOT_A_NUMBER = st.one_of(st.sampled_from(["3", "abc", "", "nan"]), st.none(), st.booleans(),
