@@ -129,11 +129,24 @@ def studies(d) -> str:
             + "; the three executors give identical tables.")
 
 
+def robustness(d) -> str:
+    new, old = d["totals"], d["baseline"]["totals"]
+    return (f"`robustness.json` ({d['cases_per_entry_point']} cases per entry point, seed {d['seed']}, "
+            f"{d['timeout_s']:g} s per call): of {new['cases']:,} bad-input calls over {len(d['per_entry_point'])} "
+            f"entry points this version rejects {new['rejected']} with a `GearoptInputError` ({new['rejected_named']} "
+            f"naming the spoiled parameter or data key), ends {new['typed_failure']} in a typed failure and returns "
+            f"{new['finite']} finite results: {new['untyped']} untyped exceptions, {new['nan']} NaN, "
+            f"{new['implausible']} implausible values, {new['hang']} hangs. The same campaign in the same run against "
+            f"the code before (commit {str(d['baseline'].get('commit', '?'))[:7]}): {old['untyped']} untyped "
+            f"exceptions, {old['nan']} NaN or undocumented infinities, {old['implausible']} implausible values, "
+            f"{old['hang']} hangs.")
+
+
 def render(results: Path = RESULTS) -> str:
     blocks = []
     for name, fun in (("geometry", geometry), ("ltca", ltca), ("microgeometry_nlp", microgeometry_nlp),
                       ("stability", stability), ("dynamics_speed", dynamics_speed),
-                      ("studies", studies)):
+                      ("studies", studies), ("robustness", robustness)):
         d = _load(results, name)
         text = fun(d) if d is not None else f"`{name}.json`: not run yet."
         blocks.append(textwrap.fill(text, width=118, initial_indent="- ", subsequent_indent="  ",

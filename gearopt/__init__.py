@@ -2,7 +2,8 @@
 
 from . import numerics
 from .errors import (GearoptError, GearoptInputError, GeometryError, SolveError, InfeasibleProblemError,
-                     IterationLimitError, NumericalSolveError, BadInitialGuessError)
+                     IterationLimitError, NumericalSolveError, BadInitialGuessError, NonFiniteResultError,
+                     BudgetExceededError, DataFileError)
 from .geometry import (GearPair, GearSpec, GearTrain, MeshSpec, PairTolerances, RackSpec, iso_tr_4467_shift_limits,
                        shift_split_iso_tr_4467)
 from .data import load_default_train, load_default_data

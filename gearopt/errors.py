@@ -73,11 +73,32 @@ class NumericalSolveError(SolveError):
     """Ipopt failed for numerical reasons (restoration failure, NaN/Inf in evaluation, too-small step)."""
 
 
+class NonFiniteResultError(GearoptInputError):
+    """A public result would hold NaN (or an infinity where none is meaningful): the message names the quantity and
+    the inputs that led there. Raised instead of returning the NaN (:func:`gearopt.validation.check_result`)."""
+
+
+class BudgetExceededError(SolveError):
+    """A computation hit its budget (wall time, integrator steps, problem size) before finishing. ``limit`` names the
+    budget (e.g. ``"max_wall_time_s"``), ``value`` its setting; the message says how to raise it."""
+
+    def __init__(self, message: str, *, limit: str = "", value=None, hint: str = "", **kw):
+        self.limit = limit
+        self.value = value
+        super().__init__(message, hint=hint, **kw)
+
+
+class DataFileError(GearoptInputError):
+    """A data file cannot be read or does not follow the data schema: the message names the file and, for schema
+    problems, every offending key path (``docs/data-schema.md``)."""
+
+
 class BadInitialGuessError(GearoptInputError):
     """The pre-solve check found NaN/Inf or inverted bounds at the initial guess (names listed in the message)."""
 
 
 __all__ = [
-    "GearoptError", "GearoptInputError", "GeometryError", "check_range", "per_gear", "ViolatedConstraint", "SolveError",
+    "GearoptError", "GearoptInputError", "GeometryError", "ViolatedConstraint", "SolveError",
     "InfeasibleProblemError", "IterationLimitError", "NumericalSolveError", "BadInitialGuessError",
+    "NonFiniteResultError", "BudgetExceededError", "DataFileError",
 ]

@@ -88,6 +88,7 @@ class GearBlank:
 
     def __post_init__(self):
         check_range("tip_diameter_mm", self.tip_diameter_mm, 0.0, None, low_inclusive=False, unit="mm")
+        check_range("root_diameter_mm", self.root_diameter_mm, 0.0, None, low_inclusive=False, unit="mm")
         check_range("face_width_mm", self.face_width_mm, 0.0, None, low_inclusive=False, unit="mm")
         check_range("bore_diameter_mm", self.bore_diameter_mm, 0.0, None, unit="mm")
         check_range("tooth_fill_factor", self.tooth_fill_factor, 0.0, 1.0)
@@ -102,6 +103,8 @@ class GearBlank:
             if getattr(self, name) is None:
                 raise GearoptInputError(f"a webbed blank needs {name}")
         check_range("web_thickness_mm", self.web_thickness_mm, 0.0, None, low_inclusive=False, unit="mm")
+        check_range("hub_outer_diameter_mm", self.hub_outer_diameter_mm, 0.0, None, low_inclusive=False, unit="mm")
+        check_range("hub_length_mm", self.hub_length_mm, 0.0, None, low_inclusive=False, unit="mm")
         check_range("rim_thickness_mm", self.rim_thickness_mm, 0.0, None, low_inclusive=False, unit="mm")
         self._order("bore_diameter_mm", self.bore_diameter_mm, "hub_outer_diameter_mm", self.hub_outer_diameter_mm)
         self._order("hub_outer_diameter_mm", self.hub_outer_diameter_mm, "rim inner diameter (d_f - 2 t_R)",

@@ -39,7 +39,7 @@ import numpy as np
 
 from .. import numerics as nm
 from ..errors import GearoptInputError
-from ..validation import check_range
+from ..validation import check_array, check_range, check_result
 
 
 def web_torsion_shear_MPa(torque_Nm, radius_mm, web_thickness_mm):
@@ -73,6 +73,19 @@ def web_stress(torque_Nm, *, hub_outer_diameter_mm, rim_inner_diameter_mm, web_t
     ``shear_pocket_MPa``, ``shear_MPa`` (critical), ``bending_MPa``, ``von_mises_MPa``.
     """
     check_range("web_thickness_mm", web_thickness_mm, 0.0, None, low_inclusive=False, unit="mm")
+    check_range("hub_outer_diameter_mm", hub_outer_diameter_mm, 0.0, None, low_inclusive=False, unit="mm")
+    check_range("rim_inner_diameter_mm", rim_inner_diameter_mm, 0.0, None, low_inclusive=False, unit="mm")
+    for name, value, unit in (("torque_Nm", torque_Nm, "N m"), ("in_plane_force_N", in_plane_force_N, "N"),
+                              ("axial_force_N", axial_force_N, "N")):  # numbers or arrays (a load history)
+        if isinstance(value, np.ndarray):
+            check_array(name, value, unit=unit)
+        else:
+            check_range(name, value, unit=unit)
+    check_range("nu", nu, 0.0, 0.5, low_inclusive=False, high_inclusive=False)
+    if pocket_pitch_diameter_mm is not None:
+        check_range("pocket_pitch_diameter_mm", pocket_pitch_diameter_mm, hub_outer_diameter_mm
+                    if nm.is_numeric(hub_outer_diameter_mm) else None, rim_inner_diameter_mm
+                    if nm.is_numeric(rim_inner_diameter_mm) else None, unit="mm")
     check_range("pocket_area_fraction", pocket_area_fraction, 0.0, 0.8)
     check_range("stress_concentration", stress_concentration, 1.0, None)
     if nm.is_numeric(hub_outer_diameter_mm, rim_inner_diameter_mm) and \
@@ -89,8 +102,14 @@ def web_stress(torque_Nm, *, hub_outer_diameter_mm, rim_inner_diameter_mm, web_t
         / (1.0 - pocket_area_fraction)
     tau = nm.fmax(tau_hub, tau_pocket)
     sigma_b = 6.0 * clamped_annular_plate_moment_Nmm_per_mm(P, a, b, nu) / t ** 2
-    return {"shear_torsion_hub_MPa": tau_T, "shear_force_hub_MPa": tau_F, "shear_pocket_MPa": tau_pocket,
-            "shear_MPa": tau, "bending_MPa": sigma_b, "von_mises_MPa": nm.sqrt(sigma_b ** 2 + 3.0 * tau ** 2)}
+    out = {"shear_torsion_hub_MPa": tau_T, "shear_force_hub_MPa": tau_F, "shear_pocket_MPa": tau_pocket,
+           "shear_MPa": tau, "bending_MPa": sigma_b, "von_mises_MPa": nm.sqrt(sigma_b ** 2 + 3.0 * tau ** 2)}
+    if nm.is_numeric(*out.values()):
+        check_result("web_stress", out, {"torque_Nm": torque_Nm, "axial_force_N": axial_force_N,
+                                         "hub_outer_diameter_mm": hub_outer_diameter_mm,
+                                         "rim_inner_diameter_mm": rim_inner_diameter_mm,
+                                         "web_thickness_mm": web_thickness_mm})
+    return out
 
 
 def goodman_equivalent_fully_reversed_MPa(alternating_MPa, mean_MPa, ultimate_strength_MPa):

@@ -23,7 +23,7 @@ import numpy as np
 
 from .. import numerics as nm
 from ..errors import GearoptInputError
-from ..validation import check_range
+from ..validation import check_int, check_range
 from ..geometry.pair import GearPair
 from .microgeometry import Microgeometry, lead_deviation_um, misalignment_gap_um, profile_deviation_um
 
@@ -150,8 +150,9 @@ def mesh_layout(pair: GearPair, *, driving_gear: int = 1, positions: int = 40, s
                                 "torque may be symbolic")
     if driving_gear not in (1, 2):
         raise GearoptInputError(f"driving_gear={driving_gear!r} must be 1 or 2")
-    check_range("positions", positions, 2, 100000)
-    check_range("slices", slices, 1, 10000)
+    positions, slices = check_int("positions", positions, 2, 100000), check_int("slices", slices, 1, 10000)
+    check_range("E_MPa", E_MPa, 0.0, None, low_inclusive=False, unit="MPa")
+    check_range("poisson", poisson, 0.0, 0.5, low_inclusive=False, high_inclusive=False)
     g = pair.geometry()
     b = float(min(g["face_width_mm"]))
     d_b = tuple(float(v) for v in g["base_diameter_mm"])

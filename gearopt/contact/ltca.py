@@ -29,10 +29,11 @@ from typing import Any
 import numpy as np
 
 from ..errors import GearoptInputError
-from ..validation import check_range
+from ..validation import check_int, check_range, check_result
 from ..geometry.pair import GearPair
 from .layout import MeshLayout, default_positions, default_slices, hertz_stress_factor, mesh_layout, single_pair_stiffness_profile
 from .microgeometry import Microgeometry
+from .validity import check_ltca_inputs, check_ltca_size
 
 
 @dataclass
@@ -199,11 +200,14 @@ def ltca(pair: GearPair, torque_Nm: float, *, driving_gear: int = 1, microgeomet
         raise GearoptInputError("ltca() is the numeric solver: give a numeric pair (the smooth CasADi form is "
                                 "LTCAModel in gearopt.contact.ltca_smooth)")
     check_range("torque_Nm", torque_Nm, 0.0, None, unit="N*m")
+    check_ltca_inputs(pair, driving_gear, E_MPa, poisson, bulk_temperature_C, friction_coefficient)
     mods = microgeometry or Microgeometry()
     if slices is None:
         slices = default_slices(pair, mods)
     if positions is None:
         positions = default_positions(slices)
+    positions, slices = check_int("positions", positions, 2, 100000), check_int("slices", slices, 1, 10000)
+    check_ltca_size(pair, positions, slices)
     lay = mesh_layout(pair, driving_gear=driving_gear, positions=positions, slices=slices, stiffness=stiffness,
                       E_MPa=E_MPa, poisson=poisson)
     P = positions
@@ -217,6 +221,8 @@ def ltca(pair: GearPair, torque_Nm: float, *, driving_gear: int = 1, microgeomet
     sharing = pair_load / force if force > 0 else np.zeros_like(pair_load)
     sigma = np.sqrt(w * hertz_stress_factor(lay, E_MPa, poisson))
     loaded = (lay.on_path & (closure > 0.0)).sum(axis=(1, 2)) / lay.slices
+    check_result("ltca transmission_error_um / contact_stress_MPa", (delta, sigma),
+                 dict(pair._inputs(), torque_Nm=torque_Nm, positions=positions, slices=slices, E_MPa=E_MPa))
     return LTCAResult(position_roll_deg=lay.position_roll_deg, transmission_error_um=delta,
                       load_sharing=sharing, load_intensity_N_per_mm=w, contact_stress_MPa=sigma,
                       roll_length_1_mm=lay.rho1_mm[:, :, 0], slice_y_mm=lay.slice_y_mm, transverse_force_N=force,

@@ -29,8 +29,9 @@ from typing import Any
 import numpy as np
 
 from .. import numerics as nm
-from ..errors import GearoptInputError
-from ..validation import check_range
+from ..errors import GearoptInputError, NumericalSolveError
+from ..validation import check_int, check_range
+from .validity import check_ltca_inputs, check_ltca_size
 from ..geometry.pair import GearPair
 from .layout import MeshLayout, hertz_stress_factor, mesh_layout
 from .microgeometry import Microgeometry
@@ -123,9 +124,11 @@ class LTCAModel:
                  sliding_smoothing_m_s: float = 0.01) -> None:
         check_range("smoothing_um", smoothing_um, 0.0, None, low_inclusive=False, unit="um")
         check_range("count_width_um", count_width_um, 0.0, None, low_inclusive=False, unit="um")
+        check_ltca_inputs(pair, driving_gear, E_MPa, poisson, bulk_temperature_C, friction_coefficient)
         if slices is None:
             spur = float(pair.geometry()["helix_angle_deg"]) == 0.0
             slices = 1 if spur and not lead_modification else 11
+        check_ltca_size(pair, check_int("positions", positions, 2, 100000), check_int("slices", slices, 1, 10000))
         self.layout = mesh_layout(pair, driving_gear=driving_gear, positions=positions, slices=slices,
                                   stiffness=stiffness, E_MPa=E_MPa, poisson=poisson)
         self.smoothing_um = float(smoothing_um)
@@ -202,6 +205,9 @@ class LTCAModel:
         mods = microgeometry or Microgeometry()
         lay = self.layout
         P = lay.positions
+        if isinstance(torque_Nm, (list, tuple, np.ndarray)):  # load cases: each a number >= 0 or a symbol
+            for i, t in enumerate(torque_Nm.reshape(-1) if isinstance(torque_Nm, np.ndarray) else torque_Nm):
+                check_range(f"torque_Nm[{i}]", t, 0.0, None, unit="N*m")
         torques = _load_cases(torque_Nm)
         L = len(torques)
         e = self.gaps_um(mods)
@@ -218,7 +224,12 @@ class LTCAModel:
         S_all = nm.matrix(np.tile(self._springs, (1, L)), like)
         F_all = nm.hcat([f * np.ones((1, P)) for f in forces])
         X0 = nm.hcat([nm.row(x0_base) + nm.row(f / self._stiffness_sum) + 1e-3 for f in forces])
-        delta = self._approach_map(P * L)(X0, nm.vcat([E_all, S_all, F_all]))
+        try:
+            delta = self._approach_map(P * L)(X0, nm.vcat([E_all, S_all, F_all]))
+        except RuntimeError as exc:  # numeric inputs only: the Newton root of the approach failed
+            raise NumericalSolveError(f"LTCAModel: the approach (Newton root) did not converge at torque_Nm="
+                                      f"{torque_Nm!r}", hint="check the torque and the microgeometry for "
+                                      "implausible magnitudes") from exc
         if not symbolic:
             delta = np.asarray(delta, dtype=float).reshape(-1)
         on_path = np.tile(self._on_path, (1, L))

@@ -13,8 +13,9 @@ from importlib import resources
 from pathlib import Path
 from typing import Any
 
-from ..errors import GearoptInputError
+from ..errors import DataFileError, GearoptInputError
 from ..geometry.train import GearSpec, GearTrain, MeshSpec, RackSpec
+from .schema import parse_data_file, schema_markdown, validate_data
 
 DEFAULT_FILE = "default_train.toml"
 TRAIN_KINDS = ("spur", "helical")
@@ -32,10 +33,14 @@ def load_thesis_tables() -> dict[str, Any]:
 
 
 def load_default_data(path: str | Path | None = None) -> dict[str, Any]:
-    """Parse the default data file (or another file of the same schema) into nested dicts, provenance included."""
+    """Parse the default data file (or another file of the same schema) into nested dicts, provenance included.
+
+    The file is validated against the data schema (``docs/data-schema.md``, :func:`validate_data`): a missing,
+    empty, damaged or non-UTF-8 file, or one with unknown or missing keys, wrong types or values out of range,
+    raises one :class:`~gearopt.errors.DataFileError` naming the file and every offending key path."""
     p = Path(path) if path is not None else default_data_path()
-    with open(p, "rb") as fh:
-        return tomllib.load(fh)
+    data = parse_data_file(p)
+    return validate_data(data, source=str(p))
 
 
 def values(table: dict[str, Any]) -> dict[str, Any]:
@@ -78,10 +83,15 @@ def provenance_tags(table: dict[str, Any]) -> dict[str, str]:
     return tags
 
 
-def train_from_data(data: dict[str, Any], kind: str = "spur") -> GearTrain:
-    """Build a :class:`GearTrain` of ``kind`` ("spur" or "helical") from parsed data of the default schema."""
+def train_from_data(data: dict[str, Any], kind: str = "spur", *, source: str = "<data>") -> GearTrain:
+    """Build a :class:`GearTrain` of ``kind`` ("spur" or "helical") from parsed data of the default schema
+    (validated first; ``source`` names the data in error messages)."""
     if kind not in TRAIN_KINDS:
         raise GearoptInputError(f"kind={kind!r} must be one of {TRAIN_KINDS}")
+    validate_data(data, source=source)
+    if kind not in data["trains"]:
+        raise DataFileError(f"{source}: trains.{kind}: missing table (the data has trains "
+                            f"{', '.join(data['trains'])})")
     d = values(data)
     rack = d["rack"]
     gears = {}
@@ -116,8 +126,8 @@ def train_from_data(data: dict[str, Any], kind: str = "spur") -> GearTrain:
 
 def load_default_train(kind: str = "spur", path: str | Path | None = None) -> GearTrain:
     """The packaged default timing train: ``"spur"`` (the redesign) or ``"helical"`` (the baseline)."""
-    return train_from_data(load_default_data(path), kind)
+    return train_from_data(load_default_data(path), kind, source=str(path or default_data_path()))
 
 
-__all__ = ["default_data_path", "load_default_data", "load_thesis_tables", "load_default_train", "train_from_data", "values",
+__all__ = ["validate_data", "parse_data_file", "schema_markdown", "default_data_path", "load_default_data", "load_thesis_tables", "load_default_train", "train_from_data", "values",
            "missing_provenance", "provenance_tags", "TRAIN_KINDS"]

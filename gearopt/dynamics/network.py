@@ -45,7 +45,7 @@ import numpy as np
 
 from .. import numerics as nm
 from ..errors import GearoptInputError
-from ..validation import check_range
+from ..validation import check_int, check_range
 from .mesh import (
     DEFAULT_CONTACT_WIDTH_M,
     DEFAULT_DAMPING_WIDTH_M,
@@ -145,6 +145,18 @@ class NetworkEquations:
     effective_inertias: ca.Function  # (tau, x, p) -> J_eff of the free nodes [kg m^2]
 
 
+def _check_stiffness_variation(name: str, shape, variation) -> None:
+    """``stiffness_variation`` >= 0 keeping the mesh stiffness 1 + a v(psi) positive over the whole mesh cycle
+    (a negative stiffness has no physical meaning and makes the integration diverge)."""
+    check_range(f"stiffness_variation of {name!r}", variation, 0.0, None)
+    if isinstance(shape, MeshStiffnessShape) and shape.harmonics:
+        low = float(np.min(shape.variation(np.linspace(0.0, 2.0 * np.pi, 1024, endpoint=False))))
+        if low < 0.0 and float(variation) * -low >= 1.0:
+            raise GearoptInputError(f"stiffness_variation of {name!r}={float(variation):g} makes the mesh stiffness "
+                                    f"negative: must be < {1.0 / -low:.4g} for this stiffness shape (its minimum "
+                                    f"variation is {low:.4g})")
+
+
 class TorsionalNetwork:
     """Builder of a torsional network (lumped inertias, shafts, dampers, gear meshes, external torques).
 
@@ -237,13 +249,15 @@ class TorsionalNetwork:
         self._check_node(gear_2, "gear_2")
         if gear_1 == gear_2:
             raise GearoptInputError(f"mesh {name!r} meshes gear {gear_1!r} with itself")
-        radii = tuple(float(r) for r in base_radii_mm)
-        teeth = tuple(int(z) for z in teeth)
-        if len(radii) != 2 or len(teeth) != 2:
-            raise GearoptInputError(f"mesh {name!r}: base_radii_mm and teeth must be 2-tuples (gear 1, gear 2)")
+        if not isinstance(base_radii_mm, (tuple, list)) or not isinstance(teeth, (tuple, list)) \
+                or len(base_radii_mm) != 2 or len(teeth) != 2:
+            raise GearoptInputError(f"mesh {name!r}: base_radii_mm={base_radii_mm!r} and teeth={teeth!r} must be "
+                                    f"2-tuples (gear 1, gear 2)")
         for i in range(2):
-            check_range(f"base_radii_mm[{i}] of {name!r}", radii[i], 0.0, None, low_inclusive=False, unit="mm")
-            check_range(f"teeth[{i}] of {name!r}", teeth[i], 1, None)
+            check_range(f"base_radii_mm[{i}] of {name!r}", base_radii_mm[i], 0.0, 1e5, low_inclusive=False,
+                        unit="mm")
+        radii = tuple(float(r) for r in base_radii_mm)
+        teeth = tuple(check_int(f"teeth[{i}] of {name!r}", z, 1, 100000) for i, z in enumerate(teeth))
         if abs(radii[0] / radii[1] * teeth[1] / teeth[0] - 1.0) > 1e-6:
             raise GearoptInputError(f"mesh {name!r}: base radius ratio {radii[0] / radii[1]:.8f} differs from the "
                                     f"tooth ratio {teeth[0] / teeth[1]:.8f} (limit 1e-6 relative)")
@@ -255,6 +269,7 @@ class TorsionalNetwork:
         check_range(f"base_helix_angle_deg of {name!r}", base_helix_angle_deg, 0.0, 45.0, high_inclusive=False,
                     unit="deg")
         shape = MeshStiffnessShape.constant() if stiffness_shape is None else stiffness_shape
+        _check_stiffness_variation(name, shape, stiffness_variation)
         if not isinstance(shape, MeshStiffnessShape):
             if not callable(shape):
                 raise GearoptInputError(f"stiffness_shape of {name!r} must be a MeshStiffnessShape or a callable")

@@ -44,7 +44,8 @@ from scipy.linalg import lu_solve as scipy_lu_solve
 
 from .. import compile_cache
 from ..errors import GearoptInputError, SolveError
-from ..validation import check_range
+from ..validation import check_int, check_range
+from . import budget
 from .network import ANGLE_UNIT_RAD, OFFSET_PARAMETER, SPEED_PARAMETER, TorsionalNetwork
 
 INTEGRATORS = ("cvodes", "idas", "collocation", "rk")
@@ -179,13 +180,19 @@ class Simulator:
     ``"interpreted"`` or ``"uncached"`` (JIT options passed in ``options``: compiled by CasADi, not cached); run-time gains are measured in ``benchmarks/results/dynamics_speed.json``),
     ``external_torques`` (also record the external torques, which re-evaluates the excitation at every output),
     ``contact_quadratures`` (integrate the contact-indicator variations, lash model; about 15 % of the run time on the
-    default train -- without them only the sampled contact counts are reported).
+    default train -- without them only the sampled contact counts are reported), the budgets ``max_steps_per_cycle``
+    (estimated steps per cycle before a run; also CVODES/IDAS ``max_num_steps``) and ``max_wall_time_s`` (checked
+    between cycles), each raising :class:`~gearopt.errors.BudgetExceededError` (:mod:`gearopt.dynamics.budget`).
     """
 
     def __init__(self, network: TorsionalNetwork, *, lash: bool = True, method: str = "cvodes", rtol: float = 1e-6,
                  atol: float | None = None, output_step_deg: float = 0.25, max_step_deg: float | None = None,
                  min_speed_rpm: float = 700.0, fixed_step_deg: float = 0.02, options: dict | None = None,
-                 jit: bool = False, external_torques: bool = False, contact_quadratures: bool = True):
+                 jit: bool = False, external_torques: bool = False, contact_quadratures: bool = True,
+                 max_steps_per_cycle: int = budget.DEFAULT_MAX_STEPS_PER_CYCLE,
+                 max_wall_time_s: float = budget.DEFAULT_MAX_WALL_TIME_S):
+        self.max_steps_per_cycle, self.max_wall_time_s = budget.check_budget_settings(max_steps_per_cycle,
+                                                                                      max_wall_time_s)
         if method not in INTEGRATORS:
             raise GearoptInputError(f"method={method!r} must be one of {INTEGRATORS}")
         check_range("rtol", rtol, 0.0, 1e-2, low_inclusive=False)
@@ -218,7 +225,8 @@ class Simulator:
             dae["quad"] = quad
         opts = {}
         if method in ("cvodes", "idas"):
-            opts.update({"reltol": self.rtol, "abstol": self.atol, "max_num_steps": 10 ** 7})
+            opts.update({"reltol": self.rtol, "abstol": self.atol,
+                         "max_num_steps": min(10 ** 7, self.max_steps_per_cycle)})
             if self.max_step_deg is not None:
                 opts["max_step_size"] = math.radians(self.max_step_deg)
         else:
@@ -484,8 +492,8 @@ class Simulator:
         ``GearoptInputError`` below ``min_speed_rpm`` (the impact step limit would not hold).
         """
         check_range("speed_rpm", speed_rpm, self.min_speed_rpm, None, unit="rpm")
-        check_range("cycles", cycles, 1, None)
-        check_range("run_in_cycles", run_in_cycles, 0, None)
+        cycles = check_int("cycles", cycles, 1, budget.MAX_CYCLES)
+        run_in_cycles = check_int("run_in_cycles", run_in_cycles, 0, budget.MAX_CYCLES)
         if steady_state_tol is not None:
             check_range("steady_state_tol", steady_state_tol, 0.0, None, low_inclusive=False)
         if steady_state not in ("run-in", "shooting"):
@@ -493,6 +501,7 @@ class Simulator:
         if on_shooting_failure not in ("raise", "run-in"):
             raise GearoptInputError(f"on_shooting_failure={on_shooting_failure!r} must be 'raise' or 'run-in'")
         t_start = time.perf_counter()
+        budget.check_step_budget(self.network, float(speed_rpm), self.max_step_deg, self.max_steps_per_cycle)
         pvec = self.parameter_vector(speed_rpm, parameters)
         i_off = self.eq.parameter_names.index(OFFSET_PARAMETER)
         x = self.static_state(speed_rpm, parameters) if x0 is None else np.asarray(x0, dtype=float).reshape(-1)
@@ -527,7 +536,8 @@ class Simulator:
                 break
             p = pvec.copy()
             p[i_off] = cycle * self.cycle_rad
-            res = self.integrator(x0=x, p=p)
+            budget.check_wall_time(t_start, self.max_wall_time_s, cycle)
+            res = budget.integrate(self.integrator, x, p, self.options.get("max_num_steps", 0))
             xs = res["xf"].full()
             stats = self.integrator.stats()
             nsteps.append(stats.get("nsteps", stats.get("n_step", 0)))

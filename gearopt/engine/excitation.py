@@ -79,6 +79,9 @@ def crank_torque(crank_angle_deg, speed_rpm, bore_mm, stroke_mm, rod_length_mm, 
     check_values("reciprocating_mass_kg", reciprocating_mass_kg, 0.0, unit="kg")
     check_values("cylinder_pressure_bar", cylinder_pressure_bar, unit="bar")
     check_values("crank_acceleration_rad_s2", crank_acceleration_rad_s2, unit="rad/s^2")
+    check_values("crank_angle_deg", crank_angle_deg, -1e6, 1e6, unit="deg")  # beyond, float angles lose degrees
+    check_values("crankcase_pressure_bar", crankcase_pressure_bar, 0.0, 50.0, unit="bar")
+    check_values("cylinder_pressure_bar", cylinder_pressure_bar, -50.0, 1e4, unit="bar")
     k = slider_crank(crank_angle_deg * (math.pi / 180.0), 0.5 * stroke_mm, rod_length_mm)
     area = 0.25 * math.pi * bore_mm * bore_mm
     return _torques_from_kinematics(k, speed_rpm * _RPM_TO_RAD_S, crank_acceleration_rad_s2,
@@ -142,9 +145,10 @@ class EngineExcitation:
             from ..data import load_default_data
             data = load_default_data()
         e = data["engine"]
-        speed = float(e["rated_speed_rpm"] if speed_rpm is None else speed_rpm)
+        speed = e["rated_speed_rpm"] if speed_rpm is None else speed_rpm
         check_values("speed_rpm", speed, 0.0, low_inclusive=False, unit="rpm")
         check_values("load", load, 0.0, 1.0)
+        speed = float(speed)
         if pressure == "table":
             p = CylinderPressure.from_data(data, harmonics=harmonics)
         elif pressure == "wiebe":
@@ -258,6 +262,10 @@ class EngineExcitation:
 
     def total_torque_Nm(self, crank_angle_rad, speed_rad_s, crank_accel_rad_s2=0.0, **pressure):
         """Sum of all cylinders' torques [N m] (rigid-crank resultant); arguments as above."""
+        for name, value, unit in (("crank_angle_rad", crank_angle_rad, "rad"), ("speed_rad_s", speed_rad_s, "rad/s"),
+                                  ("crank_accel_rad_s2", crank_accel_rad_s2, "rad/s^2")):
+            for v in (value if isinstance(value, (list, tuple)) else (value,)):  # one value or one per cylinder
+                check_values(name, v, unit=unit)
         return nm.sum1(self.cylinder_torques_Nm(crank_angle_rad, speed_rad_s, crank_accel_rad_s2, **pressure))
 
     def reciprocating_inertia_kgm2(self, cylinder: int, crank_angle_rad):

@@ -22,7 +22,7 @@ import numpy as np
 
 from .. import numerics as nm
 from ..errors import GearoptInputError
-from ..validation import check_range
+from ..validation import as_number, check_range
 
 
 def check_values(name: str, value, low: float | None = None, high: float | None = None, *,
@@ -33,6 +33,12 @@ def check_values(name: str, value, low: float | None = None, high: float | None 
     """
     if nm.is_symbolic(value):
         return
+    if isinstance(value, (tuple, list)):  # arithmetic on a tuple fails later: arrays must be numpy arrays
+        raise GearoptInputError(f"{name}={value!r:.80} must be a number or a numpy array, not a {type(value).__name__}")
+    if not isinstance(value, np.ndarray) and not nm.is_casadi(value):
+        as_number(name, value)  # rejects strings, bools and None by name
+    elif isinstance(value, np.ndarray) and value.dtype.kind not in "iuf":
+        raise GearoptInputError(f"{name} must be an array of real numbers (dtype {value.dtype})")
     try:
         arr = np.asarray(nm.value(value), dtype=float).reshape(-1)
     except (TypeError, ValueError, RuntimeError):

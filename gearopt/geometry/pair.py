@@ -20,7 +20,7 @@ from typing import Any
 
 from .. import numerics as nm
 from ..errors import GearoptInputError, GeometryError
-from ..validation import check_range, per_gear
+from ..validation import check_int, check_names, check_per_gear, check_range, check_result, per_gear
 from ..units import DEG_PER_RAD, RAD_PER_DEG
 from . import involute as inv
 from .shift import (check_centre_distance_reachable, iso_tr_4467_shift_limits, shift_split_iso_tr_4467,
@@ -32,14 +32,15 @@ from .tolerances import PairTolerances, transverse_backlash_mm
 Number = Any  # float, numpy scalar or CasADi expression
 
 
+MAX_TEETH = 10000  # plausibility limit of a tooth count (large ring gears have a few hundred)
+
+
 def _check_teeth(teeth) -> tuple[int, int]:
     if not isinstance(teeth, (tuple, list)) or len(teeth) != 2:
         raise GearoptInputError(f"teeth={teeth!r} must be a 2-tuple of integers (gear 1, gear 2)")
     out = []
     for i, z in enumerate(teeth):
-        if isinstance(z, bool) or not float(z).is_integer():
-            raise GearoptInputError(f"teeth[{i}]={z!r} must be an integer")
-        z = int(z)
+        z = check_int(f"teeth[{i}]", z, None, MAX_TEETH)
         if z < 5:
             raise GearoptInputError(f"teeth[{i}]={z} is below the limit 5 for an external involute gear")
         out.append(z)
@@ -141,6 +142,10 @@ class GearPair:
                 check_range(f"tip_diameters_mm[{i}]", da, 0.0, None, low_inclusive=False, unit="mm")
         if opts.get("tolerances") is None:
             opts.pop("tolerances", None)
+        if "names" in opts:
+            opts["names"] = check_names("names", opts["names"])
+        if "tip_shortening" in opts and not isinstance(opts["tip_shortening"], bool):
+            raise GearoptInputError(f"tip_shortening={opts['tip_shortening']!r} must be True or False")
         for key in ("addendum_coefficient", "dedendum_coefficient"):
             if key in opts:
                 check_range(key, opts[key], 0.0, 3.0, low_inclusive=False)
@@ -343,13 +348,30 @@ class GearPair:
         ``*_roll_deg`` are roll angles (rho / r_b) of SAP, EAP, LPSTC, HPSTC and the pitch point on each gear.
         ``specific_sliding_root`` are gear 1's specific sliding at A and gear 2's at E (their roots; negative).
         Fields are read as attributes (``g.centre_distance_mm``) or, as a read-only mapping, by key.
+        A numeric pair whose geometry would hold NaN or an infinity raises
+        :class:`~gearopt.errors.NonFiniteResultError` naming the quantity and the pair's inputs.
         """
         return self._record
 
     @cached_property
     def _record(self) -> PairGeometry:
         record = PairGeometry(**self._geometry)
-        return record if self.is_symbolic else record.map_values(nm.to_float)
+        if self.is_symbolic:
+            return record
+        record = record.map_values(nm.to_float)
+        check_result(f"{self._label()} geometry", record, self._inputs())
+        return record
+
+    def _inputs(self) -> dict:
+        """The defining numbers of a numeric pair, for error messages."""
+        return {"teeth": self.teeth, "module_mm": nm.to_float(self.module_mm),
+                "pressure_angle_deg": nm.to_float(self.pressure_angle_deg),
+                "helix_angle_deg": nm.to_float(self.helix_angle_deg),
+                "profile_shifts": tuple(round(nm.to_float(x), 6) for x in self.profile_shifts),
+                "centre_distance_mm": round(nm.to_float(self.centre_distance_mm), 6),
+                "face_width_mm": tuple(nm.to_float(b) for b in self.face_width_mm),
+                "tip_diameters_mm": None if self.tip_diameters_mm is None
+                else tuple(nm.to_float(d) for d in self.tip_diameters_mm)}
 
     # ------------------------------------------------------------------------------------------------------------
     # checks and constraints
@@ -370,6 +392,8 @@ class GearPair:
         - ``shift_upper_margin_i`` / ``shift_lower_margin_i``: ISO/TR 4467 recommended limits (thesis Eqs. 3.8-3.12).
         - ``backlash_margin_mm``: smallest normal backlash - ``min_backlash_mm`` (skip with ``None``).
         """
+        _check_limits(min_tip_thickness_ratio, min_contact_ratio, worst_case, iso_tr_4467_limits,
+                      min_bottom_clearance_ratio, min_backlash_mm)
         g = self._geometry
         m = self.module_mm
         out: dict[str, Any] = {}
@@ -401,8 +425,15 @@ class GearPair:
         """
         if self.is_symbolic:
             raise GearoptInputError("check() needs numeric inputs; impose constraints() in the problem instead")
+        allowed = {"min_tip_thickness_ratio", "min_contact_ratio", "worst_case", "iso_tr_4467_limits",
+                   "min_bottom_clearance_ratio", "min_backlash_mm"}
+        unknown = sorted(set(limits) - allowed)
+        if unknown:
+            raise GearoptInputError(f"unknown limit(s) {unknown} for check(); allowed: {sorted(allowed)}")
         margins = {k: nm.to_float(v) for k, v in self.constraints(**limits).items()}
-        problems = [self._explain(name, value, limits) for name, value in margins.items() if value < -1e-12]
+        problems = [f"{name} is NaN: the geometry is undefined here ({self._inputs()})"
+                    for name, value in margins.items() if value != value]
+        problems += [self._explain(name, value, limits) for name, value in margins.items() if value < -1e-12]
         if problems:
             raise GeometryError(f"{self._label()}: " + "; ".join(problems))
 
@@ -473,10 +504,22 @@ class GearPair:
             return None
 
 
+def _check_limits(min_tip_thickness_ratio, min_contact_ratio, worst_case, iso_tr_4467_limits,
+                  min_bottom_clearance_ratio, min_backlash_mm) -> None:
+    """The limits of :meth:`GearPair.constraints`: finite numbers in plausible ranges, flags as bools."""
+    check_range("min_tip_thickness_ratio", min_tip_thickness_ratio, 0.0, 2.0)
+    check_range("min_contact_ratio", min_contact_ratio, 0.0, 10.0)
+    check_range("min_bottom_clearance_ratio", min_bottom_clearance_ratio, -1.0, 2.0)
+    if min_backlash_mm is not None:
+        check_range("min_backlash_mm", min_backlash_mm, -100.0, 100.0, unit="mm")
+    for name, flag in (("worst_case", worst_case), ("iso_tr_4467_limits", iso_tr_4467_limits)):
+        if not isinstance(flag, bool):
+            raise GearoptInputError(f"{name}={flag!r} must be True or False")
+
+
 def _check_scalars(module_mm, pressure_angle_deg, helix_angle_deg, face_width_mm) -> None:
     check_range("module_mm", module_mm, 0.0, None, low_inclusive=False, unit="mm")
     check_range("pressure_angle_deg", pressure_angle_deg, 0.0, 45.0, low_inclusive=False, high_inclusive=False,
                 unit="deg")
     check_range("helix_angle_deg", helix_angle_deg, 0.0, 45.0, high_inclusive=False, unit="deg")
-    for i, b in enumerate(per_gear(face_width_mm, "face_width_mm")):
-        check_range(f"face_width_mm[{i}]", b, 0.0, None, low_inclusive=False, unit="mm")
+    check_per_gear("face_width_mm", face_width_mm, 0.0, None, low_inclusive=False, unit="mm")

@@ -9,6 +9,7 @@ import math
 
 from .. import numerics as nm
 from ..errors import GeometryError, GearoptInputError
+from ..validation import as_number
 
 
 def working_pressure_angle_from_centre_distance(reference_centre_distance_mm, centre_distance_mm,
@@ -68,7 +69,7 @@ def shift_split_iso_tr_4467(teeth: tuple[int, int], sum_profile_shift, split=0.5
     """
     z1, z2 = teeth
     if nm.is_numeric(split):
-        lam = nm.to_float(split)
+        lam = as_number("shift_split", split)
         if not -0.5 <= lam <= 1.5:
             raise GearoptInputError(f"shift_split (ISO/TR 4467 lambda)={lam:g} outside its range [-0.5, 1.5] "
                                     f"(recommended 0..0.75)")

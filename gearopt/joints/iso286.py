@@ -20,6 +20,7 @@ from __future__ import annotations
 import re
 
 from ..errors import GearoptInputError
+from ..validation import check_range
 
 #: Nominal size ranges (over, up to and including) [mm] of the IT table.
 _IT_RANGES_MM = ((10.0, 18.0), (18.0, 30.0), (30.0, 50.0), (50.0, 80.0), (80.0, 120.0), (120.0, 180.0))
@@ -99,6 +100,9 @@ def fit_interference_um(nominal_mm: float, fit: str) -> dict:
     Returns ``min_um`` (ei - ES), ``max_um`` (es - EI), ``mean_um`` and the four deviations. ``min_um < 0`` means
     the fit can be a clearance at its limits.
     """
+    check_range("nominal_mm", nominal_mm, 0.0, 3150.0, low_inclusive=False, unit="mm")  # ISO 286-1 sizes
+    if not isinstance(fit, str):
+        raise GearoptInputError(f"fit={fit!r} must be a string like 'H7/r6' (hole/shaft)")
     parts = str(fit).split("/")
     if len(parts) != 2:
         raise GearoptInputError(f"fit={fit!r} must look like 'H7/r6' (hole/shaft)")

@@ -23,8 +23,11 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
+
 from .. import numerics as nm
 from ..errors import GearoptInputError
+from ..validation import check_choice, check_result
 from ._checks import check_range_any as check_range
 
 #: DIN 7190 smoothing rules: diametral loss = factor x (Rz_shaft + Rz_hub).
@@ -106,6 +109,7 @@ def von_mises_plane_MPa(sigma_1, sigma_2):
 def _check_press_fit(d, di, do, length, delta, Es, nus, Eh, nuh, mu):
     check_range("shaft_diameter_mm", d, 0.0, None, low_inclusive=False, unit="mm")
     check_range("shaft_bore_mm", di, 0.0, None, unit="mm")
+    check_range("hub_outer_diameter_mm", do, 0.0, None, low_inclusive=False, unit="mm")
     if nm.is_numeric(d, di) and nm.to_float(di) >= nm.to_float(d):
         raise GearoptInputError(f"shaft_bore_mm={nm.to_float(di):g} mm must be smaller than shaft_diameter_mm="
                                 f"{nm.to_float(d):g} mm (bore >= diameter leaves no shaft wall)")
@@ -144,11 +148,13 @@ def press_fit(shaft_diameter_mm, shaft_bore_mm, hub_outer_diameter_mm, length_mm
     effective interference is <= 0, pressure then 0), ``pressure_MPa``, ``friction_force_N`` = ``axial_capacity_N``
     (mu p pi d l), ``torque_capacity_Nm`` (F d/2), ``torque_capacity_with_axial_Nm`` (d/2 sqrt(F^2 - F_a^2): the
     friction-force resultant of combined torque and axial load), ``release_speed_rpm`` (speed at which the
-    centrifugal loss eats the interference), stresses ``hub_hoop_stress_MPa`` (at the bore, including the
+    centrifugal loss eats the interference; ``inf`` when the fit is never released: zero centrifugal loss per
+    rpm^2, e.g. a vanishing fit diameter), stresses ``hub_hoop_stress_MPa`` (at the bore, including the
     centrifugal hoop stress), ``hub_radial_stress_MPa`` (-p), ``hub_von_mises_MPa`` (bore),
     ``hub_outer_hoop_stress_MPa``, ``shaft_hoop_stress_MPa`` (at the fit surface), ``shaft_radial_stress_MPa``,
     ``shaft_von_mises_MPa`` (largest: at the bore of a hollow shaft, uniform p in a solid one), and
-    ``hub_yield_safety``/``shaft_yield_safety`` when the yield strengths are given.
+    ``hub_yield_safety``/``shaft_yield_safety`` when the yield strengths are given (``inf`` at zero stress). A NaN in
+    any output raises :class:`~gearopt.errors.NonFiniteResultError` naming it and the inputs.
 
     Validity: elastic members (check the yield safeties), equal lengths, plane stress; 0 < nu < 0.5.
     """
@@ -156,6 +162,7 @@ def press_fit(shaft_diameter_mm, shaft_bore_mm, hub_outer_diameter_mm, length_mm
     _check_press_fit(d, di, do, l, interference_um, shaft_E_MPa, shaft_nu, hub_E_MPa, hub_nu, friction)
     if smoothing_loss_um is not None and roughness_Rz_um is not None:
         raise GearoptInputError("give either smoothing_loss_um or roughness_Rz_um, not both")
+    check_choice("smoothing_rule", smoothing_rule, tuple(SMOOTHING_FACTORS))
     if roughness_Rz_um is not None:
         if not isinstance(roughness_Rz_um, (tuple, list)) or len(roughness_Rz_um) != 2:
             raise GearoptInputError(f"roughness_Rz_um={roughness_Rz_um!r} must be (Rz_shaft, Rz_hub) in um")
@@ -166,6 +173,15 @@ def press_fit(shaft_diameter_mm, shaft_bore_mm, hub_outer_diameter_mm, length_mm
     check_range("speed_rpm", speed_rpm, 0.0, None, unit="rpm")
     for name, v in (("shaft_density_kg_m3", shaft_density_kg_m3), ("hub_density_kg_m3", hub_density_kg_m3)):
         check_range(name, v, 0.0, None, low_inclusive=False, unit="kg/m^3")
+    for name, v in (("shaft_temperature_C", shaft_temperature_C), ("hub_temperature_C", hub_temperature_C),
+                    ("reference_temperature_C", reference_temperature_C)):
+        check_range(name, v, ABSOLUTE_ZERO_C, 2000.0, unit="degC")
+    for name, v in (("shaft_expansion_per_K", shaft_expansion_per_K), ("hub_expansion_per_K", hub_expansion_per_K)):
+        check_range(name, v, 0.0, 1e-3, unit="1/K")
+    check_range("axial_force_N", axial_force_N, 0.0, None, unit="N")
+    for name, v in (("shaft_yield_MPa", shaft_yield_MPa), ("hub_yield_MPa", hub_yield_MPa)):
+        if v is not None:
+            check_range(name, v, 0.0, None, low_inclusive=False, unit="MPa")
 
     thermal = thermal_interference_change_um(d, shaft_temperature_C, hub_temperature_C, reference_temperature_C,
                                              shaft_expansion_per_K, hub_expansion_per_K)
@@ -193,7 +209,7 @@ def press_fit(shaft_diameter_mm, shaft_bore_mm, hub_outer_diameter_mm, length_mm
     shaft_bore_hoop = -2.0 * p * d ** 2 / (d ** 2 - di ** 2)
     hollow = nm.is_symbolic(di) or nm.to_float(di) > 0.0
     shaft_vm = nm.fabs(shaft_bore_hoop) if hollow else p
-    release_rpm = nm.sqrt(nm.fmax(at_rest, 0.0) / loss_per_rpm2)
+    release_rpm = _release_speed_rpm(at_rest, loss_per_rpm2)
 
     out = {
         "smoothing_loss_um": loss,
@@ -218,10 +234,43 @@ def press_fit(shaft_diameter_mm, shaft_bore_mm, hub_outer_diameter_mm, length_mm
         lost = nm.value(effective) <= 0.0
         out["fit_lost"] = bool(lost) if isinstance(lost, (bool,)) or getattr(lost, "ndim", 0) == 0 else lost
     if hub_yield_MPa is not None:
-        out["hub_yield_safety"] = hub_yield_MPa / hub_vm
+        out["hub_yield_safety"] = _safety(hub_yield_MPa, hub_vm)
     if shaft_yield_MPa is not None:
-        out["shaft_yield_safety"] = shaft_yield_MPa / shaft_vm
+        out["shaft_yield_safety"] = _safety(shaft_yield_MPa, shaft_vm)
+    if nm.is_numeric(*[v for v in out.values() if not isinstance(v, (bool, str))]):
+        check_result("press_fit", {k: v for k, v in out.items() if k not in INFINITE_OK}, {
+            "shaft_diameter_mm": d, "shaft_bore_mm": di, "hub_outer_diameter_mm": do, "length_mm": l,
+            "interference_um": interference_um, "speed_rpm": speed_rpm})
+        check_result("press_fit", {k: out[k] for k in INFINITE_OK if k in out}, {"shaft_diameter_mm": d},
+                     allow_inf=True)
     return out
+
+
+#: Outputs of :func:`press_fit` that may be ``+inf``: ``release_speed_rpm`` when the centrifugal loss never eats
+#: the interference (no loss per rpm^2, e.g. a vanishing fit diameter), the yield safeties when the stress is zero.
+INFINITE_OK = ("release_speed_rpm", "hub_yield_safety", "shaft_yield_safety")
+ABSOLUTE_ZERO_C = -273.15
+
+
+def _release_speed_rpm(at_rest_um, loss_per_rpm2_um):
+    """Speed at which the centrifugal loss eats the interference at rest: sqrt(at_rest / loss per rpm^2); 0 if no
+    interference is left at rest, ``inf`` (never released) when the centrifugal loss per rpm^2 is zero. Dual-typed
+    (the symbolic form assumes a positive loss per rpm^2)."""
+    if nm.is_numeric(at_rest_um, loss_per_rpm2_um):
+        rest = np.maximum(np.asarray(nm.value(at_rest_um), dtype=float), 0.0)
+        loss = np.asarray(nm.value(loss_per_rpm2_um), dtype=float)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            rpm = np.where(rest <= 0.0, 0.0, np.where(loss > 0.0, np.sqrt(rest / np.where(loss > 0.0, loss, 1.0)),
+                                                       np.inf))
+        return float(rpm) if rpm.ndim == 0 else rpm
+    return nm.sqrt(nm.fmax(at_rest_um, 0.0) / loss_per_rpm2_um)
+
+
+def _safety(strength, stress):
+    """strength / stress, ``inf`` for a zero stress (a margin with zero demand). Dual-typed."""
+    if nm.is_numeric(strength, stress) and np.ndim(nm.value(stress)) == 0 and nm.to_float(stress) == 0.0:
+        return math.inf
+    return strength / stress
 
 
 def shrink_fit_assembly_temperature_C(shaft_diameter_mm, max_interference_um, assembly_clearance_um=0.0,

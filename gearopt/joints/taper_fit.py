@@ -35,8 +35,11 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
+
 from .. import numerics as nm
 from ..errors import GearoptInputError
+from ..validation import check_result
 from ._checks import check_range_any as check_range
 from .bolt import bolt_preload_N as _preload_from_nut_torque
 
@@ -78,7 +81,8 @@ def taper_fit(large_diameter_mm, small_diameter_mm, half_angle_deg, friction, bo
     ``friction_radius_mm``, ``taper_length_mm`` ((D - d)/(2 tan(theta))), ``contact_pressure_MPa`` (mean for
     uniform pressure, peak at the small end for uniform wear), ``contact_pressure_engagement_friction_MPa``,
     ``self_locking`` (tan(theta) < mu, numeric only) and, with ``hub_outer_diameter_mm``, ``hub_hoop_stress_MPa``
-    and ``hub_von_mises_MPa`` (Lame, at the bore) and with ``hub_yield_MPa`` the ``hub_yield_safety``.
+    and ``hub_von_mises_MPa`` (Lame, at the bore) and with ``hub_yield_MPa`` the ``hub_yield_safety`` (``inf`` without
+    preload: a margin with zero demand).
 
     Errors: half angle outside (0, 45) deg, friction outside (0, 1), small diameter >= large diameter, no or two
     preload inputs.
@@ -90,6 +94,10 @@ def taper_fit(large_diameter_mm, small_diameter_mm, half_angle_deg, friction, bo
     if (bolt_preload_N is None) == (nut_torque_Nm is None):
         raise GearoptInputError("give exactly one of bolt_preload_N or nut_torque_Nm (with nut_factor and "
                                 "thread_diameter_mm)")
+    if hub_yield_MPa is not None:
+        check_range("hub_yield_MPa", hub_yield_MPa, 0.0, None, low_inclusive=False, unit="MPa")
+    if hub_outer_diameter_mm is not None:
+        check_range("hub_outer_diameter_mm", hub_outer_diameter_mm, 0.0, None, low_inclusive=False, unit="mm")
     if bolt_preload_N is None:
         if thread_diameter_mm is None:
             raise GearoptInputError("nut_torque_Nm needs thread_diameter_mm (nominal thread diameter of the nut)")
@@ -132,8 +140,17 @@ def taper_fit(large_diameter_mm, small_diameter_mm, half_angle_deg, friction, bo
         out["hub_hoop_stress_MPa"] = hoop
         out["hub_von_mises_MPa"] = vm
         if hub_yield_MPa is not None:
-            out["hub_yield_safety"] = hub_yield_MPa / vm
+            out["hub_yield_safety"] = hub_yield_MPa / vm if not _is_zero(vm) else math.inf
+    numbers = {k: v for k, v in out.items() if not isinstance(v, (bool, str))}
+    if nm.is_numeric(*numbers.values()):
+        check_result("taper_fit", {k: v for k, v in numbers.items() if k != "hub_yield_safety"},
+                     {"large_diameter_mm": D, "small_diameter_mm": d, "half_angle_deg": theta_deg, "friction": mu,
+                      "bolt_preload_N": bolt_preload_N, "nut_torque_Nm": nut_torque_Nm})
     return out
+
+
+def _is_zero(x) -> bool:
+    return nm.is_numeric(x) and np.ndim(nm.value(x)) == 0 and nm.to_float(x) == 0.0
 
 
 def taper_slip_utilisation(torque_Nm, axial_force_off_N, torque_capacity_Nm, bolt_preload_N):

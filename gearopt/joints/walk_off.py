@@ -44,6 +44,7 @@ import pandas as pd
 
 from .. import numerics as nm
 from ..errors import GearoptInputError
+from ._checks import check_range_any
 from ..geometry.train import GearTrain
 from ..units import RAD_PER_DEG
 
@@ -91,6 +92,8 @@ def _check_mesh_torques(train: GearTrain, mesh_torques_Nm: Mapping[str, Any]) ->
     if unknown:
         raise GearoptInputError(f"mesh_torques_Nm names unknown meshes {sorted(unknown)}; train meshes: "
                                 f"{list(train.meshes)}")
+    for name, torque in mesh_torques_Nm.items():
+        check_range_any(f"mesh_torques_Nm[{name!r}]", torque, unit="N m")
 
 
 def walk_off(train: GearTrain, mesh_torques_Nm: Mapping[str, Any], *, root_rotation: str = "cw",
@@ -197,6 +200,14 @@ def _safe_ratio(capacity, demand):
     return float(r) if r.ndim == 0 else r
 
 
+def _load_ratio(demand, capacity):
+    """|demand|/capacity (numeric): ``inf`` for a load on a zero capacity, 0 without load."""
+    dem = np.abs(np.asarray(nm.value(demand), dtype=float))
+    cap = np.asarray(nm.value(capacity), dtype=float)
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        return np.where(dem > 0.0, np.where(cap > 0.0, dem / np.where(cap > 0.0, cap, 1.0), np.inf), 0.0)
+
+
 def press_fit_slip_utilisation(torque_Nm, axial_force_N, torque_capacity_Nm, axial_capacity_N):
     """Slip utilisation of a press fit [-]: the friction-force resultant of circumferential and axial load over the
     friction capacity, ``sqrt((T/T_cap)^2 + (F_a/F_cap)^2)`` (T_cap = F_cap d/2). Slip when > 1. Smooth except at
@@ -211,7 +222,19 @@ def joint_margins(joint_type: str, torque_Nm, axial_force_N, torque_capacity_Nm,
     ``joint_type``: ``"press_fit"`` or ``"taper_nut"`` (for a taper the axial force is taken as pulling the hub off
     the taper -- the worst case when the taper's orientation is not known).
     """
-    if joint_type == "press_fit":
+    if joint_type not in ("press_fit", "taper_nut"):
+        raise GearoptInputError(f"joint_type={joint_type!r} must be 'press_fit' or 'taper_nut'")
+    check_range_any("torque_Nm", torque_Nm, unit="N m")
+    check_range_any("axial_force_N", axial_force_N, unit="N")
+    check_range_any("torque_capacity_Nm", torque_capacity_Nm, 0.0, None, unit="N m")  # 0: a lost fit
+    check_range_any("axial_capacity_N", axial_capacity_N, 0.0, None, unit="N")
+    if not nm.is_symbolic(torque_Nm, axial_force_N, torque_capacity_Nm, axial_capacity_N):
+        # numeric: a zero capacity (a lost fit) gives an infinite utilisation under load, never 0/0
+        t = _load_ratio(torque_Nm, torque_capacity_Nm)
+        a = _load_ratio(axial_force_N, axial_capacity_N)
+        u = np.sqrt(t * t + a * a) if joint_type == "press_fit" else t + a
+        u = float(u) if np.ndim(u) == 0 else u
+    elif joint_type == "press_fit":
         u = press_fit_slip_utilisation(torque_Nm, axial_force_N, torque_capacity_Nm, axial_capacity_N)
     elif joint_type == "taper_nut":
         u = nm.fabs(torque_Nm) / torque_capacity_Nm + nm.fabs(axial_force_N) / axial_capacity_N

@@ -7,6 +7,8 @@ as float arrays with ``-inf``/``+inf`` for a missing side; every array has one e
 
 from __future__ import annotations
 
+import warnings
+
 import inspect
 import os
 from dataclasses import dataclass
@@ -121,12 +123,24 @@ def check_name(name: object, kind: str) -> str:
     return name
 
 
-def as_elements(value: ArrayLike, size: int, *, owner: str, what: str, unit: str = "") -> np.ndarray:
+#: Ipopt's default ``nlp_lower_bound_inf``/``nlp_upper_bound_inf``: bounds at or beyond it mean "no bound".
+IPOPT_INFINITY = 1e19
+#: Largest magnitude of initial guesses, parameter values and scales (as ``gearopt.validation.MAX_MAGNITUDE``).
+MAX_MAGNITUDE = 1e15
+
+
+def as_elements(value: ArrayLike, size: int, *, owner: str, what: str, unit: str = "",
+                max_magnitude: float = MAX_MAGNITUDE) -> np.ndarray:
     """Broadcast a scalar or a length-``size`` array to a float array of shape ``(size,)``, all finite.
 
     Raises :class:`GearoptInputError` naming ``owner`` and ``what`` for a wrong length, a non-number (e.g. a CasADi
     expression where a number is required) or a NaN/Inf entry.
     """
+    raw = value if isinstance(value, np.ndarray) else None
+    if isinstance(value, (str, bytes, bool, np.bool_)) or value is None \
+            or (raw is not None and raw.dtype.kind not in "iuf"):
+        raise GearoptInputError(f"{owner}: {what}={value!r:.60} must be a number or an array of numbers "
+                                f"(not a {type(value).__name__})")
     try:
         arr = np.asarray(value, dtype=float).ravel()
     except (TypeError, ValueError, RuntimeError, NotImplementedError) as exc:
@@ -144,14 +158,28 @@ def as_elements(value: ArrayLike, size: int, *, owner: str, what: str, unit: str
         raise GearoptInputError(
             f"{owner}: {what}={float(arr[bad][0])}{u} at element {int(np.flatnonzero(bad)[0])} is not finite; "
             f"limit: a finite number{advice}")
+    big = np.abs(arr) > max_magnitude
+    if big.any():
+        u = f" {unit}" if unit else ""
+        raise GearoptInputError(f"{owner}: {what}={float(arr[big][0]):g}{u} at element {int(np.flatnonzero(big)[0])} "
+                                f"is beyond the plausible magnitude {max_magnitude:g}{u}")
     return arr
 
 
 def as_bound(value: ArrayLike | None, size: int, *, owner: str, what: str, unit: str, missing: float) -> np.ndarray:
-    """Like :func:`as_elements`, but ``None`` means no bound and gives an array filled with ``missing`` (±inf)."""
+    """Like :func:`as_elements`, but ``None`` means no bound and gives an array filled with ``missing`` (±inf);
+    finite bounds at or beyond Ipopt's infinity (:data:`IPOPT_INFINITY`) are treated as no bound, with a warning
+    (Ipopt would otherwise take 1e200 as a real bound and its barrier terms would overflow)."""
     if value is None:
         return np.full(size, missing)
-    return as_elements(value, size, owner=owner, what=what, unit=unit)
+    arr = as_elements(value, size, owner=owner, what=what, unit=unit, max_magnitude=np.inf)
+    beyond = np.abs(arr) >= IPOPT_INFINITY
+    if beyond.any():
+        warnings.warn(f"{owner}: {what} bound {float(arr[beyond][0]):g} is at or beyond Ipopt's infinity "
+                      f"{IPOPT_INFINITY:g}: treated as no bound ({'-' if arr[beyond][0] < 0 else '+'}inf)",
+                      UserWarning, stacklevel=3)
+        arr = np.where(beyond, np.sign(arr) * np.inf, arr)
+    return arr
 
 
 def check_positive(arr: np.ndarray, *, owner: str, what: str) -> None:

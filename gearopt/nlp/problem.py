@@ -22,6 +22,7 @@ Example::
 
 from __future__ import annotations
 
+import math
 import time
 from dataclasses import dataclass
 from contextlib import contextmanager
@@ -45,8 +46,10 @@ from gearopt.errors import (GearoptInputError, InfeasibleProblemError, Numerical
 
 
 DEFAULT_IPOPT_OPTIONS: dict[str, Any] = {
-    "print_level": 0, "sb": "yes", "max_iter": 1000, "tol": 1e-8, "mu_strategy": "adaptive"}
-"""Ipopt options used unless overridden by keyword arguments of :meth:`Problem.solve`."""
+    "print_level": 0, "sb": "yes", "max_iter": 1000, "tol": 1e-8, "mu_strategy": "adaptive", "max_wall_time": 600.0}
+"""Ipopt options used unless overridden by keyword arguments of :meth:`Problem.solve`. The budgets ``max_iter`` and
+``max_wall_time`` [s] stop a solve that does not converge with :class:`~gearopt.errors.IterationLimitError` (status
+``Maximum_Iterations_Exceeded`` / ``Maximum_WallTime_Exceeded``, naming the option to raise)."""
 
 DEFAULT_CASADI_OPTIONS: dict[str, Any] = {
     "print_time": False, "record_time": True, "detect_simple_bounds": True}
@@ -653,12 +656,30 @@ def _solver_options(verbose: bool, casadi_options: dict[str, Any] | None,
     if verbose:
         ipopt["print_level"] = 5
     ipopt.update({key.removeprefix("ipopt."): value for key, value in ipopt_options.items()})
+    _check_budget_options(ipopt)
     plugin = dict(DEFAULT_CASADI_OPTIONS)
     if verbose:
         plugin["print_time"] = True
     plugin.update(casadi_options or {})
     plugin.update({f"ipopt.{key}": value for key, value in ipopt.items()})
     return ipopt, plugin
+
+
+def _check_budget_options(ipopt: dict[str, Any]) -> None:
+    """The budget and tolerance options must be numbers in range (Ipopt would reject them only after a build, or
+    wrap a huge ``max_iter`` to a negative integer)."""
+    it = ipopt.get("max_iter")
+    if isinstance(it, bool) or not isinstance(it, (int, np.integer, float)) or not float(it).is_integer() \
+            or not 0 <= it <= 10 ** 9:
+        raise GearoptInputError(f"max_iter={it!r} must be an integer count in [0, 1e9]")
+    ipopt["max_iter"] = int(it)
+    for name in ("max_wall_time", "max_cpu_time", "tol"):
+        if name in ipopt:
+            v = ipopt[name]
+            if isinstance(v, bool) or not isinstance(v, (int, float, np.floating)) or not v > 0 or v != v:
+                raise GearoptInputError(f"{name}={v!r} must be a positive number")
+            if name != "tol" and math.isinf(v):
+                ipopt[name] = 1e20  # Ipopt's way of saying no limit
 
 
 def _last_line(exc: BaseException | None) -> str:

@@ -26,6 +26,7 @@ from .. import numerics as nm
 from .hertz import hertz_half_width_mm
 from ..errors import GearoptInputError
 from ..validation import check_range, per_gear
+from .validity import check_rating_validity, checked_rating
 from ..units import RAD_PER_DEG
 from .materials import material_pair
 
@@ -177,9 +178,16 @@ def nominal_tangential_force_N(pair, torque_Nm, driving_gear: int = 1):
 
 
 def _check_factors(**factors):
+    """Positive, finite rating factors; a tuple is accepted only for the per-gear life factor (length 2)."""
     for name, value in factors.items():
-        for i, v in enumerate(value if isinstance(value, tuple) else (value,)):
-            check_range(name if not isinstance(value, tuple) else f"{name}[{i}]", v, 0.0, None, low_inclusive=False)
+        if isinstance(value, (tuple, list)):
+            if name != "life_factor" or len(value) != 2:
+                raise GearoptInputError(f"{name}={value!r} must be a positive number"
+                                        + (" or a 2-tuple (gear 1, gear 2)" if name == "life_factor" else ""))
+            for i, v in enumerate(value):
+                check_range(f"{name}[{i}]", v, 0.0, None, low_inclusive=False)
+        else:
+            check_range(name, value, 0.0, None, low_inclusive=False)
 
 
 def contact_stress_iso6336(pair, torque_Nm, *, driving_gear: int = 1, K_A=1.0, K_v=1.0, K_Hbeta=1.0,
@@ -218,6 +226,7 @@ def contact_stress_iso6336(pair, torque_Nm, *, driving_gear: int = 1, K_A=1.0, K
     m1, m2 = material_pair(material)
     for m in (m1, m2):
         m.require("sigma_Hlim_MPa")
+    check_rating_validity(pair, ISO_CONTACT_METHOD)
     g = pair.geometry()
     F_t = nominal_tangential_force_N(pair, torque_Nm, driving_gear)
     z = g["teeth"]
@@ -237,12 +246,12 @@ def contact_stress_iso6336(pair, torque_Nm, *, driving_gear: int = 1, K_A=1.0, K
     sigma_H = tuple(z_bd[i] * sigma_H0 * load for i in range(2))
     strength = tuple(m.sigma_Hlim_MPa * z_nt[i] * Z_L * Z_v * Z_R * Z_W * Z_X for i, m in enumerate((m1, m2)))
     safety = tuple(strength[i] / sigma_H[i] for i in range(2))
-    return {
+    return checked_rating("contact_stress_iso6336", {
         "F_t_N": F_t, "u": u, "pinion": p + 1, "Z_H": Z_H, "Z_E": Z_E, "Z_eps": Z_eps, "Z_beta": Z_beta,
         "M1": M1, "M2": M2, "Z_B": Z_B, "Z_D": Z_D, "Z_BD": z_bd, "sigma_H0_MPa": sigma_H0, "sigma_H_MPa": sigma_H,
         "sigma_HP_MPa": tuple(s / S_Hmin for s in strength), "safety_factor": safety,
         "safety_factor_min": nm.fmin(safety[0], safety[1]), "method": ISO_CONTACT_METHOD,
-    }
+    }, pair, torque_Nm=torque_Nm, K_A=K_A, K_v=K_v, material=material)
 
 
 __all__ = ["ISO_CONTACT_METHOD", "CONTACT_POINTS", "hertz_line_contact_stress_MPa", "thesis_contact_stress_MPa",

@@ -18,7 +18,7 @@ import numpy as np
 
 from .. import numerics as nm
 from ..errors import GearoptInputError
-from ..validation import check_range
+from ..validation import check_array, check_range
 from .root_stress import _load_point, critical_section_iso6336
 from .tooth_profile import GeneratedTooth
 
@@ -39,7 +39,7 @@ def lewis_form_factor(teeth):
     linear-in-z interpolation by at most 0.0021 inside the table (tested). Numeric only (a table lookup is not an NLP
     model: use :func:`gearopt.rating.root_stress.root_stress_iso6336` for design constraints).
     """
-    z = np.asarray(teeth, dtype=float)
+    z = check_array("teeth", teeth, allow_inf=True)  # inf: the rack
     if np.any(~(z >= 12.0)):
         bad = z[~(z >= 12.0)].reshape(-1)[0]
         raise GearoptInputError(f"teeth={bad:g} is below 12, the smallest tooth count of the Lewis table "
@@ -96,6 +96,7 @@ def lewis_bending_stress_MPa(tangential_force_N, face_width_mm, module_mm, form_
     check_range("face_width_mm", face_width_mm, 0.0, None, low_inclusive=False, unit="mm")
     check_range("module_mm", module_mm, 0.0, None, low_inclusive=False, unit="mm")
     check_range("form_factor", form_factor, 0.0, None, low_inclusive=False)
+    check_range("dynamic_factor", dynamic_factor, 0.0, None, low_inclusive=False)
     return dynamic_factor * tangential_force_N / (face_width_mm * module_mm * form_factor)
 
 

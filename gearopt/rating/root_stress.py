@@ -44,7 +44,8 @@ import numpy as np
 
 from .. import numerics as nm
 from ..errors import GearoptInputError
-from ..validation import check_range, per_gear
+from ..validation import as_number, check_range, per_gear
+from .validity import check_rating_validity, checked_rating
 from ..units import DEG_PER_RAD, RAD_PER_DEG
 from .contact_stress import _check_factors, nominal_tangential_force_N
 from .materials import material_pair
@@ -181,6 +182,10 @@ def _check_array(name, values, low, high, unit):
     """Range check that also handles numpy arrays (check_range takes scalars)."""
     if nm.is_symbolic(values):
         return
+    if not isinstance(values, np.ndarray) and not nm.is_casadi(values):
+        as_number(name, values)  # a scalar: strings, bools, None and tuples are refused by name
+    elif isinstance(values, np.ndarray) and values.dtype.kind not in "iuf":
+        raise GearoptInputError(f"{name} must be an array of real numbers (dtype {values.dtype})")
     arr = np.atleast_1d(np.asarray(nm.value(values), dtype=float))
     bad = arr[~np.isfinite(arr) | (arr < low) | (arr > high)]
     if bad.size:
@@ -303,6 +308,7 @@ def root_stress_iso6336(pair, torque_Nm, *, driving_gear: int = 1, K_A=1.0, K_v=
     mats = material_pair(material)
     for mat in mats:
         mat.require("sigma_Flim_MPa")
+    check_rating_validity(pair, ISO_ROOT_METHOD, undercut=True)
     g = pair.geometry()
     F_t = nominal_tangential_force_N(pair, torque_Nm, driving_gear)
     m = g["module_mm"]
@@ -337,7 +343,8 @@ def root_stress_iso6336(pair, torque_Nm, *, driving_gear: int = 1, K_A=1.0, K_v=
             "face_width_mm": b_i,
         }
     out["safety_factor_min"] = nm.fmin(safeties[0], safeties[1])
-    return out
+    return checked_rating("root_stress_iso6336", out, pair, torque_Nm=torque_Nm, K_A=K_A, K_v=K_v,
+                          material=material)
 
 
 __all__ = ["ISO_ROOT_METHOD", "NEWTON_STEPS", "critical_section_iso6336", "stress_correction_factor", "virtual_gear",

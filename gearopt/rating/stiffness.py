@@ -420,7 +420,7 @@ def equivalent_mass_kg(inertias_kgm2, base_radii_mm):
     """
     (j1, j2), (r1, r2) = inertias_kgm2, base_radii_mm
     for i, (j, r) in enumerate(zip((j1, j2), (r1, r2))):
-        check_range(f"inertias_kgm2[{i}]", j, 0.0, None, low_inclusive=False, unit="kg*m^2")
+        check_range(f"inertias_kgm2[{i}]", j, 0.0, None, low_inclusive=False, unit="kg*m^2", allow_inf=True)
         check_range(f"base_radii_mm[{i}]", r, 0.0, None, low_inclusive=False, unit="mm")
     r1_m, r2_m = r1 * 1e-3, r2 * 1e-3
     return 1.0 / (r1_m * r1_m / j1 + r2_m * r2_m / j2)
