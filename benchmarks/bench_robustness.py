@@ -175,9 +175,9 @@ def _panel(ax, result: dict, names: list, title: str) -> None:
                  f"implausible {t['implausible']}, hang {t['hang']}", fontsize=9)
 
 
-def main(argv=None) -> int:
+def main(argv=None) -> dict:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--quick", action="store_true", help="30 cases per entry point")
+    ap.add_argument("--quick", action="store_true", help="30 cases per entry point, no baseline campaign")
     ap.add_argument("--cases", type=int, default=400, help="cases per entry point")
     ap.add_argument("--seed", type=int, default=20261124)
     ap.add_argument("--timeout-s", type=float, default=20.0, help="per-call limit before a call counts as a hang")
@@ -194,15 +194,15 @@ def main(argv=None) -> int:
     result.update({"seed": args.seed, "cases_per_entry_point": cases, "timeout_s": args.timeout_s,
                    "wall_s": time.perf_counter() - t0, "quick": bool(args.quick),
                    "python": platform.python_version(), "machine": platform.machine()})
-    if not args.no_baseline and not args.package:
+    if not (args.no_baseline or args.package or args.quick):  # quick: this version only (seconds, for the tests)
         result["baseline"] = baseline_campaign(args.baseline, cases, args.seed, args.timeout_s)
     args.out.mkdir(parents=True, exist_ok=True)
     suffix = "_quick" if args.quick else ""
     (args.out / f"robustness{suffix}.json").write_text(json.dumps(result, indent=1))
     figure(result, args.out / f"robustness{suffix}.png")
     print(json.dumps(result["totals"]))
-    return 0
+    return result
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    main()

@@ -22,7 +22,7 @@ import pandas as pd
 
 from .data import load_default_data, train_from_data
 from .data import values as data_values
-from .errors import GearoptError, GearoptInputError
+from .errors import GearoptError, GearoptInputError, GeometryError
 from .geometry.pair import GearPair
 
 
@@ -46,7 +46,7 @@ def _pair_command(args) -> int:
     try:
         pair.check(min_contact_ratio=args.min_contact_ratio)
         print("check: ok")
-    except GearoptError as err:
+    except GeometryError as err:  # the pair violates a limit: exit 1; a bad limit itself is bad input (exit 2)
         print(f"check: FAIL: {err}")
         return 1
     return 0

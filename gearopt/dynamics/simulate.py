@@ -671,7 +671,9 @@ def simulate(network: TorsionalNetwork, speed_rpm: float, cycles: int = 10, *, b
                   shooting_max_iter=shooting_max_iter, on_shooting_failure=on_shooting_failure)
     if not reuse or x0 is not None:
         return sim.run(speed_rpm, cycles, **kwargs)
-    key = ("run", id(sim), float(speed_rpm), int(cycles),
+    check_range("speed_rpm", speed_rpm, sim.min_speed_rpm, None, unit="rpm")  # before they key the cache
+    cycles = check_int("cycles", cycles, 1, budget.MAX_CYCLES)
+    key = ("run", id(sim), float(speed_rpm), cycles,
            repr(sorted((k, v) for k, v in kwargs.items() if k not in ("parameters", "x0"))),
            repr(sorted((parameters or {}).items())))
     runs = network._cache

@@ -76,10 +76,17 @@ def check_studies(result, out):
     assert result["nsga2"]["evaluations"] > 0 and (out / "studies.json").exists()
 
 
+def check_robustness(result, out):
+    t = result["totals"]
+    assert t["cases"] > 0 and t["rejected"] > 0                    # the campaign spoils inputs and they are caught
+    assert t["untyped"] == t["nan"] == t["hang"] == 0              # README: none of these in this version
+    assert (out / "robustness_quick.json").exists()
+
+
 CHECKS = {"bench_geometry": check_geometry, "bench_ltca": check_ltca,
           "bench_microgeometry_nlp": check_microgeometry_nlp, "bench_stability": check_stability,
           "bench_dynamics": check_dynamics, "bench_dynamics_speed": check_dynamics_speed,
-          "bench_studies": check_studies}
+          "bench_studies": check_studies, "bench_robustness": check_robustness}
 
 
 @pytest.mark.parametrize("name", SCRIPTS)

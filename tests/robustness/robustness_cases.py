@@ -24,7 +24,7 @@ from typing import Any, Callable
 import numpy as np
 
 import gearopt as go
-from gearopt.errors import GearoptError, GearoptInputError
+from gearopt.errors import GearoptError, GearoptInputError, GeometryError
 
 NAN, INF = float("nan"), float("inf")
 
@@ -345,6 +345,8 @@ def call_cli(*, argv):
         except SystemExit as exc:  # argparse's own rejection (exit 2, usage message)
             code = exc.code
     text = out.getvalue()
+    if code == 1 and "check: FAIL:" in text:  # the contract: a pair that fails its check exits 1, naming the limit
+        raise GeometryError(text.split("check: FAIL:", 1)[1].strip()[:300])
     if code not in (0, 2):
         raise RuntimeError(f"exit code {code}")
     if code == 2:
