@@ -2,6 +2,8 @@
 
 import pytest
 
+from gearopt.errors import DataFileError
+
 import importlib.util
 from pathlib import Path
 
@@ -26,5 +28,5 @@ def test_script_takes_data_file(name, capsys):
 
 
 def test_missing_data_file_is_named(tmp_path):
-    with pytest.raises(FileNotFoundError, match="no_such_train.toml"):
+    with pytest.raises(DataFileError, match="no_such_train.toml.*not found"):
         load_script("shift_split").main(["--quick", "--out", str(tmp_path), "--data", str(tmp_path / "no_such_train.toml")])
