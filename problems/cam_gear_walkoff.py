@@ -724,7 +724,8 @@ def write_trade_off(out: Path, study) -> None:
     fig.parent.mkdir(parents=True, exist_ok=True)
     study.front.plot().savefig(fig, dpi=110)
     write_table(study.front.table, out, "trade_off_front_crank_cam")
-    write_table(study.sensitivity.table, out, "sensitivity_crank_cam")
+    if study.sensitivity is not None:
+        write_table(study.sensitivity.table, out, "sensitivity_crank_cam")
     write_table(study.monte_carlo.summary, out, "robustness_crank_cam")
     with open(out / "report.md", "a") as f:
         f.write("\n## Trade-off, sensitivities and robustness of the crank-cam tip relief\n\n"

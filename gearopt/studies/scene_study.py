@@ -20,6 +20,7 @@ from ..design.scene import DesignVariable, Limit, LoadCase, Objective, Scene, Sc
 from ..nlp import InitialGuessWarning
 from .monte_carlo import MonteCarloResult, monte_carlo
 from .pareto import ParetoFront, pareto_front
+from ..errors import GearoptInputError
 from .sensitivity import SensitivityReport, sensitivity_report
 from .tolerances import Tolerance
 
@@ -28,13 +29,15 @@ RELIEF = ("tip_relief_1_um", "tip_relief_2_um", "tip_relief_1_start_roll_deg", "
 
 @dataclass
 class SceneStudy:
-    """``front``, ``optimum`` (the scene's own solve), ``sensitivity`` (of the optimum), ``monte_carlo`` (of the
-    optimum under the tolerances)."""
+    """``front``, ``optimum`` (the scene's own solve), ``sensitivity`` (of the optimum; ``None`` when the optimum is
+    not a regular local optimum, with the reason in ``sensitivity_error``), ``monte_carlo`` (of the optimum under
+    the tolerances)."""
 
     front: ParetoFront
     optimum: SceneResult
-    sensitivity: SensitivityReport
+    sensitivity: SensitivityReport | None
     monte_carlo: MonteCarloResult
+    sensitivity_error: str = ""
 
     def headline(self, rows: int = 5) -> dict[str, Any]:
         """Plain numbers: the front's ends and knee, the objective, the ``rows`` largest sensitivities, the
@@ -47,13 +50,16 @@ class SceneStudy:
                       "points": int(len(self.front.table)),
                       "failed": int((self.front.table["status"] != "ok").sum()), "ends": self.front.ends,
                       "knee": {c: float(knee[c]) for c in (self.front.objective_column, self.front.quantity_column)}},
-            "objective": {"name": self.sensitivity.objective_name, "unit": self.sensitivity.objective_unit,
-                          "value": self.sensitivity.objective},
+            "objective": ({"name": self.sensitivity.objective_name, "unit": self.sensitivity.objective_unit,
+                           "value": self.sensitivity.objective} if self.sensitivity is not None else
+                          {"value": float(self.optimum.solve.objective)}),
             "design": dict(self.optimum.values),
-            "sensitivities": [{k: (v if isinstance(v, str) else float(v)) for k, v in r.items()}
-                              for r in self.sensitivity.table.head(rows)[
-                                  ["name", "kind", "value", "unit", "sensitivity", "log_sensitivity"]]
-                              .to_dict("records")],
+            "sensitivities": ([{k: (v if isinstance(v, str) else float(v)) for k, v in r.items()}
+                               for r in self.sensitivity.table.head(rows)[
+                                   ["name", "kind", "value", "unit", "sensitivity", "log_sensitivity"]]
+                               .to_dict("records")] if self.sensitivity is not None else []),
+            "sensitivity_note": (self.sensitivity.note if self.sensitivity is not None
+                                 else f"not available: {self.sensitivity_error}"),
             "probability_broken": {str(r["quantity"]): float(r["probability_broken"])
                                    for _, r in limits.iterrows()},
             "samples": int(len(self.monte_carlo.table)),
@@ -72,9 +78,13 @@ class SceneStudy:
                  f"({f['knee'][f['objective']]:.4g}).", ""]
         if figure:
             lines += [f"![front]({figure})", ""]
-        lines += [f"Sensitivities of the optimum ({h['objective']['name']} = {h['objective']['value']:.4g} "
-                  f"{h['objective']['unit']}; limits from the multipliers, data from the KKT system):", "",
-                  self.sensitivity.markdown(rows), ""]
+        if self.sensitivity is not None:
+            note = f" {self.sensitivity.note}." if self.sensitivity.note else ""
+            lines += [f"Sensitivities of the optimum ({h['objective']['name']} = {h['objective']['value']:.4g} "
+                      f"{h['objective']['unit']}; limits from the multipliers, data from the KKT system):{note}", "",
+                      self.sensitivity.markdown(rows), ""]
+        else:
+            lines += [f"Sensitivities of the optimum: not available -- {self.sensitivity_error}", ""]
         mc = self.monte_carlo
         tol = ", ".join(f"{t.name} [{t.lower:+g}, {t.upper:+g}] ({t.distribution})" for t in mc.tolerances)
         cols = ["quantity", "unit", "nominal", "mean", "std", "p05", "p95", "lower", "upper", "probability_broken"]
@@ -96,9 +106,13 @@ def scene_study(scene: Scene, quantity: str, target: str, *, points: int = 9, sa
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", InitialGuessWarning)
         optimum = scene.build().solve(starts=starts, **ipopt)
-    report = sensitivity_report(optimum)
+    report, error = None, ""
+    try:
+        report = sensitivity_report(optimum)
+    except GearoptInputError as exc:  # not a regular local optimum: said in the study, the study goes on
+        error = str(exc)
     mc = monte_carlo(optimum, samples=samples, seed=seed, executor=executor, tolerances=tolerances)
-    return SceneStudy(front, optimum, report, mc)
+    return SceneStudy(front, optimum, report, mc, error)
 
 
 def relief_scene_from_data(data: dict, train, mesh: str = "crank-cam", *, positions: int | None = None) -> Scene:

@@ -45,7 +45,8 @@ class SensitivityReport:
     ``active`` (a limit: at its bound with a multiplier; a datum: |log_sensitivity| > 1e-6), ``of`` (the objective's
     name) and ``of_unit``; sorted by |log_sensitivity|. ``quantity_table``:
     ``quantity`` x ``parameter`` rows with ``value``, ``sensitivity``, ``log_sensitivity``. ``objective``: the
-    objective's value; ``kkt_residual``: relative residual of the KKT solve (0 at a regular optimum)."""
+    objective's value; ``kkt_residual``: relative residual of the KKT solve (0 at a regular optimum); ``note``:
+    what is degenerate when the optimum is not regular."""
 
     scene: str
     objective_name: str
@@ -54,6 +55,9 @@ class SensitivityReport:
     table: pd.DataFrame
     quantity_table: pd.DataFrame
     kkt_residual: float
+    note: str = ""
+    """Empty at a regular optimum; otherwise what is degenerate (a flat optimum: design variables that move at equal
+    objective) and which numbers still hold."""
 
     def markdown(self, rows: int | None = None) -> str:
         """The table as Markdown (the ``rows`` largest, default all)."""
@@ -77,7 +81,8 @@ def sensitivity_report(result: SceneResult, *, active_tol: float = 1e-9, **ipopt
 
     Raises:
         GearoptInputError: ``result`` is not a solved scene result, or the parametric re-solve lands on another
-            optimum than ``result`` (the report would then describe a different design).
+            optimum than ``result`` (another objective value: the report would describe a different design). A
+            re-solve that only moves along a flat optimum is reported in ``note``.
     """
     built = getattr(result, "source", None)
     if not isinstance(result, SceneResult) or built is None:
@@ -88,10 +93,10 @@ def sensitivity_report(result: SceneResult, *, active_tol: float = 1e-9, **ipopt
     objective = float(result.solve.objective) * factor
     rows = _limit_rows(built, result, factor, objective, name, unit)
     qrows: list[dict[str, Any]] = []
-    residual = 0.0
+    residual, note = 0.0, ""
     pb = scene.build(parametric=True)
     if pb.data_parameters:
-        solved = _resolve_at(pb, result, **ipopt)
+        solved, note = _resolve_at(pb, result, **ipopt)
         sens = kkt_sensitivity(pb.problem.opti, active_tol=active_tol)
         residual = sens.residual
         names = list(pb.problem.parameter_names)
@@ -104,7 +109,7 @@ def sensitivity_report(result: SceneResult, *, active_tol: float = 1e-9, **ipopt
     table = pd.DataFrame(rows, columns=COLUMNS)
     table = table.iloc[np.argsort(-np.nan_to_num(np.abs(table["log_sensitivity"].to_numpy(float)), nan=-1.0),
                                   kind="stable")].reset_index(drop=True)
-    return SensitivityReport(scene.name, name, unit, objective, table, pd.DataFrame(qrows), residual)
+    return SensitivityReport(scene.name, name, unit, objective, table, pd.DataFrame(qrows), residual, note)
 
 
 def objective_meta(scene) -> tuple[str, str, float]:
@@ -166,8 +171,16 @@ def _limit_rows(built, result: SceneResult, factor: float, objective: float, of:
     return rows
 
 
+#: Relative agreement of the re-solved and the given objective below which a moved design is the same optimum.
+FLAT_OBJECTIVE_RTOL = 1e-6
+
+
 def _resolve_at(pb, result: SceneResult, **ipopt):
-    """Re-solve the parametric build from the result's point; it must land on the same optimum."""
+    """Re-solve the parametric build from the result's point. Returns the solve and a note: empty when it lands on
+    the same design; when design variables move at the same objective (a flat optimum: the objective does not
+    depend on them there), the note names them -- the objective's data sensitivities still hold (they are the
+    Lagrangian's parameter gradient, the envelope theorem), the quantities' are the minimum-norm KKT solution.
+    A re-solve that changes the objective is another optimum: a :class:`GearoptInputError`."""
     p = pb.problem
     for name, value in result.solve.values.items():
         if name in p.variable_names:
@@ -175,13 +188,22 @@ def _resolve_at(pb, result: SceneResult, **ipopt):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", InitialGuessWarning)
         solved = p.solve(tol=1e-10, **ipopt)
+    moved = []
     for name, value in result.values.items():
         new = float(np.asarray(solved.values[name]).ravel()[0])
         scale = float(result.solve.variables.set_index("name").loc[name, "scale"])
         if abs(new - value) > 1e-4 * scale:
-            raise GearoptInputError(f"the parametric re-solve moved {name} from {value:.6g} to {new:.6g}: the result "
-                                    f"is not a regular local optimum of its scene (limit: within 1e-4 x its scale)")
-    return solved
+            moved.append(f"{name} {value:.6g} -> {new:.6g}")
+    if not moved:
+        return solved, ""
+    f0, f1 = float(result.solve.objective), float(solved.objective)
+    if abs(f1 - f0) > FLAT_OBJECTIVE_RTOL * max(abs(f0), 1e-12):
+        raise GearoptInputError(f"the parametric re-solve moved {', '.join(moved)} and the objective from {f0:.8g} "
+                                f"to {f1:.8g}: the result is not a regular local optimum of its scene (limit: "
+                                f"variables within 1e-4 x their scale, or the objective within "
+                                f"{FLAT_OBJECTIVE_RTOL:g} relative)")
+    return solved, (f"flat optimum: {', '.join(moved)} at the same objective ({f0:.8g}); the objective's data "
+                    f"sensitivities hold (envelope theorem), the quantities' are minimum-norm")
 
 
 def _quantity_rows(pb, solved, sens, names: list[str]) -> list[dict[str, Any]]:

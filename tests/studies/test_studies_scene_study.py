@@ -1,0 +1,29 @@
+"""scene_study: a sensitivity report that cannot be made (the optimum is not a regular local optimum) is said in the
+study, and the front and the Monte Carlo still come (issue 13: a failed part is recorded, the study goes on)."""
+
+import importlib
+
+import pytest
+
+from gearopt.errors import GearoptInputError
+
+from studies_scenes import MESH, relief_scene
+
+
+scene_study_module = importlib.import_module("gearopt.studies.scene_study")  # the module, not the function
+
+
+@pytest.mark.filterwarnings("ignore")
+def test_a_failed_sensitivity_report_is_recorded_and_the_study_goes_on(monkeypatch):
+    def not_regular(result, **_):
+        raise GearoptInputError("the parametric re-solve moved crank-cam.tip_relief_1_um and the objective")
+
+    monkeypatch.setattr(scene_study_module, "sensitivity_report", not_regular)
+    study = scene_study_module.scene_study(relief_scene(), "loaded_contact_ratio", MESH, points=3, samples=16,
+                                           starts=1)
+    assert study.sensitivity is None and "moved crank-cam.tip_relief_1_um" in study.sensitivity_error
+    head = study.headline()
+    assert head["sensitivities"] == [] and head["sensitivity_note"].startswith("not available: ")
+    assert head["objective"]["value"] == pytest.approx(float(study.optimum.solve.objective))
+    assert len(study.monte_carlo.table) == 16 and head["front"]["points"] >= 3
+    assert "Sensitivities of the optimum: not available -- the parametric re-solve" in study.markdown()
