@@ -116,6 +116,15 @@ def build_summary(result: dict, *, train: str = "spur", limits: dict | None = No
                                 lim["min_S_F"], "-", ">=", "see load basis"))
     else:
         left_out.append("ISO 6336 rating")
+    dynamic = (result.get("rating") or {}).get(f"{train}_dynamic_peak") or {}
+    if dynamic:  # the loads that occur: the largest dynamic mesh torque with backlash, K_A = K_v = 1
+        basis = "largest dynamic mesh torque with backlash, K_A = K_v = 1, endurance"
+        rows.append(requirement("Contact safety S_H at the dynamic peak torque",
+                                [(f"{m} gear {g}", r[f"S_H_{g}"]) for m, r in dynamic.items() for g in (1, 2)],
+                                lim["min_S_H"], "-", ">=", basis))
+        rows.append(requirement("Root safety S_F at the dynamic peak torque",
+                                [(f"{m} gear {g}", r[f"S_F_{g}"]) for m, r in dynamic.items() for g in (1, 2)],
+                                lim["min_S_F"], "-", ">=", basis))
     pairs = result.get("pairs") or {}
     design = f"{train}_optimised"
     if pairs:

@@ -52,6 +52,16 @@ def test_computed_factor_rating_decides_over_the_unit_factor_one():
     assert rows["Contact safety S_H"]["verdict"] == "FAIL" and rows["Root safety S_F"]["verdict"] == "PASS"
 
 
+def test_ratings_at_the_dynamic_peak_torque_are_judged_too():
+    # issue 17: the ratings at the loads that occur (the dynamics' peak mesh torque), beside the static rating
+    r = _result(2.0)
+    r["rating"]["spur_dynamic_peak"] = {"crank-cam": {"S_H_1": 1.1, "S_H_2": 1.2, "S_F_1": 1.3, "S_F_2": 2.0}}
+    rows = {x["requirement"]: x for x in build_summary(r)["requirements"]}
+    sh, sf = rows["Contact safety S_H at the dynamic peak torque"], rows["Root safety S_F at the dynamic peak torque"]
+    assert (sh["value"], sh["worst_case"], sh["verdict"]) == (1.1, "crank-cam gear 1", "PASS")
+    assert (sf["value"], sf["worst_case"], sf["verdict"]) == (1.3, "crank-cam gear 1", "FAIL")
+
+
 @pytest.fixture(scope="module")
 def design():
     pair = go.load_default_train("spur").pairs["crank-cam"]
