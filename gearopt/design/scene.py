@@ -64,14 +64,14 @@ DEFAULT_LTCA_OPTIONS: dict[str, Any] = {
     "positions": 40, "smoothing_um": DEFAULT_SMOOTHING_UM, "stiffness": "iso6336", "relief_smoothing_deg": 0.1,
     "bulk_temperature_C": 100.0, "friction_coefficient": 0.06, "check_positions": 1280, "start_margin_deg": 0.25,
     "helical_slices": 11, "engagement_width_mm": DEFAULT_ENGAGEMENT_WIDTH_MM, "root_rotation": "cw",
-    "refine_tolerance": 0.02, "max_refinements": 6}
+    "refine_tolerance": 0.02, "max_refinements": 6, "min_smoothing_um": 0.005}
 """LTCA settings of a scene (override per scene with ``ltca_options``): the NLP's initial uniform positions and
 contact smoothing (:class:`~gearopt.contact.ltca_smooth.LTCAModel`), the relief-start blend of the design, the oil
 temperature and friction of the flash temperature, the positions of the exact-LTCA check of the optimum
 (benchmarks/results/ltca.json); for free macro geometry the face slices of a possibly helical mesh and the
 engagement width (:class:`~gearopt.contact.ltca_macro.MacroLTCAModel`); the crank's sense of rotation seen from the
-front (walk-off); and the semi-infinite refinement: relative PPTE agreement of smooth and exact model and the most
-re-solves (:mod:`gearopt.design.scene_refine`)."""
+front (walk-off); and the semi-infinite refinement: relative PPTE agreement of smooth and exact model, the most
+re-solves and the smallest contact smoothing it may halve down to (:mod:`gearopt.design.scene_refine`)."""
 
 
 @dataclass
@@ -119,9 +119,13 @@ class Scene:
             out.setdefault(v.target, set())
         return out
 
-    def build(self) -> "BuiltScene":
-        """Build the models the scene needs (each once) and its NLP; see :class:`BuiltScene`."""
-        return BuiltScene(self)
+    def build(self, *, positions: Mapping[str, Any] | None = None,
+              initial: Mapping[str, float] | None = None) -> "BuiltScene":
+        """Build the models the scene needs (each once) and its NLP; see :class:`BuiltScene` (``positions``: mesh
+        positions per mesh, e.g. ``SceneResult.positions`` of a related scene; ``initial``: start values by
+        ``"target.variable"``, e.g. its ``SceneResult.values`` -- a warm start of both the design and the
+        semi-infinite refinement)."""
+        return BuiltScene(self, positions=positions, initial=initial)
 
 
 class BuiltScene(ContactModels, TrainModels):
@@ -129,15 +133,18 @@ class BuiltScene(ContactModels, TrainModels):
 
     ``positions``: mesh -> fractions of a base pitch at which the smooth LTCA samples that mesh (default: the uniform
     ``ltca_options["positions"]``); ``initial``: ``"target.variable"`` -> start value (a warm start); ``reuse``:
-    models of an earlier build that do not depend on these (data, dynamics), taken over unbuilt.
+    models of an earlier build that do not depend on these (data, dynamics), taken over unbuilt; ``options``:
+    overrides of the scene's ``ltca_options`` for this build (the refinement's smoothing continuation).
     """
 
     def __init__(self, scene: Scene, *, positions: Mapping[str, Any] | None = None,
-                 initial: Mapping[str, float] | None = None, reuse: Mapping[str, Any] | None = None):
+                 initial: Mapping[str, float] | None = None, reuse: Mapping[str, Any] | None = None,
+                 options: Mapping[str, Any] | None = None):
         self.scene = scene
         self.models: dict[str, Any] = dict(reuse or {})
         self._log: list[dict[str, Any]] = []
-        self._opts = {**DEFAULT_LTCA_OPTIONS, **dict(scene.ltca_options)}
+        self._options_override = dict(options or {})
+        self._opts = {**DEFAULT_LTCA_OPTIONS, **dict(scene.ltca_options), **self._options_override}
         unknown = set(scene.ltca_options) - set(DEFAULT_LTCA_OPTIONS)
         if unknown:
             raise GearoptInputError(f"ltca_options {sorted(unknown)} are unknown ({sorted(DEFAULT_LTCA_OPTIONS)})")

@@ -312,12 +312,13 @@ class ContactModels:
                 row = {"mesh": mesh, "load_case": lc.name, "torque_Nm": lc.mesh_torque_Nm(mesh),
                        "ppte_um": r.ppte_um, "max_contact_stress_MPa": r.max_contact_stress_MPa,
                        "loaded_contact_ratio": r.loaded_contact_ratio,
-                       "worst_fractions": (float(fractions[int(np.argmax(te))]), float(fractions[int(np.argmin(te))]))}
+                       "worst_fractions": extreme_fractions(te, fractions)}
                 if model.root_stress:
                     row["max_root_stress_MPa"] = max(r.max_root_stress_MPa)
                 if speed is not None:
                     row["max_contact_temperature_C"] = r.max_flash_temperature_C
                 if solved is not None:
+                    row["smooth_dense_ppte_um"] = self._dense_smooth_ppte(mesh, values, lc, positions)
                     for q in ("ppte_um", "max_contact_stress_MPa", "max_root_stress_MPa", "max_contact_temperature_C"):
                         if q in row:
                             s = self._smooth_value(q, mesh, lc, solved)
@@ -325,6 +326,28 @@ class ContactModels:
                             row[f"{q}_error"] = abs(s - row[q]) / max(abs(row[q]), 1e-12)
                 rows.append(row)
         return pd.DataFrame(rows)
+
+    def _dense_smooth_ppte(self, mesh: str, values: Mapping[str, float], lc: LoadCase, positions: int) -> float:
+        """PPTE of the smooth model at the optimum on the exact check's uniform grid: separates the error of the
+        smoothing (dense smooth vs exact) from that of the NLP's sampling (NLP vs dense smooth)."""
+        model = self._ltca_model(mesh)
+        mods, torque = self.microgeometry_at(values, mesh), lc.mesh_torque_Nm(mesh)
+        o = self._opts
+        if isinstance(model, MacroLTCAModel):
+            key = f"ltca_macro_dense:{mesh}"
+            dense = self.models.get(key) or MacroLTCAModel(
+                self._meshes[mesh], driving_gear=model.driving_gear, stiffness=o["stiffness"], positions=positions,
+                slices=model.slices, helical=model.helical, max_contact_ratio=model.max_contact_ratio,
+                max_overlap_ratio=model.max_overlap_ratio, smoothing_um=model.smoothing_um,
+                engagement_width_mm=model.engagement_width_mm, relief_shape=model.relief_shape,
+                relief_smoothing_deg=model.relief_smoothing_deg)
+            self.models[key] = dense
+            pair = self._numeric_pair(mesh, values)
+            r = dense.evaluate(macro_vector(pair), micro_vector(mods, self._meshes[mesh].geometry()), [torque])
+            return float(r.ppte_um[0])
+        dense = LTCAModel(self._meshes[mesh], driving_gear=model.layout.driving_gear, stiffness=o["stiffness"],
+                          positions=positions, slices=model.layout.slices, smoothing_um=model.smoothing_um)
+        return float(dense.evaluate(mods, torque).ppte_um)
 
     def _model_positions(self, model) -> int:
         return model.positions if isinstance(model, MacroLTCAModel) else model.layout.positions
@@ -343,6 +366,28 @@ def _on_path(matrix, model: LTCAModel, l_idx: int):
     idx = np.flatnonzero(on.reshape(-1, order="F")).tolist()
     block = matrix[:, l_idx * P:(l_idx + 1) * P]
     return nm.reshape(block, int(on.size), 1)[idx]
+
+
+def extreme_fractions(te: np.ndarray, fractions: np.ndarray, per_side: int = 3, band: float = 0.25,
+                      neighbours: int = 6) -> tuple:
+    """Mesh positions of the TE's peaks and troughs: the global maximum and minimum first, then further local
+    maxima (minima) in the top (bottom) ``band`` of the range, most extreme first, up to ``per_side`` each, each with
+    ``neighbours`` grid points on either side (an extreme moves a little when the design does; its neighbours keep
+    the NLP from sliding it between two samples). The TE is periodic over the base pitch."""
+    te = np.asarray(te, dtype=float)
+    lo, hi = te.min(), te.max()
+    span = max(hi - lo, 1e-12)
+    prev, nxt = np.roll(te, 1), np.roll(te, -1)
+    peaks = [i for i in np.argsort(-te) if te[i] >= prev[i] and te[i] >= nxt[i] and te[i] >= hi - band * span]
+    troughs = [i for i in np.argsort(te) if te[i] <= prev[i] and te[i] <= nxt[i] and te[i] <= lo + band * span]
+    idx = [int(np.argmax(te)), int(np.argmin(te))] + peaks[:per_side] + troughs[:per_side]
+    out = []
+    for i in idx:
+        for j in range(i - neighbours, i + neighbours + 1):
+            f = float(fractions[j % te.size])
+            if f not in out:
+                out.append(f)
+    return tuple(out)
 
 
 def corner_values(bounds: Mapping[str, tuple[float, float]]) -> list[dict[str, float]]:

@@ -11,10 +11,15 @@ without a dense grid everywhere:
 1. solve the NLP on the present position sets;
 2. re-evaluate the optimum by the exact LTCA at its converged resolution (``check_positions``) for every mesh and
    load case, and compare the PPTE of the smooth model at the NLP's positions with the exact PPTE;
-3. if any relative difference exceeds ``refine_tolerance``, add the exact TE's peak and trough positions of every
-   load case to the mesh's set and re-solve, starting from the previous optimum (a primal warm start: the new NLP has
-   more constraints, so its multipliers do not carry over);
-4. stop when all agree, after ``max_refinements`` re-solves, or when no new position appears (reported).
+3. if any relative difference exceeds ``refine_tolerance``, split it: the smooth model's PPTE on the exact check's
+   own dense grid at the same design measures the error of the *smoothing* (dense smooth vs exact), the rest is the
+   error of the *sampling* (NLP vs dense smooth). Sampling error above half the tolerance: add the exact TE's peaks
+   and troughs of every load case (:func:`~gearopt.design.scene_contact.extreme_fractions`) to the mesh's set.
+   Smoothing error above half the tolerance: halve the contact smoothing width (not below ``min_smoothing_um``;
+   the softplus contact law lowers the TE by up to ``w ln 2`` where gaps just close, which matters against a
+   sub-micron optimum). Re-solve from the previous optimum (a primal warm start: the new NLP has more constraints,
+   so its multipliers do not carry over);
+4. stop when all agree, after ``max_refinements`` re-solves, or when neither remedy applies (reported).
 
 Every solve is a row of ``SceneResult.refinement``.
 """
@@ -54,8 +59,14 @@ def solve_refined(built, *, starts: int = 1, seed: int = 0, verbose: bool = Fals
         ex = result.exact_check
         err = float(ex["ppte_um_error"].max()) if len(ex) else 0.0
         worst = ex.loc[ex["ppte_um_error"].idxmax()] if len(ex) else None
+        exact = ex["ppte_um"].abs().clip(lower=1e-12) if len(ex) else None
+        smoothing_err = float(((ex["smooth_dense_ppte_um"] - ex["ppte_um"]).abs() / exact).max()) if len(ex) else 0.0
+        sampling_err = (ex["smooth_dense_ppte_um"] - ex["smooth_ppte_um"]).abs() / exact if len(ex) else None
         rows.append({"iteration": it, "positions": int(sum(len(p) for p in result.positions.values())),
+                     "smoothing_um": float(current._opts["smoothing_um"]),
                      "objective": float(result.solve.objective), "max_ppte_error": err,
+                     "smoothing_error": smoothing_err,
+                     "sampling_error": float(sampling_err.max()) if sampling_err is not None else 0.0,
                      "worst_mesh": "" if worst is None else str(worst["mesh"]),
                      "worst_load_case": "" if worst is None else str(worst["load_case"]),
                      "ipopt_iterations": int(result.solve.iterations),
@@ -68,15 +79,23 @@ def solve_refined(built, *, starts: int = 1, seed: int = 0, verbose: bool = Fals
             break
         sets, added = {}, 0
         for mesh, fractions in result.positions.items():
-            candidates = [f for fr in ex.loc[ex["mesh"] == mesh, "worst_fractions"] for f in fr]
+            rows_m = ex["mesh"] == mesh
+            candidates = [f for fr in ex.loc[rows_m, "worst_fractions"] for f in fr] \
+                if (sampling_err[rows_m] > 0.5 * tol).any() or (ex.loc[rows_m, "ppte_um_error"] > tol).any() else []
             new = _new_fractions(fractions, candidates)
             added += len(new)
             sets[mesh] = np.sort(np.concatenate([fractions, new]))
-        if not added:
-            status = "stalled: the exact worst positions are already in the NLP's sets"
+        options = {}
+        w = float(current._opts["smoothing_um"])
+        w_min = float(current._opts["min_smoothing_um"])
+        if smoothing_err > 0.5 * tol and w > w_min:
+            options["smoothing_um"] = max(0.5 * w, w_min)
+        if not added and not options:
+            status = "stalled: the exact worst positions are in the NLP's sets and the smoothing is at its floor"
             break
         reuse = {k: v for k, v in current.models.items() if k.startswith(REUSED_MODELS)}
-        current = BuiltScene(current.scene, positions=sets, initial=result.values, reuse=reuse)
+        current = BuiltScene(current.scene, positions=sets, initial=result.values, reuse=reuse,
+                             options={**current._options_override, **options})
     table = pd.DataFrame(rows)
     table.attrs.update(status=status, tolerance=tol, total_time_s=time.perf_counter() - t_start)
     result.refinement = table
