@@ -64,14 +64,15 @@ DEFAULT_LTCA_OPTIONS: dict[str, Any] = {
     "positions": 40, "smoothing_um": DEFAULT_SMOOTHING_UM, "stiffness": "iso6336", "relief_smoothing_deg": 0.1,
     "bulk_temperature_C": 100.0, "friction_coefficient": 0.06, "check_positions": 1280, "start_margin_deg": 0.25,
     "helical_slices": 11, "engagement_width_mm": DEFAULT_ENGAGEMENT_WIDTH_MM, "root_rotation": "cw",
-    "refine_tolerance": 0.02, "max_refinements": 6, "min_smoothing_um": 0.005}
+    "refine_tolerance": 0.02, "max_refinements": 6, "min_smoothing_um": 0.005, "refine_neighbours": 3}
 """LTCA settings of a scene (override per scene with ``ltca_options``): the NLP's initial uniform positions and
 contact smoothing (:class:`~gearopt.contact.ltca_smooth.LTCAModel`), the relief-start blend of the design, the oil
 temperature and friction of the flash temperature, the positions of the exact-LTCA check of the optimum
 (benchmarks/results/ltca.json); for free macro geometry the face slices of a possibly helical mesh and the
 engagement width (:class:`~gearopt.contact.ltca_macro.MacroLTCAModel`); the crank's sense of rotation seen from the
 front (walk-off); and the semi-infinite refinement: relative PPTE agreement of smooth and exact model, the most
-re-solves and the smallest contact smoothing it may halve down to (:mod:`gearopt.design.scene_refine`)."""
+re-solves, the smallest contact smoothing it may halve down to and the grid neighbours added on either side of
+each worst position (:mod:`gearopt.design.scene_refine`)."""
 
 
 @dataclass
@@ -558,11 +559,23 @@ class BuiltScene(ContactModels, TrainModels):
         from ..contact.layout import position_fractions
         return position_fractions(self._positions(mesh))
 
-    def _quantity_table(self, solved: ProblemResult) -> pd.DataFrame:
+    def quantities_at(self, values: Mapping[str, float]) -> pd.DataFrame:
+        """Every objective and limit quantity of the smooth models at a design (``"target.variable"`` values; the
+        table of :attr:`SceneResult.quantities`): e.g. two designs compared on one model."""
+        missing = {f"{t}.{n}" for (t, n) in self._variables} - set(values)
+        if missing:
+            raise GearoptInputError(f"quantities_at: values miss {sorted(missing)}")
+        opti = self.problem.opti
+        at = [self.problem._variables[k].symbol == values[k] / self.problem._variables[k].scale[0]
+              for k in (f"{t}.{n}" for (t, n) in self._variables)]
+        return self._quantity_table(None, lambda expr: opti.value(expr, at))
+
+    def _quantity_table(self, solved: ProblemResult | None, evaluate: Callable | None = None) -> pd.DataFrame:
+        evaluate = evaluate or solved.value
         rows = []
         for r in self._records:
             kind, expr = r["kind"], r["expr"]
-            v = np.atleast_1d(np.asarray(expr if nm.is_numeric(expr) else solved.value(expr), dtype=float))
+            v = np.atleast_1d(np.asarray(expr if nm.is_numeric(expr) else evaluate(expr), dtype=float))
             if kind.squared:
                 v = np.sqrt(np.maximum(v, 0.0))
             value = {"ppte": np.ptp(v), "max": np.max(v), "min": np.min(v)}.get(kind.shape, float(v.ravel()[0]))

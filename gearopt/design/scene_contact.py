@@ -218,9 +218,9 @@ class ContactModels:
                 f"positions={m.layout.positions}, slices={m.layout.slices}, root_stress={m.root_stress}, "
                 f"flash_temperature={speed is not None}"))
         helical = self._helix_free() or float(self._meshes[mesh].geometry()["helix_angle_deg"]) != 0.0
-        eps_a, eps_b = self._contact_ratio_bounds(mesh)
 
         def build():
+            eps_a, eps_b = self._contact_ratio_bounds(mesh)
             return MacroLTCAModel(self._meshes[mesh], **common, helical=helical,
                                   slices=o["helical_slices"] if helical else None,
                                   load_cases=len(self._mesh_cases(mesh)), max_contact_ratio=eps_a,
@@ -312,7 +312,8 @@ class ContactModels:
                 row = {"mesh": mesh, "load_case": lc.name, "torque_Nm": lc.mesh_torque_Nm(mesh),
                        "ppte_um": r.ppte_um, "max_contact_stress_MPa": r.max_contact_stress_MPa,
                        "loaded_contact_ratio": r.loaded_contact_ratio,
-                       "worst_fractions": extreme_fractions(te, fractions)}
+                       "worst_fractions": extreme_fractions(te, fractions,
+                                                            neighbours=int(self._opts["refine_neighbours"]))}
                 if model.root_stress:
                     row["max_root_stress_MPa"] = max(r.max_root_stress_MPa)
                 if speed is not None:
