@@ -148,9 +148,16 @@ def test_dynamic_load_case_builds_the_timing_model_once(train):
 
 
 def test_bad_scenes_raise_clear_errors(train):
-    with pytest.raises(GearoptInputError, match="macro variables"):
+    # macro and LTCA quantities of one mesh are allowed now (tests/design/test_scene_codesign.py); the train's macro
+    # variables and a mesh's own cannot both move the same pair
+    with pytest.raises(GearoptInputError, match="train-level and mesh-level macro variables"):
         Scene("mixed", train=train, load_cases=[LoadCase("d", 300.0)],
-              variables=[DesignVariable("profile_shift_1", MESH)],
+              variables=[DesignVariable("profile_shift_1", MESH), DesignVariable("root_profile_shift", "train",
+                                                                                 lower=0.0, upper=0.5)],
+              objectives=[Objective("ppte_um", MESH)]).build()
+    with pytest.raises(GearoptInputError, match="must be 'train' of a scene with a train"):
+        Scene("x", pairs={MESH: train.pairs[MESH]}, load_cases=[LoadCase("d", 300.0)],
+              variables=[DesignVariable("helix_angle_deg", "train", upper=5.0)],
               objectives=[Objective("ppte_um", MESH)]).build()
     with pytest.raises(GearoptInputError, match="not in the scene vocabulary"):
         Scene("x", train=train, variables=[DesignVariable("profile_shift_1", MESH)],
