@@ -426,7 +426,7 @@ class BuiltScene(ContactModels, TrainModels):
             raise GearoptInputError(f"objective {obj.quantity!r} with sense={obj.sense!r}: the {kind.shape} of a set "
                                     f"can only be {'minimised' if kind.shape != 'min' else 'maximised'} smoothly")
         per_case = []
-        for lc in self._cases(kind, None):
+        for lc in self._cases(kind, obj.load_cases):
             label = self._label(obj.quantity, obj.target, lc)
             expr = self._elements(kind, obj.target, lc, {})
             self._record(label, obj.quantity, obj.target, lc, kind, expr, None, None, "objective")

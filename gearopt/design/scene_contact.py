@@ -35,7 +35,7 @@ from ..contact.microgeometry import Microgeometry
 from ..errors import GearoptInputError
 from .microgeometry_nlp import _start_bounds, min_tip_relief_design
 from .scene_spec import LoadCase
-from .scene_terms import FLANKS, variable_kind
+from .scene_terms import FLANKS, quantity_kind, variable_kind
 
 MICRO_FIELDS = ("tip_relief_um", "tip_relief_start_roll_deg", "profile_crown_um", "lead_crown_um")
 START_WIDENING_DEG = 3.0
@@ -93,15 +93,33 @@ class ContactModels:
         return self.scene.microgeometry.get(mesh, Microgeometry())
 
     def _mesh_cases(self, mesh: str) -> list[LoadCase]:
-        return [lc for lc in (getattr(self, "load_cases", None) or self.scene.load_cases)]
+        """Load cases at which the mesh's LTCA is evaluated: those its LTCA objectives and limits name (all when
+        any of them names none), in the scene's order."""
+        cases = [lc for lc in (getattr(self, "load_cases", None) or self.scene.load_cases)]
+        wanted: set[str] = set()
+        for q in (*self.scene.objectives, *self.scene.limits):
+            if q.target == mesh and "ltca" in quantity_kind(q.quantity).needs:
+                if q.load_cases is None:
+                    return cases
+                wanted.update(q.load_cases)
+        return [lc for lc in cases if lc.name in wanted] or cases
 
     def _minimum_relief(self, mesh: str) -> Microgeometry:
         cases = self._mesh_cases(mesh)
         if not cases:
             raise GearoptInputError(f"mesh {mesh!r}: tip-relief variables start from the minimum tip relief at the "
                                     f"first load case; the scene has no load case")
-        return min_tip_relief_design(self._meshes[mesh], cases[0].mesh_torque_Nm(mesh),
-                                     driving_gear=self._driving_gear(mesh))
+        pair = self._meshes[mesh]
+        if float(pair.geometry()["helix_angle_deg"]) == 0.0:
+            return min_tip_relief_design(pair, cases[0].mesh_torque_Nm(mesh), driving_gear=self._driving_gear(mesh))
+        # the thesis' minimum relief is a spur model: for a helical mesh, a starting guess from the spur pair of the
+        # same transverse data (amounts) with starts at the helical mesh's own single-contact boundaries
+        spur = replace(pair, helix_angle_deg=0.0, helix_hands=None)
+        amounts = min_tip_relief_design(spur, cases[0].mesh_torque_Nm(mesh),
+                                        driving_gear=self._driving_gear(mesh)).tip_relief_um
+        g = pair.geometry()
+        starts = tuple(max(float(g["lpstc_roll_deg"][i]), float(g["hpstc_roll_deg"][i])) for i in range(2))
+        return Microgeometry(tip_relief_um=amounts, tip_relief_start_roll_deg=starts, relief_shape="linear")
 
     def _free_micro(self, mesh: str, i: int, field: str, values: Mapping[str, float] | None):
         """The free variable (or its value) setting ``field`` of gear ``i`` in ``mesh``: mesh- or flank-targeted."""
@@ -214,6 +232,8 @@ class ContactModels:
                       bulk_temperature_C=o["bulk_temperature_C"], friction_coefficient=o["friction_coefficient"])
         pair = self._pair(mesh)
         if not self._macro_free(mesh):
+            if float(pair.geometry()["helix_angle_deg"]) != 0.0:
+                common["slices"] = o["helical_slices"]
             return self._model(f"ltca_smooth:{mesh}", lambda: LTCAModel(pair, **common), lambda m: (
                 f"positions={m.layout.positions}, slices={m.layout.slices}, root_stress={m.root_stress}, "
                 f"flash_temperature={speed is not None}"))
