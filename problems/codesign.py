@@ -25,44 +25,12 @@ def run(quick: bool = False) -> CodesignStudy:
     return codesign_study(quick=quick, options=("spur",) if quick else ("spur", "low_helix"))
 
 
-def report_lines(study: CodesignStudy) -> list[str]:
-    """Markdown lines of the study (also the main job's report section)."""
-    s = study.settings
-    lines = ["Minimise the largest PPTE of " + ", ".join(study.flanks) + " over the load cases "
-             + ", ".join(f"{k} ({', '.join(f'{m} {t:g}' for m, t in v.items())} N m)" for k, v in s["load_cases"].items())
-             + f" at {s['speed_rpm']:g} rpm; LTCA contact stress (the unmodified spur meshes' own maxima), root stress, "
-             "contact temperature, loaded contact ratio, every mesh's geometry limits and, for a helical option, the "
-             f"joints' axial margins >= {s['min_axial_margin']:g} at {s['overspeed_rpm']:g} rpm. Sequential = macro "
-             "first (the data's root shift; the largest helix angle meeting the walk-off margins), then the flank "
-             "reliefs; co-design = all in one NLP, started from the sequential answer. PPTE and stresses from the "
-             "exact LTCA of each optimum.", "",
-             "| option | design | root shift | helix [deg] | max PPTE [um] | min axial margin | refinements | time [s] |",
-             "|---|---|---|---|---|---|---|---|"]
-    for _, r in study.summary().iterrows():
-        if isinstance(r.get("failed"), str) and r["failed"]:
-            lines.append(f"| {r['option']} | {r['design']} | failed: {r['failed'].splitlines()[0]} ||||||")
-            continue
-        lines.append(f"| {r['option']} | {r['design']} | {r['root_profile_shift']:.4f} | "
-                     f"{r.get('helix_angle_deg', 0.0):.3f} | {r['max_ppte_um']:.3f} | {r['min_axial_margin']:.3g} | "
-                     f"{r['refinements']:.0f} | {r['time_s']:.1f} |")
-    lines += ["", "Tip relief per gear flank (one tooth form per flank, shared by every mesh that loads it):", ""]
-    for name, opt in study.options.items():
-        for design, res in (("sequential", opt.sequential), ("codesign", opt.codesign)):
-            if res is None:
-                continue
-            entry = study.to_json()["options"][name][design]
-            lines.append(f"- {name} {design}: " + "; ".join(
-                f"{m['gear']}:{m['flank']} {m['tip_relief_um']:.2f} um from {m['tip_relief_start_roll_deg']:.2f} deg "
-                f"({', '.join(m['meshes'])})" for m in entry["flank_modifications"]))
-    return lines + [""]
-
-
 def write(study: CodesignStudy, out: Path) -> dict:
     out.mkdir(parents=True, exist_ok=True)
     result = study.to_json()
     (out / "result.json").write_text(json.dumps(result, indent=2, default=_json) + "\n")
     study.summary().to_csv(out / "codesign_summary.csv", index=False)
-    (out / "report.md").write_text("\n".join(["# Timing-train co-design", ""] + report_lines(study)) + "\n")
+    (out / "report.md").write_text("\n".join(["# Timing-train co-design", ""] + study.report_lines()) + "\n")
     return result
 
 

@@ -78,6 +78,37 @@ class CodesignStudy:
                              "refinements": res.refinements, "time_s": opt.time_s.get(design, np.nan)})
         return pd.DataFrame(rows)
 
+    def report_lines(self) -> list[str]:
+        """Markdown lines of the study (the script's report and the main job's section)."""
+        s = self.settings
+        lines = ["Minimise the largest PPTE of " + ", ".join(self.flanks) + " over the load cases "
+                 + ", ".join(f"{k} ({', '.join(f'{m} {t:g}' for m, t in v.items())} N m)" for k, v in s["load_cases"].items())
+                 + f" at {s['speed_rpm']:g} rpm; LTCA contact stress (the unmodified spur meshes' own maxima), root stress, "
+                 "contact temperature, loaded contact ratio, every mesh's geometry limits and, for a helical option, the "
+                 f"joints' axial margins >= {s['min_axial_margin']:g} at {s['overspeed_rpm']:g} rpm. Sequential = macro "
+                 "first (the data's root shift; the largest helix angle meeting the walk-off margins), then the flank "
+                 "reliefs; co-design = all in one NLP, started from the sequential answer. PPTE and stresses from the "
+                 "exact LTCA of each optimum.", "",
+                 "| option | design | root shift | helix [deg] | max PPTE [um] | min axial margin | refinements | time [s] |",
+                 "|---|---|---|---|---|---|---|---|"]
+        for _, r in self.summary().iterrows():
+            if isinstance(r.get("failed"), str) and r["failed"]:
+                lines.append(f"| {r['option']} | {r['design']} | failed: {r['failed'].splitlines()[0]} ||||||")
+                continue
+            lines.append(f"| {r['option']} | {r['design']} | {r['root_profile_shift']:.4f} | "
+                         f"{r.get('helix_angle_deg', 0.0):.3f} | {r['max_ppte_um']:.3f} | {r['min_axial_margin']:.3g} | "
+                         f"{r['refinements']:.0f} | {r['time_s']:.1f} |")
+        lines += ["", "Tip relief per gear flank (one tooth form per flank, shared by every mesh that loads it):", ""]
+        for name, opt in self.options.items():
+            for design, res in (("sequential", opt.sequential), ("codesign", opt.codesign)):
+                if res is None:
+                    continue
+                entry = self.to_json()["options"][name][design]
+                lines.append(f"- {name} {design}: " + "; ".join(
+                    f"{m['gear']}:{m['flank']} {m['tip_relief_um']:.2f} um from {m['tip_relief_start_roll_deg']:.2f} deg "
+                    f"({', '.join(m['meshes'])})" for m in entry["flank_modifications"]))
+        return lines + [""]
+
     def to_json(self) -> dict:
         out = {"settings": self.settings, "flanks_per_mesh": self.flanks, "options": {}}
         for name, opt in self.options.items():
