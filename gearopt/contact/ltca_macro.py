@@ -397,7 +397,8 @@ class MacroLTCAModel:
         compliance = 2.0 * plane_strain_compliance_per_MPa(m["E_MPa"], m["poisson"])
         b_h = nm.sqrt_safe(2.0 * load / math.pi * compliance / curvature, 1e-12)
         m1, m2 = material_pair(m["materials"])
-        return flash_temperature_blok_K(load, b_h, v1, v2, m["friction"], m1.thermal_contact_coefficient_N_per_mm_sqrt_s_K,
+        return flash_temperature_blok_K(load, b_h, v1, v2, m["friction"],
+                                        m1.thermal_contact_coefficient_N_per_mm_sqrt_s_K,
                                         m2.thermal_contact_coefficient_N_per_mm_sqrt_s_K,
                                         sliding_smoothing_m_s=m["sliding"])
 
@@ -431,7 +432,8 @@ class MacroLTCAModel:
                                         f"limit 1e-8): raise approach_steps")
         root = (out["root_stress_1_MPa"], out["root_stress_2_MPa"]) if self.root_stress else None
         return MacroLTCAResult(
-            transmission_error_um=out["te_um"], closure_um=out["closure_um"], load_intensity_N_per_mm=out["load_N_per_mm"],
+            transmission_error_um=out["te_um"], closure_um=out["closure_um"],
+            load_intensity_N_per_mm=out["load_N_per_mm"],
             contact_stress_squared_MPa2=out["stress_sq_MPa2"], engagement=out["engagement"],
             loaded_pairs=out["loaded_pairs"], root_stress_MPa=root, flash_temperature_rise_K=out.get("flash_rise_K"),
             positions=self.positions, load_cases=self.load_cases,

@@ -27,7 +27,7 @@ from __future__ import annotations
 import dataclasses
 import time
 from dataclasses import dataclass, field
-from typing import Any, Sequence
+from typing import Sequence
 
 import numpy as np
 import pandas as pd
@@ -70,7 +70,7 @@ class CodesignStudy:
                 if res is None:
                     rows.append({"option": name, "design": design, "failed": opt.failures.get(design, "")})
                     continue
-                entry = design_entry(res, self.flanks, opt.sequential_macro if design == "sequential" else None)
+                entry = design_entry(res, self.flanks, opt.sequential_macro)
                 rows.append({"option": name, "design": design, **entry["macro"],
                              "max_ppte_um": max(m["ppte_um"] for m in entry["meshes"].values()),
                              "min_axial_margin": (min(entry["axial_margin"].values(), default=np.inf)
@@ -81,32 +81,33 @@ class CodesignStudy:
     def report_lines(self) -> list[str]:
         """Markdown lines of the study (the script's report and the main job's section)."""
         s = self.settings
-        lines = ["Minimise the largest PPTE of " + ", ".join(self.flanks) + " over the load cases "
-                 + ", ".join(f"{k} ({', '.join(f'{m} {t:g}' for m, t in v.items())} N m)" for k, v in s["load_cases"].items())
-                 + f" at {s['speed_rpm']:g} rpm; LTCA contact stress (the unmodified spur meshes' own maxima), root stress, "
-                 "contact temperature, loaded contact ratio, every mesh's geometry limits and, for a helical option, the "
-                 f"joints' axial margins >= {s['min_axial_margin']:g} at {s['overspeed_rpm']:g} rpm. Sequential = macro "
-                 "first (the data's root shift; the largest helix angle meeting the walk-off margins), then the flank "
-                 "reliefs; co-design = all in one NLP, started from the sequential answer. PPTE and stresses from the "
-                 "exact LTCA of each optimum.", "",
-                 "| option | design | root shift | helix [deg] | max PPTE [um] | min axial margin | refinements | time [s] |",
-                 "|---|---|---|---|---|---|---|---|"]
+        cases = ", ".join(f"{k} ({', '.join(f'{m} {t:g}' for m, t in v.items())} N m)"
+                          for k, v in s["load_cases"].items())
+        lines = [f"Minimise the largest PPTE of {', '.join(self.flanks)} over the load cases {cases} at "
+                 f"{s['speed_rpm']:g} rpm; LTCA contact stress (the unmodified spur meshes' own maxima), root "
+                 "stress, contact temperature, loaded contact ratio, every mesh's geometry limits and, for a helical "
+                 f"option, the joints' axial margins >= {s['min_axial_margin']:g} at {s['overspeed_rpm']:g} rpm. "
+                 "Sequential = macro first (the data's root shift; the largest helix angle meeting the walk-off "
+                 "margins), then the flank reliefs; co-design = all in one NLP, started from the sequential answer. "
+                 "PPTE and stresses from the exact LTCA of each optimum.", "",
+                 "| option | design | root shift | helix [deg] | max PPTE [um] | min axial margin | refinements | "
+                 "time [s] |", "|---|---|---|---|---|---|---|---|"]
         for _, r in self.summary().iterrows():
             if isinstance(r.get("failed"), str) and r["failed"]:
                 lines.append(f"| {r['option']} | {r['design']} | failed: {r['failed'].splitlines()[0]} ||||||")
                 continue
             lines.append(f"| {r['option']} | {r['design']} | {r['root_profile_shift']:.4f} | "
-                         f"{r.get('helix_angle_deg', 0.0):.3f} | {r['max_ppte_um']:.3f} | {r['min_axial_margin']:.3g} | "
+                         f"{r['helix_angle_deg']:.3f} | {r['max_ppte_um']:.3f} | {r['min_axial_margin']:.3g} | "
                          f"{r['refinements']:.0f} | {r['time_s']:.1f} |")
         lines += ["", "Tip relief per gear flank (one tooth form per flank, shared by every mesh that loads it):", ""]
+        study = self.to_json()["options"]
         for name, opt in self.options.items():
-            for design, res in (("sequential", opt.sequential), ("codesign", opt.codesign)):
-                if res is None:
-                    continue
-                entry = self.to_json()["options"][name][design]
-                lines.append(f"- {name} {design}: " + "; ".join(
-                    f"{m['gear']}:{m['flank']} {m['tip_relief_um']:.2f} um from {m['tip_relief_start_roll_deg']:.2f} deg "
-                    f"({', '.join(m['meshes'])})" for m in entry["flank_modifications"]))
+            for design in ("sequential", "codesign"):
+                mods = study[name][design].get("flank_modifications")
+                if mods:
+                    lines.append(f"- {name} {design}: " + "; ".join(
+                        f"{m['gear']}:{m['flank']} {m['tip_relief_um']:.2f} um from "
+                        f"{m['tip_relief_start_roll_deg']:.2f} deg ({', '.join(m['meshes'])})" for m in mods))
         return lines + [""]
 
     def to_json(self) -> dict:
@@ -115,7 +116,7 @@ class CodesignStudy:
             out["options"][name] = {
                 "sequential": (design_entry(opt.sequential, self.flanks, opt.sequential_macro)
                                if opt.sequential is not None else {"failed": opt.failures["sequential"]}),
-                "codesign": (design_entry(opt.codesign, self.flanks, None) if opt.codesign is not None
+                "codesign": (design_entry(opt.codesign, self.flanks, opt.sequential_macro) if opt.codesign is not None
                              else {"failed": opt.failures["codesign"]}),
                 "time_s": opt.time_s}
         return out

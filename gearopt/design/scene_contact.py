@@ -35,7 +35,7 @@ from ..contact.microgeometry import Microgeometry
 from ..errors import GearoptInputError
 from .microgeometry_nlp import _start_bounds, min_tip_relief_design
 from .scene_spec import LoadCase
-from .scene_terms import FLANKS, quantity_kind, variable_kind
+from .scene_terms import FLANKS, quantity_kind
 
 MICRO_FIELDS = ("tip_relief_um", "tip_relief_start_roll_deg", "profile_crown_um", "lead_crown_um")
 START_WIDENING_DEG = 3.0

@@ -76,7 +76,8 @@ class TrainModels:
     def _numeric_pair(self, mesh: str, values: Mapping[str, float]) -> GearPair:
         """The mesh's pair at the design ``values`` (numbers)."""
         pair = self._meshes[mesh]
-        if self._free(TRAIN_TARGET, "train") and mesh in self.scene.train.pairs and mesh not in (self.scene.pairs or {}):
+        if self._free(TRAIN_TARGET, "train") and mesh in self.scene.train.pairs \
+                and mesh not in (self.scene.pairs or {}):
             pair = self.train_at(values).pairs[mesh]
         macro = {n: values[f"{mesh}.{n}"] for n in self._free(mesh, "macro")}
         return _with_mesh_macro(pair, macro)
@@ -116,7 +117,8 @@ class TrainModels:
         return self._walk_off(lc).axial_force_N[self._joint_gear(joint)]
 
     def joint_torque_Nm(self, joint: str, lc: LoadCase):
-        """Torque through ``joint`` at ``lc`` [N m]: the load case's own demand, else the net mesh torque on its gear."""
+        """Torque through ``joint`` at ``lc`` [N m]: the load case's own demand, else the net mesh torque on its
+        gear."""
         if joint in lc.joint_torque_Nm:
             return float(lc.joint_torque_Nm[joint])
         return nm.to_float(self._walk_off(lc).joint_torque_Nm[self._joint_gear(joint)])
