@@ -34,6 +34,7 @@ from ..contact.ltca_smooth import LTCAModel
 from ..contact.microgeometry import Microgeometry
 from ..errors import GearoptInputError
 from .microgeometry_nlp import _start_bounds, min_tip_relief_design
+from .scene_refine import extreme_fractions
 from .scene_spec import LoadCase
 from .scene_terms import FLANKS, quantity_kind
 
@@ -387,28 +388,6 @@ def _on_path(matrix, model: LTCAModel, l_idx: int):
     idx = np.flatnonzero(on.reshape(-1, order="F")).tolist()
     block = matrix[:, l_idx * P:(l_idx + 1) * P]
     return nm.reshape(block, int(on.size), 1)[idx]
-
-
-def extreme_fractions(te: np.ndarray, fractions: np.ndarray, per_side: int = 3, band: float = 0.25,
-                      neighbours: int = 6) -> tuple:
-    """Mesh positions of the TE's peaks and troughs: the global maximum and minimum first, then further local
-    maxima (minima) in the top (bottom) ``band`` of the range, most extreme first, up to ``per_side`` each, each with
-    ``neighbours`` grid points on either side (an extreme moves a little when the design does; its neighbours keep
-    the NLP from sliding it between two samples). The TE is periodic over the base pitch."""
-    te = np.asarray(te, dtype=float)
-    lo, hi = te.min(), te.max()
-    span = max(hi - lo, 1e-12)
-    prev, nxt = np.roll(te, 1), np.roll(te, -1)
-    peaks = [i for i in np.argsort(-te) if te[i] >= prev[i] and te[i] >= nxt[i] and te[i] >= hi - band * span]
-    troughs = [i for i in np.argsort(te) if te[i] <= prev[i] and te[i] <= nxt[i] and te[i] <= lo + band * span]
-    idx = [int(np.argmax(te)), int(np.argmin(te))] + peaks[:per_side] + troughs[:per_side]
-    out = []
-    for i in idx:
-        for j in range(i - neighbours, i + neighbours + 1):
-            f = float(fractions[j % te.size])
-            if f not in out:
-                out.append(f)
-    return tuple(out)
 
 
 def corner_values(bounds: Mapping[str, tuple[float, float]]) -> list[dict[str, float]]:

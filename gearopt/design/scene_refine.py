@@ -14,7 +14,7 @@ without a dense grid everywhere:
 3. if any relative difference exceeds ``refine_tolerance``, split it: the smooth model's PPTE on the exact check's
    own dense grid at the same design measures the error of the *smoothing* (dense smooth vs exact), the rest is the
    error of the *sampling* (NLP vs dense smooth). Sampling error above half the tolerance: add the exact TE's peaks
-   and troughs of every load case (:func:`~gearopt.design.scene_contact.extreme_fractions`) to the mesh's set.
+   and troughs of every load case (:func:`extreme_fractions`) to the mesh's set.
    Smoothing error above half the tolerance: halve the contact smoothing width (not below ``min_smoothing_um``;
    the softplus contact law lowers the TE by up to ``w ln 2`` where gaps just close, which matters against a
    sub-micron optimum). Re-solve from the previous optimum (a primal warm start: the new NLP has more constraints,
@@ -35,7 +35,29 @@ REUSED_MODELS = ("data:", "dynamics:", "simulation:")
 """Models a re-solve takes over from the previous build (they do not depend on the positions)."""
 
 
-def _new_fractions(existing: np.ndarray, candidates, tol: float = 1e-9) -> list[float]:
+def extreme_fractions(te: np.ndarray, fractions: np.ndarray, per_side: int = 3, band: float = 0.25,
+                      neighbours: int = 6) -> tuple:
+    """Mesh positions of the TE's peaks and troughs: the global maximum and minimum first, then further local
+    maxima (minima) in the top (bottom) ``band`` of the range, most extreme first, up to ``per_side`` each, each with
+    ``neighbours`` grid points on either side (an extreme moves a little when the design does; its neighbours keep
+    the NLP from sliding it between two samples). The TE is periodic over the base pitch."""
+    te = np.asarray(te, dtype=float)
+    lo, hi = te.min(), te.max()
+    span = max(hi - lo, 1e-12)
+    prev, nxt = np.roll(te, 1), np.roll(te, -1)
+    peaks = [i for i in np.argsort(-te) if te[i] >= prev[i] and te[i] >= nxt[i] and te[i] >= hi - band * span]
+    troughs = [i for i in np.argsort(te) if te[i] <= prev[i] and te[i] <= nxt[i] and te[i] <= lo + band * span]
+    idx = [int(np.argmax(te)), int(np.argmin(te))] + peaks[:per_side] + troughs[:per_side]
+    out = []
+    for i in idx:
+        for j in range(i - neighbours, i + neighbours + 1):
+            f = float(fractions[j % te.size])
+            if f not in out:
+                out.append(f)
+    return tuple(out)
+
+
+def new_fractions(existing: np.ndarray, candidates, tol: float = 1e-9) -> list[float]:
     out = []
     for f in candidates:
         d = np.abs(np.asarray(existing) - f)
@@ -82,7 +104,7 @@ def solve_refined(built, *, starts: int = 1, seed: int = 0, verbose: bool = Fals
             rows_m = ex["mesh"] == mesh
             candidates = [f for fr in ex.loc[rows_m, "worst_fractions"] for f in fr] \
                 if (sampling_err[rows_m] > 0.5 * tol).any() or (ex.loc[rows_m, "ppte_um_error"] > tol).any() else []
-            new = _new_fractions(fractions, candidates)
+            new = new_fractions(fractions, candidates)
             added += len(new)
             sets[mesh] = np.sort(np.concatenate([fractions, new]))
         options = {}
@@ -102,4 +124,4 @@ def solve_refined(built, *, starts: int = 1, seed: int = 0, verbose: bool = Fals
     return result
 
 
-__all__ = ["solve_refined", "REUSED_MODELS"]
+__all__ = ["solve_refined", "extreme_fractions", "new_fractions", "REUSED_MODELS"]
