@@ -138,7 +138,6 @@ def optimise_microgeometry(pair: GearPair, torque_Nm: float | Sequence[float], *
     if aggregate not in ("max", "mean"):
         raise GearoptInputError(f"aggregate={aggregate!r} must be 'max' or 'mean'")
     check_range("min_loaded_contact_ratio", min_loaded_contact_ratio, 0.0, 3.0)
-    g = pair.geometry()
     if max_flash_temperature_C is not None and speed_rpm is None:
         raise GearoptInputError("max_flash_temperature_C needs speed_rpm (of the driving gear)")
     model = model or LTCAModel(pair, driving_gear=driving_gear, stiffness=stiffness, positions=positions,
@@ -150,7 +149,6 @@ def optimise_microgeometry(pair: GearPair, torque_Nm: float | Sequence[float], *
     exact_opts = dict(driving_gear=driving_gear, stiffness=model.layout.stiffness, positions=model.layout.positions,
                       slices=model.layout.slices)
     check_opts = dict(exact_opts, positions=max(int(check_positions), model.layout.positions))
-    unmodified = {t: ltca(pair, t, **exact_opts) for t in torques}
     if max_contact_stress_MPa is None:
         # the unmodified pair's peak over the continuum of positions (check grid), not only at the NLP's samples:
         # a refined position set must not find the default limit infeasible

@@ -386,7 +386,7 @@ class BuiltScene(ContactModels, TrainModels, QuantityTerms):
             v = float(np.asarray(solved.values[f"{t}.{name}"]).ravel()[0])
             values[f"{t}.{name}"] = float(np.clip(v, entry.lower[0], entry.upper[0]))
         table = self._quantity_table(solved)
-        exact = self._exact_check(values, solved) if check else pd.DataFrame()
+        exact = self._exact_check(values, solved.value) if check else pd.DataFrame()
         return SceneResult(scene=self.scene.name, values=values, solve=solved, quantities=table, exact_check=exact,
                            microgeometry={m: self.microgeometry_at(values, m) for m in self._ltca_meshes()},
                            built=self.build_table, starts=starts_table,

@@ -310,7 +310,7 @@ class ContactModels:
 
     # -- exact check ---------------------------------------------------------------------------------------------
 
-    def _exact_check(self, values: Mapping[str, float], solved=None) -> pd.DataFrame:
+    def _exact_check(self, values: Mapping[str, float], evaluate=None) -> pd.DataFrame:
         """Exact LTCA (``check_positions``, the default slices) of every LTCA mesh at the optimum, per load case,
         beside the smooth model's values at the same design (``smooth_*``) and their relative differences
         (``*_error``, relative to the exact value). ``worst_fractions`` lists the mesh positions (fractions of a
@@ -339,11 +339,11 @@ class ContactModels:
                     row["max_root_stress_MPa"] = max(r.max_root_stress_MPa)
                 if speed is not None:
                     row["max_contact_temperature_C"] = r.max_flash_temperature_C
-                if solved is not None:
+                if evaluate is not None:
                     row["smooth_dense_ppte_um"] = self._dense_smooth_ppte(mesh, values, lc, positions)
                     for q in ("ppte_um", "max_contact_stress_MPa", "max_root_stress_MPa", "max_contact_temperature_C"):
                         if q in row:
-                            s = self._smooth_value(q, mesh, lc, solved)
+                            s = self._smooth_value(q, mesh, lc, evaluate)
                             row[f"smooth_{q}"] = s
                             row[f"{q}_error"] = abs(s - row[q]) / max(abs(row[q]), 1e-12)
                 rows.append(row)
@@ -374,8 +374,8 @@ class ContactModels:
     def _model_positions(self, model) -> int:
         return model.positions if isinstance(model, MacroLTCAModel) else model.layout.positions
 
-    def _smooth_value(self, q: str, mesh: str, lc: LoadCase, solved) -> float:
-        v = np.atleast_1d(np.asarray(solved.value(self._ltca_elements(q, mesh, lc)), dtype=float)).ravel()
+    def _smooth_value(self, q: str, mesh: str, lc: LoadCase, evaluate) -> float:
+        v = np.atleast_1d(np.asarray(evaluate(self._ltca_elements(q, mesh, lc)), dtype=float)).ravel()
         if q == "ppte_um":
             return float(np.ptp(v))
         return float(np.sqrt(max(v.max(), 0.0))) if q == "max_contact_stress_MPa" else float(v.max())

@@ -186,10 +186,14 @@ class QuantityTerms:
         missing = {f"{t}.{n}" for (t, n) in self._variables} - set(values)
         if missing:
             raise GearoptInputError(f"quantities_at: values miss {sorted(missing)}")
+        return self._quantity_table(None, self.evaluator_at(values))
+
+    def evaluator_at(self, values: Mapping[str, float]) -> Callable:
+        """``expr -> value`` of expressions of the design variables at ``values`` (``"target.variable"`` keys)."""
         opti = self.problem.opti
         at = [self.problem._variables[k].symbol == values[k] / self.problem._variables[k].scale[0]
               for k in (f"{t}.{n}" for (t, n) in self._variables)]
-        return self._quantity_table(None, lambda expr: opti.value(expr, at))
+        return lambda expr: opti.value(expr, at)
 
     def _quantity_table(self, solved: ProblemResult | None, evaluate: Callable | None = None) -> pd.DataFrame:
         evaluate = evaluate or solved.value
