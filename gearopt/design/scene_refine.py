@@ -168,7 +168,8 @@ def solve_refined(built, *, starts: int = 1, seed: int = 0, verbose: bool = Fals
         else:
             result = best
     table = pd.DataFrame(rows)
-    table.attrs.update(status=status, tolerance=tol, total_time_s=time.perf_counter() - t_start, chosen=chosen)
+    table.attrs.update(status=status, tolerance=tol, total_time_s=time.perf_counter() - t_start, chosen=chosen,
+                       verified_objective=min((c[0] for c in candidates), default=float("nan")))
     result.refinement = table
     return result
 

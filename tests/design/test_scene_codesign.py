@@ -124,3 +124,32 @@ def test_walk_off_margin_limits_the_helix_angle_in_the_same_nlp(train):
     assert margin == pytest.approx(cap / abs(axial), rel=1e-4)
     free = Scene("helix", train=train, load_cases=[case], variables=scene.variables, objectives=scene.objectives)
     assert free.build().solve().values["train.helix_angle_deg"] == pytest.approx(10.0, abs=1e-4)
+
+
+def test_tooth_count_candidates_are_co_designed_warm_and_ranked(train):
+    """Every admissible candidate (lube-branch teeth within 3 %) gets the same co-design scene, warm-started from the
+    previous optimum; the table is ranked by the exact-verified objective and each optimum respects its own
+    candidate's admissible root-shift interval (ISO/TR 4467 shift limits, imposed through geometry_limits)."""
+    from gearopt.design.scene_codesign import rank_tooth_counts
+    from gearopt.design.tooth_counts import enumerate_tooth_counts
+
+    enumeration = enumerate_tooth_counts(train, default_tolerance_percent=3.0, span=1)
+
+    def make_scene(candidate_train):
+        return Scene("teeth", train=candidate_train, load_cases=[LoadCase("design", 300.0)],
+                     variables=[DesignVariable("root_profile_shift", "train", lower=-0.2, upper=0.6)]
+                     + [DesignVariable(n, f) for f in ("crank:driving", "cam:driven")
+                        for n in ("tip_relief_um", "tip_relief_start_roll_deg")],
+                     objectives=[Objective("ppte_um", MESH)],
+                     limits=[Limit("geometry_limits", m, options=dict(min_contact_ratio=1.2, min_backlash_mm=None))
+                             for m in candidate_train.pairs],
+                     ltca_options={"positions": 16, "max_refinements": 0})
+
+    table = rank_tooth_counts(enumeration, make_scene, limit=3)
+    assert len(table) == 3 and table["rank"].tolist() == [1, 2, 3]
+    solved = table[table["status"] == "solved"]
+    assert len(solved) >= 2 and (np.diff(solved["objective"]) >= 0).all()
+    for _, row in solved.iterrows():
+        cand = enumeration.admissible[(enumeration.admissible[[c for c in table if c.startswith("teeth_")]]
+                                       == row[[c for c in table if c.startswith("teeth_")]].values).all(axis=1)]
+        assert row["root_profile_shift"] <= cand["root_shift_max"].iloc[0] + 1e-6
