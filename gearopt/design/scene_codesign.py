@@ -326,5 +326,6 @@ def rank_tooth_counts(enumeration, make_scene: Callable[[GearTrain], Scene], *, 
     return out
 
 
-__all__ = ["codesign_study", "rank_tooth_counts", "CodesignStudy", "CodesignOption", "design_entry", "loaded_flanks", "macro_first_helix",
+__all__ = ["codesign_study", "rank_tooth_counts", "CodesignStudy", "CodesignOption", "design_entry", "loaded_flanks",
+           "macro_first_helix",
            "MESHES", "WALK_OFF_JOINTS"]
