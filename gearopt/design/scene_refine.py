@@ -38,6 +38,8 @@ import time
 import numpy as np
 import pandas as pd
 
+from ..errors import SolveError
+
 REUSED_MODELS = ("data:", "dynamics:", "simulation:")
 """Models a re-solve takes over from the previous build (they do not depend on the positions)."""
 
@@ -114,7 +116,14 @@ def solve_refined(built, *, starts: int = 1, seed: int = 0, verbose: bool = Fals
     t_start = time.perf_counter()
     for it in range(max_refinements + 1):
         t0 = time.perf_counter()
-        result = current.solve_once(starts=starts if it == 0 else 1, seed=seed, verbose=verbose, check=True, **ipopt)
+        try:
+            result = current.solve_once(starts=starts if it == 0 else 1, seed=seed, verbose=verbose, check=True,
+                                        **ipopt)
+        except SolveError as exc:
+            if it == 0:
+                raise
+            status = f"re-solve {it} failed ({type(exc).__name__}: {exc.status}); kept the best verified design"
+            break
         ex = result.exact_check
         err = float(ex["ppte_um_error"].max()) if len(ex) else 0.0
         worst = ex.loc[ex["ppte_um_error"].idxmax()] if len(ex) else None
