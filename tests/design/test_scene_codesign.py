@@ -13,6 +13,7 @@ from gearopt.design.scene import DesignVariable, Limit, LoadCase, Objective, Sce
 from gearopt.errors import GearoptInputError
 from gearopt.joints import joint_capacity
 from gearopt.joints.walk_off import quasi_static_mesh_torques_Nm, walk_off
+from gearopt.contact.ltca import ltca
 
 MESH = "crank-cam"
 RELIEF = ("tip_relief_1_um", "tip_relief_2_um", "tip_relief_1_start_roll_deg", "tip_relief_2_start_roll_deg")
@@ -153,3 +154,27 @@ def test_tooth_count_candidates_are_co_designed_warm_and_ranked(train):
         cand = enumeration.admissible[(enumeration.admissible[[c for c in table if c.startswith("teeth_")]]
                                        == row[[c for c in table if c.startswith("teeth_")]].values).all(axis=1)]
         assert row["root_profile_shift"] <= cand["root_shift_max"].iloc[0] + 1e-6
+
+
+def test_root_shift_helix_angle_and_reliefs_in_one_scene(train):
+    """The acceptance scene: both train variables beside mesh reliefs, PPTE objective; result.values holds the train
+    variables and exact_check compares smooth and exact PPTE and stresses at the optimum (coarse settings: one
+    solve, 5 face slices -- the exact LTCA runs with 81)."""
+    scene = Scene("both", train=train, load_cases=[LoadCase("design", 300.0)],
+                  variables=[DesignVariable("root_profile_shift", "train", lower=0.0, upper=0.6),
+                             DesignVariable("helix_angle_deg", "train", lower=0.0, upper=8.0),
+                             DesignVariable("tip_relief_1_um", MESH), DesignVariable("tip_relief_2_um", MESH)],
+                  objectives=[Objective("ppte_um", MESH, aggregate="max")],
+                  limits=[Limit("max_contact_stress_MPa", MESH, upper=1150.0),
+                          Limit("geometry_limits", MESH, options=dict(min_contact_ratio=1.2, min_backlash_mm=None))],
+                  ltca_options={"positions": 16, "helical_slices": 5, "max_refinements": 0})
+    result = scene.build().solve()
+    assert {"train.root_profile_shift", "train.helix_angle_deg"} <= set(result.values)
+    check = result.exact_check.iloc[0]
+    assert {"ppte_um", "smooth_ppte_um", "ppte_um_error", "max_contact_stress_MPa",
+            "smooth_max_contact_stress_MPa", "max_contact_stress_MPa_error"} <= set(check.index)
+    assert check["max_contact_stress_MPa_error"] <= 0.01
+    helical = dataclasses.replace(train, root_profile_shift=result.values["train.root_profile_shift"],
+                                  helix_angle_deg=result.values["train.helix_angle_deg"]).pairs[MESH]
+    assert ltca(helical, 300.0, microgeometry=result.microgeometry[MESH]).ppte_um == pytest.approx(check["ppte_um"])
+    assert check["ppte_um"] < 0.5 * ltca(train.pairs[MESH], 300.0).ppte_um
