@@ -8,12 +8,12 @@ import numpy as np
 import pytest
 
 import gearopt as go
+from gearopt.contact.ltca import ltca
 from gearopt.data import load_default_data
 from gearopt.design.scene import DesignVariable, Limit, LoadCase, Objective, Scene
 from gearopt.errors import GearoptInputError
 from gearopt.joints import joint_capacity
 from gearopt.joints.walk_off import quasi_static_mesh_torques_Nm, walk_off
-from gearopt.contact.ltca import ltca
 
 MESH = "crank-cam"
 RELIEF = ("tip_relief_1_um", "tip_relief_2_um", "tip_relief_1_start_roll_deg", "tip_relief_2_start_roll_deg")
