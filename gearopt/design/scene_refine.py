@@ -21,7 +21,7 @@ without a dense grid everywhere:
    so its multipliers do not carry over);
 4. stop when all agree, after ``max_refinements`` re-solves, or when neither remedy applies (reported);
 5. return the *best verified* design: among the solves whose smooth and exact PPTE agree within the tolerance (and,
-   for a scene started at a full design -- e.g. the sequential answer -- that start, when it meets every limit and
+   for a warm-started scene -- e.g. from the sequential answer -- that start, when it meets every limit and
    agrees too), the one with the lowest objective with every PPTE term taken from the exact LTCA. The re-solves
    change the positions and the smoothing, so a later local optimum is not always better on the exact model; the
    start of a warm-started scene is a feasible point, so the result is never worse than it (``refinement.attrs
@@ -105,7 +105,7 @@ def solve_refined(built, *, starts: int = 1, seed: int = 0, verbose: bool = Fals
     candidates = []
     keys = {f"{t}.{n}" for (t, n) in built._variables}
     built_positions = {m: built._positions_of(m) for m in built._ltca_meshes()}
-    if keys <= set(built._initial_overrides):
+    if keys & set(built._initial_overrides):       # a warm start: its design (the rest at the declared starts)
         start = built._initial_values()
         q0 = built.quantities_at(start)
         ex0 = built._exact_check(start, built.evaluator_at(start))
