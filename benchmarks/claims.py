@@ -142,11 +142,30 @@ def robustness(d) -> str:
             f"{old['hang']} hangs.")
 
 
+def codesign(d) -> str:
+    sw = d["sweeps"]
+    base = next(r for r in sw["positions"] if r["time_ratio_to_base"] == 1.0)
+    def ratios(key, rows):
+        return ", ".join(f"{r[key]}: {r['time_ratio_to_base']:.2g}x" for r in rows)
+
+    grow = "; ".join(f"{key} {ratios(key, rows)}" for key, rows in sw.items())
+    errors = ", ".join(f"{r['positions']} positions {100 * r['ppte_error']:.2g} %" for r in sw["positions"])
+    runs = "; ".join(f"{name.replace('_', ' ')}: {100 * r['ppte_error']:.2g} % in {r['solve_s']:.2g} s"
+                     + (f" ({r['refinements']} re-solves, {r['final_positions']} positions, {r['status']})"
+                        if r.get("refinements") is not None else "")
+                     + f", exact PPTE {r['exact_max_ppte_um']:.3g} um"
+                     for name, r in d["time_to_2_percent"].items())
+    return (f"`codesign.json` ({'quick' if d['quick'] else 'full'} run; one mesh, one load case, "
+            f"{base['positions']} positions: build {base['build_s']:.2g} s, solve + exact check {base['solve_s']:.2g} s, "
+            f"{base['ipopt_iterations']} Ipopt iterations). Time relative to it: {grow}. Smooth-vs-exact PPTE error of "
+            f"the optimum: {errors}. Time to a verified 2 %: {runs}.")
+
+
 def render(results: Path = RESULTS) -> str:
     blocks = []
     for name, fun in (("geometry", geometry), ("ltca", ltca), ("microgeometry_nlp", microgeometry_nlp),
                       ("stability", stability), ("dynamics_speed", dynamics_speed),
-                      ("studies", studies), ("robustness", robustness)):
+                      ("studies", studies), ("robustness", robustness), ("codesign", codesign)):
         d = _load(results, name)
         text = fun(d) if d is not None else f"`{name}.json`: not run yet."
         blocks.append(textwrap.fill(text, width=118, initial_indent="- ", subsequent_indent="  ",

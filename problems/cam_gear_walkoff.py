@@ -397,6 +397,17 @@ def contact_stage(data: dict, trains: dict, quick: bool = False) -> dict:
     return {mesh: mesh_contact_study(trains, mesh, loads[key], **options) for mesh, key in CONTACT_MESHES.items()}
 
 
+def codesign_stage(data: dict, quick: bool = False):
+    """Stage: co-design of the spur train and a low-helix alternative (profile shift, helix angle, per-flank tip
+    relief, walk-off margins in one NLP) beside the sequential design (gearopt.design.scene_codesign); quick: the
+    spur option, one load case, no refinement. The main job caps the refinement at 3 re-solves and slices helical
+    faces 7 times (run time); problems/codesign.py runs the study at its defaults."""
+    from gearopt.design.scene_codesign import codesign_study
+
+    return codesign_study(data, quick=quick, options=("spur",) if quick else ("spur", "low_helix"),
+                          ltca_options=None if quick else {"max_refinements": 3, "helical_slices": 7})
+
+
 def write_contact(out: Path, studies: dict) -> tuple[list[str], dict]:
     """Contact tables and figures; returns the report lines and the result.json entries."""
     lines, result = ["## Contact: helical baseline vs unmodified spur vs optimised spur", ""], {}
@@ -634,7 +645,7 @@ def write_outputs(out: Path, macro: dict, split: dict, timings: dict, contact: d
                   ratings: dict | None = None, joints: dict | None = None, dynamics: dict | None = None,
                   design_torques: pd.DataFrame | None = None, teeth: dict | None = None,
                   sizing: dict | None = None, data: dict | None = None,
-                  failure: dict | None = None) -> None:
+                  failure: dict | None = None, codesign=None) -> None:
     out.mkdir(parents=True, exist_ok=True)
     failure_lines, failure_result = write_failure(out, failure) if failure else ([], {})
     lines = list(failure_lines)  # the failure the redesign cures comes first, after the summary
@@ -682,7 +693,9 @@ def write_outputs(out: Path, macro: dict, split: dict, timings: dict, contact: d
                         "and axial force of the speed sweep (with backlash), at the weakest interference / nut "
                         "factor (`gearopt.design.joint_sizing`); `present_min_*` are the margins of the present "
                         "design over the same sweep.", "", to_markdown(sizing["table"]), ""]
-    lines += contact_lines + rating_lines + joint_lines + dyn_lines + sizing_lines + appendix
+    codesign_lines = (["## Co-design: profile shift, helix angle, flank reliefs and walk-off in one NLP", ""]
+                      + codesign.report_lines()) if codesign is not None else []
+    lines += contact_lines + rating_lines + joint_lines + dyn_lines + sizing_lines + codesign_lines + appendix
     lines += ["## Run time per stage", ""] + [f"- {k}: {v:.3f} s" for k, v in timings.items()]
     result = {
         "units": {"centre_distance": "mm", "tip_thickness": "mm", "time": "s", "ppte": "um", "stress": "MPa",
@@ -708,6 +721,7 @@ def write_outputs(out: Path, macro: dict, split: dict, timings: dict, contact: d
         "dynamics": dyn_result,
         "joint_sizing": (sizing["table"].replace({np.inf: "inf"}).to_dict(orient="records") if sizing else []),
         "failure_reproduction": failure_result,
+        "codesign": codesign.to_json() if codesign is not None else {},
         "stage_time_s": timings,
     }
     summary = build_summary(result, **summary_inputs(data or load_default_data(), dynamics, out))
@@ -830,8 +844,12 @@ def main(argv: list[str] | None = None) -> int:
     timings["failure_reproduction"] = time.perf_counter() - t0
 
     t0 = time.perf_counter()
+    codesign = codesign_stage(data, quick=args.quick)
+    timings["codesign_nlp"] = time.perf_counter() - t0
+
+    t0 = time.perf_counter()
     write_outputs(args.out, macro, split, timings, contact, ratings, joints, dynamics, design_torques, teeth,
-                  sizing, data=data, failure=failure)
+                  sizing, data=data, failure=failure, codesign=codesign)
     timings["write_outputs"] = time.perf_counter() - t0
 
     t0 = time.perf_counter()

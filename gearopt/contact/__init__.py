@@ -4,6 +4,7 @@ from .harris import harris_map
 from .layout import MeshLayout, mesh_layout
 from .ltca import LTCAResult, ltca
 from .ltca_smooth import LTCAModel, SmoothLTCAResult
+from .ltca_macro import MacroLTCAModel, MacroLTCAResult
 from .microgeometry import Microgeometry
 from .potential_energy import (ANCHOR_CONVENTIONS, PotentialEnergyOptions, potential_energy_mesh_stiffness,
                                potential_energy_single_stiffness, potential_energy_stiffness_profile)

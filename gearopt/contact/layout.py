@@ -142,15 +142,32 @@ def default_positions(slices: int) -> int:
     return 1280 if slices == 1 else 160
 
 
-def mesh_layout(pair: GearPair, *, driving_gear: int = 1, positions: int = 40, slices: int = 1,
+def position_fractions(positions) -> np.ndarray:
+    """Mesh positions as fractions of one base pitch in [0, 1): ``positions`` is a count (a uniform grid p/P) or a
+    sequence of fractions (any order: a refined set of a semi-infinite solve). Raises on an empty set or a fraction
+    outside [0, 1)."""
+    if isinstance(positions, (int, np.integer)) and not isinstance(positions, bool):
+        positions = check_int("positions", positions, 2, 100000)
+        return np.arange(positions) / positions
+    s = np.asarray(positions, dtype=float).reshape(-1)
+    if s.size < 2 or not np.all(np.isfinite(s)) or np.any(s < 0.0) or np.any(s >= 1.0):
+        raise GearoptInputError(f"positions={positions!r} must be a count >= 2 or at least two fractions of a base "
+                                f"pitch in [0, 1)")
+    return s
+
+
+def mesh_layout(pair: GearPair, *, driving_gear: int = 1, positions: Any = 40, slices: int = 1,
                 stiffness: Any = "iso6336", E_MPa: float = 206000.0, poisson: float = 0.3) -> MeshLayout:
-    """Discretise ``pair``'s mesh: ``positions`` over one base pitch in time order, ``slices`` over the face."""
+    """Discretise ``pair``'s mesh: ``positions`` over one base pitch (a count: uniform in time order; or fractions
+    of the base pitch, :func:`position_fractions`), ``slices`` over the face."""
     if pair.is_symbolic:
         raise GearoptInputError("the LTCA needs a numeric pair (fixed macro geometry); the microgeometry and the "
                                 "torque may be symbolic")
     if driving_gear not in (1, 2):
         raise GearoptInputError(f"driving_gear={driving_gear!r} must be 1 or 2")
-    positions, slices = check_int("positions", positions, 2, 100000), check_int("slices", slices, 1, 10000)
+    s = position_fractions(positions)
+    positions = int(s.size)
+    slices = check_int("slices", slices, 1, 10000)
     check_range("E_MPa", E_MPa, 0.0, None, low_inclusive=False, unit="MPa")
     check_range("poisson", poisson, 0.0, 0.5, low_inclusive=False, high_inclusive=False)
     g = pair.geometry()
@@ -165,7 +182,6 @@ def mesh_layout(pair: GearPair, *, driving_gear: int = 1, positions: int = 40, s
     eps_total = (E - A) / p_bt + b * tan_bb / p_bt
     k = np.arange(-int(math.ceil(eps_total)) - 1, int(math.ceil(eps_total)) + 2)
 
-    s = np.arange(positions) / positions
     if driving_gear == 1:
         rho_ref, direction = A - 0.5 * b * tan_bb + s * p_bt, 1.0
     else:
@@ -202,4 +218,4 @@ def hertz_stress_factor(layout: MeshLayout, E_MPa: float, poisson: float) -> np.
     return np.where(layout.on_path, e_term / (math.pi * rho_red), 0.0)
 
 
-__all__ = ["MeshLayout", "mesh_layout", "default_slices", "single_pair_stiffness_profile", "hertz_stress_factor"]
+__all__ = ["MeshLayout", "mesh_layout", "position_fractions", "default_slices", "single_pair_stiffness_profile", "hertz_stress_factor"]

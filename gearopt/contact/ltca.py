@@ -187,7 +187,8 @@ def ltca(pair: GearPair, torque_Nm: float, *, driving_gear: int = 1, microgeomet
          friction_coefficient: float = 0.06, materials: Any = "20MnCr5") -> LTCAResult:
     """Exact numeric LTCA of ``pair`` at ``torque_Nm`` on the driving gear over one base pitch.
 
-    ``slices=None`` and ``positions=None`` choose a resolution that keeps PPTE within 1 % of the converged value
+    ``positions`` may also be a sequence of fractions of the base pitch in [0, 1) (an arbitrary set of mesh
+    positions, :func:`gearopt.contact.layout.position_fractions`). ``slices=None`` and ``positions=None`` choose a resolution that keeps PPTE within 1 % of the converged value
     (:func:`gearopt.contact.layout.default_slices`/``default_positions``: 1 slice and 1280 positions for a plain
     spur pair, 11 slices for spur with lead modifications, 81 for helical, 160 positions when sliced). ``E_MPa``/``poisson`` are those of both gears (Hertzian stress).
     ``speed_rpm`` (of the driving gear), ``bulk_temperature_C``, ``friction_coefficient`` (mean, Blok) and
@@ -210,7 +211,7 @@ def ltca(pair: GearPair, torque_Nm: float, *, driving_gear: int = 1, microgeomet
     check_ltca_size(pair, positions, slices)
     lay = mesh_layout(pair, driving_gear=driving_gear, positions=positions, slices=slices, stiffness=stiffness,
                       E_MPa=E_MPa, poisson=poisson)
-    P = positions
+    P = lay.positions
     gap = lay.gaps_um(mods)
     force = float(torque_Nm) * lay.force_per_torque_N_per_Nm
     spring = lay.spring_N_per_um
@@ -227,7 +228,7 @@ def ltca(pair: GearPair, torque_Nm: float, *, driving_gear: int = 1, microgeomet
                       load_sharing=sharing, load_intensity_N_per_mm=w, contact_stress_MPa=sigma,
                       roll_length_1_mm=lay.rho1_mm[:, :, 0], slice_y_mm=lay.slice_y_mm, transverse_force_N=force,
                       loaded_pairs=loaded,
-                      settings={"positions": positions, "slices": slices, "stiffness": stiffness,
+                      settings={"positions": P, "slices": slices, "stiffness": stiffness,
                                 "driving_gear": driving_gear, "pair_index": lay.pair_index.tolist(),
                                 "E_MPa": E_MPa, "poisson": poisson},
                       layout=lay, speed_rpm=speed_rpm, bulk_temperature_C=bulk_temperature_C,

@@ -38,6 +38,8 @@ from ..nlp.problem import Problem
 from ..nlp.result import ProblemResult
 
 GROUPS = ("tip_relief", "profile_crown")
+MIN_SMOOTHING_UM = 0.005
+"""Smallest contact smoothing the refinement halves down to (the stability tests solve at 0.005 um)."""
 
 
 @dataclass
@@ -51,6 +53,7 @@ class MicrogeometryDesign:
     torques_Nm: tuple
     starts: pd.DataFrame = field(default=None)
     table: pd.DataFrame = field(default=None)
+    refinement: pd.DataFrame | None = field(default=None)
 
     @property
     def ppte_um(self) -> float:
@@ -87,7 +90,9 @@ def optimise_microgeometry(pair: GearPair, torque_Nm: float | Sequence[float], *
                            check_positions: int = 1280, polish: bool = False, starts: Any = "load_cases", seed: int = 0, initial: Microgeometry | None = None,
                            max_root_stress_MPa: float | None = None, max_flash_temperature_C: float | None = None,
                            speed_rpm: float | None = None, bulk_temperature_C: float = 100.0,
-                           friction_coefficient: float = 0.06, model: LTCAModel | None = None, verbose: bool = False, **ipopt) -> MicrogeometryDesign:
+                           friction_coefficient: float = 0.06, model: LTCAModel | None = None, verbose: bool = False,
+                           refine: bool = True, refine_tolerance: float = 0.02, max_refinements: int = 6,
+                           **ipopt) -> MicrogeometryDesign:
     """Minimise the PPTE of ``pair`` over tip relief (amounts and starts, both gears) and profile crown.
 
     Args:
@@ -115,6 +120,12 @@ def optimise_microgeometry(pair: GearPair, torque_Nm: float | Sequence[float], *
             further load case; an integer n: n starts in total, Latin-hypercube points (``seed``) after those. The
             best optimum is returned; ``design.starts`` tables every start (status, objective, iterations).
         model: a prebuilt :class:`LTCAModel` of the pair (reused, not rebuilt); else one is built.
+        refine: semi-infinite refinement of the best optimum (:mod:`gearopt.design.scene_refine`): while the NLP's
+            PPTE at its positions differs from the exact LTCA's at ``check_positions`` by more than
+            ``refine_tolerance`` (relative, any load case), add the exact TE's peaks and troughs to the positions
+            and re-solve from the optimum, at most ``max_refinements`` times (``design.refinement`` tables them);
+            where the smooth model on the check grid itself differs by more than half the tolerance, the contact
+            smoothing is halved (down to :data:`MIN_SMOOTHING_UM`).
         ipopt: extra Ipopt options (``max_iter`` ...).
     Raises a :class:`~gearopt.errors.SolveError` subclass naming the violated constraints if Ipopt fails.
     """
@@ -127,7 +138,6 @@ def optimise_microgeometry(pair: GearPair, torque_Nm: float | Sequence[float], *
     if aggregate not in ("max", "mean"):
         raise GearoptInputError(f"aggregate={aggregate!r} must be 'max' or 'mean'")
     check_range("min_loaded_contact_ratio", min_loaded_contact_ratio, 0.0, 3.0)
-    g = pair.geometry()
     if max_flash_temperature_C is not None and speed_rpm is None:
         raise GearoptInputError("max_flash_temperature_C needs speed_rpm (of the driving gear)")
     model = model or LTCAModel(pair, driving_gear=driving_gear, stiffness=stiffness, positions=positions,
@@ -139,9 +149,11 @@ def optimise_microgeometry(pair: GearPair, torque_Nm: float | Sequence[float], *
     exact_opts = dict(driving_gear=driving_gear, stiffness=model.layout.stiffness, positions=model.layout.positions,
                       slices=model.layout.slices)
     check_opts = dict(exact_opts, positions=max(int(check_positions), model.layout.positions))
-    unmodified = {t: ltca(pair, t, **exact_opts) for t in torques}
     if max_contact_stress_MPa is None:
-        max_contact_stress_MPa = unmodified[max(torques)].max_contact_stress_MPa
+        # the unmodified pair's peak over the continuum of positions (check grid), not only at the NLP's samples:
+        # a refined position set must not find the default limit infeasible
+        max_contact_stress_MPa = ltca(pair, max(torques), **(check_opts if refine else exact_opts)
+                                      ).max_contact_stress_MPa
     check_range("max_contact_stress_MPa", max_contact_stress_MPa, 0.0, None, low_inclusive=False, unit="MPa")
     minimum = min_tip_relief_design(pair, torques[0], driving_gear=driving_gear)
     start = initial or minimum
@@ -169,13 +181,71 @@ def optimise_microgeometry(pair: GearPair, torque_Nm: float | Sequence[float], *
     if best[0] is None:
         raise best[1]
     numbers, solved, current = best[0]
+    refinement = None
+    if refine:
+        def rebuild(fractions, smoothing):
+            old = spec["model"]
+            return LTCAModel(pair, driving_gear=old.layout.driving_gear, stiffness=old.layout.stiffness,
+                             positions=fractions, slices=old.layout.slices, smoothing_um=smoothing,
+                             count_width_um=old.count_width_um, root_stress=old.root_stress,
+                             speed_rpm=old.speed_rpm, bulk_temperature_C=bulk_temperature_C,
+                             friction_coefficient=friction_coefficient)
+
+        numbers, solved, current, refinement = _refine(
+            spec, numbers, solved, current, rebuild, check_opts, refine_tolerance, max_refinements,
+            lambda sp, guess: _solve_from(sp, guess, relief_smoothing_deg, polish, relief_shape, verbose, ipopt))
     exact = {"unmodified": {t: ltca(pair, t, **check_opts) for t in torques},
              "min_tip_relief": {t: ltca(pair, t, microgeometry=minimum, **check_opts) for t in torques},
              "optimised": {t: ltca(pair, t, microgeometry=current, **check_opts) for t in torques}}
     design = MicrogeometryDesign(microgeometry=current, values=numbers, solve=solved, exact=exact, torques_Nm=torques,
-                                 starts=pd.DataFrame(records))
+                                 starts=pd.DataFrame(records), refinement=refinement)
     design.table = comparison_table(exact, torques)
     return design
+
+
+def _refine(spec, numbers, solved, current, rebuild, check_opts, tolerance, max_refinements, solve_from):
+    """Exchange-method refinement of the NLP's mesh positions (see :mod:`gearopt.design.scene_refine`)."""
+    from ..contact.layout import position_fractions
+    from .scene_refine import extreme_fractions, new_fractions
+
+    pair, torques, rows = spec["pair"], spec["torques"], []
+    check_positions = int(check_opts["positions"])
+    grid = np.arange(check_positions) / check_positions
+    for it in range(max_refinements + 1):
+        model = spec["model"]
+        te = np.asarray(model.evaluate(current, list(torques)).transmission_error_um, dtype=float)
+        te = te.reshape(te.shape[0], -1)                                  # (positions, load cases)
+        exact = [ltca(pair, t, microgeometry=current, **check_opts) for t in torques]
+        errors = [abs(np.ptp(te[:, i]) - r.ppte_um) / max(r.ppte_um, 1e-12) for i, r in enumerate(exact)]
+        dense = LTCAModel(pair, driving_gear=model.layout.driving_gear, stiffness=model.layout.stiffness,
+                          positions=check_positions, slices=model.layout.slices, smoothing_um=model.smoothing_um)
+        dense_te = np.asarray(dense.evaluate(current, list(torques)).transmission_error_um, dtype=float)
+        dense_te = dense_te.reshape(dense_te.shape[0], -1)
+        smoothing_error = max(abs(np.ptp(dense_te[:, i]) - r.ppte_um) / max(r.ppte_um, 1e-12)
+                              for i, r in enumerate(exact))
+        rows.append({"iteration": it, "positions": model.layout.positions, "smoothing_um": model.smoothing_um,
+                     "max_ppte_error": float(max(errors)), "smoothing_error": float(smoothing_error),
+                     "objective_um": float(solved.objective), "ipopt_iterations": int(solved.iterations)})
+        if max(errors) <= tolerance or it == max_refinements:
+            break
+        fractions = position_fractions(spec["exact_opts"]["positions"])
+        new = new_fractions(fractions, [f for r in exact for f in extreme_fractions(r.transmission_error_um, grid)])
+        smoothing = model.smoothing_um
+        if smoothing_error > 0.5 * tolerance and smoothing > MIN_SMOOTHING_UM:
+            smoothing = max(0.5 * smoothing, MIN_SMOOTHING_UM)    # the softplus lowers the TE by up to w ln 2
+        if not new and smoothing == model.smoothing_um:
+            break
+        fractions = np.sort(np.concatenate([fractions, new]))
+        spec = dict(spec, model=rebuild(fractions, smoothing), exact_opts=dict(spec["exact_opts"], positions=fractions))
+        try:
+            numbers, solved, current = solve_from(spec, current)
+        except SolveError as exc:       # keep the last verified design, say why the refinement stopped
+            table = pd.DataFrame(rows)
+            table.attrs["status"] = f"stopped: re-solve {it + 1} failed ({exc.status})"
+            return numbers, solved, current, table
+    table = pd.DataFrame(rows)
+    table.attrs["status"] = "converged" if rows[-1]["max_ppte_error"] <= tolerance else "not converged"
+    return numbers, solved, current, table
 
 
 def _solve_from(spec, guess, relief_smoothing_deg, polish, relief_shape, verbose, ipopt):

@@ -16,7 +16,6 @@ from dataclasses import fields
 from typing import Any, Mapping
 
 from ..data import train_from_data
-from ..data import values as data_values
 from ..errors import GearoptInputError
 from .scene import Scene
 from .scene_spec import DesignVariable, Limit, LoadCase, Objective

@@ -99,7 +99,7 @@ class Objective:
     """One term of the objective: ``weight * quantity / scale``, minimised (``sense="min"``) or maximised.
 
     ``aggregate`` over the load cases of a per-load-case quantity: ``"max"`` (an epigraph variable: robust design
-    over the range) or ``"mean"``.
+    over the range) or ``"mean"``; ``load_cases``: only these load cases (names; default all).
     """
 
     quantity: str
@@ -108,6 +108,7 @@ class Objective:
     aggregate: str = "max"
     weight: float = 1.0
     scale: float | None = None
+    load_cases: tuple[str, ...] | None = None
 
     def __post_init__(self):
         if self.sense not in ("min", "max"):

@@ -13,6 +13,10 @@ quantity needs it:
 - ``joint``: the press-fit / taper capacity of a ``[joints.*]`` entry (:func:`gearopt.joints.joint_capacity`);
 - ``blank``: the :class:`~gearopt.blank.GearBlank` of a gear (:func:`gearopt.blank.blank_from_data`).
 
+Targets: a mesh (``"crank-cam"``), a joint or a blank (a gear name), the train (``"train"``: its root-gear profile
+shift at the fixed centre distances and its common helix angle, which move every mesh) or a gear flank
+(``"cam:driven"``, :data:`FLANKS`: a microgeometry that every mesh loading that flank sees).
+
 Shapes: ``scalar`` (one value per load case, or one in all), ``max`` (a vector whose largest element is the
 quantity: an upper limit is imposed on every element, a minimised objective gets an epigraph variable), ``min``
 (the mirror), ``ppte`` (peak-to-peak of the TE over the mesh positions: two epigraph variables per load case, valid for
@@ -55,8 +59,15 @@ class QuantityKind:
     scale: float = 1.0
 
 
+FLANKS = ("driving", "driven")
+"""The two loaded flanks of a gear in forward operation: ``driving`` (it pushes its mates; the flank facing its
+sense of rotation) and ``driven`` (its driver pushes it). A flank target is ``"gear:flank"``."""
+
+
 def _vars() -> dict[str, VariableKind]:
-    out = [VariableKind("profile_shift_1", "mesh", "macro", "", 0.5, -1.0, 2.0),
+    out = [VariableKind("root_profile_shift", "train", "train", "", 0.2),
+           VariableKind("helix_angle_deg", "train", "train", "deg", 5.0, 0.0),
+           VariableKind("profile_shift_1", "mesh", "macro", "", 0.5, -1.0, 2.0),
            VariableKind("tip_diameter_1_mm", "mesh", "macro", "mm", 1.0),
            VariableKind("tip_diameter_2_mm", "mesh", "macro", "mm", 1.0),
            VariableKind("face_width_mm", "mesh", "macro", "mm", 10.0)]
@@ -65,6 +76,10 @@ def _vars() -> dict[str, VariableKind]:
                 VariableKind(f"tip_relief_{i}_start_roll_deg", "mesh", "micro", "deg", 1.0),
                 VariableKind(f"profile_crown_{i}_um", "mesh", "micro", "um", 1.0, 0.0, 10.0),
                 VariableKind(f"lead_crown_{i}_um", "mesh", "micro", "um", 5.0, 0.0, 30.0)]
+    out += [VariableKind("tip_relief_um", "flank", "micro", "um", 10.0, 0.0, 40.0),
+            VariableKind("tip_relief_start_roll_deg", "flank", "micro", "deg", 1.0),
+            VariableKind("profile_crown_um", "flank", "micro", "um", 1.0, 0.0, 10.0),
+            VariableKind("lead_crown_um", "flank", "micro", "um", 5.0, 0.0, 30.0)]
     out += [VariableKind("interference_um", "joint", "joint", "um", 50.0, key="diametral_interference_um"),
             VariableKind("fit_length_mm", "joint", "joint", "mm", 10.0),
             VariableKind("nut_torque_Nm", "joint", "joint", "N*m", 50.0),
@@ -126,4 +141,4 @@ def quantity_kind(name: str) -> QuantityKind:
     return QUANTITIES[name]
 
 
-__all__ = ["VariableKind", "QuantityKind", "VARIABLES", "QUANTITIES", "variable_kind", "quantity_kind"]
+__all__ = ["FLANKS", "VariableKind", "QuantityKind", "VARIABLES", "QUANTITIES", "variable_kind", "quantity_kind"]

@@ -93,7 +93,7 @@ def scene_evaluator(result) -> SceneEvaluator:
     if built is None:
         raise GearoptInputError(f"result={type(result).__name__} must be the SceneResult of a solved scene "
                                 f"(scene.build().solve())")
-    pb = built.scene.build(parametric=True)
+    pb = built.parametric_twin()
     problem = pb.problem
     opti = problem.opti
     vtable = result.solve.variables.set_index("name")

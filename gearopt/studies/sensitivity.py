@@ -94,7 +94,7 @@ def sensitivity_report(result: SceneResult, *, active_tol: float = 1e-9, **ipopt
     rows = _limit_rows(built, result, factor, objective, name, unit)
     qrows: list[dict[str, Any]] = []
     residual, note = 0.0, ""
-    pb = scene.build(parametric=True)
+    pb = built.parametric_twin()
     if pb.data_parameters:
         solved, note = _resolve_at(pb, result, **ipopt)
         sens = kkt_sensitivity(pb.problem.opti, active_tol=active_tol)

@@ -28,6 +28,14 @@ def test_optimum_beats_unmodified_and_minimum_tip_relief(design):
     assert t.loc["optimised", "ppte_um"] < t.loc["min_tip_relief", "ppte_um"]
 
 
+def test_refinement_verifies_the_optimum_against_the_exact_ltca(crank_cam, design):
+    """Semi-infinite refinement (default): the NLP's PPTE at its final positions agrees with the exact LTCA at 1280
+    positions within 2 %, where the first solve on 40 positions did not."""
+    ref = design.refinement
+    assert ref.attrs["status"] == "converged" and ref["max_ppte_error"].iloc[-1] <= 0.02
+    assert ref["positions"].iloc[-1] > 40
+
+
 def test_limits_hold_on_the_exact_ltca(design):
     t = design.table.set_index("design")
     assert t.loc["optimised", "max_contact_stress_MPa"] <= t.loc["unmodified", "max_contact_stress_MPa"] * 1.002
@@ -66,10 +74,10 @@ def test_constant_stiffness_recovers_harris_relief_depth():
 
 
 def test_robust_design_over_load_cases(crank_cam):
-    d = optimise_microgeometry(crank_cam, [200.0, 300.0, 400.0])
-    t = d.table[d.table.design == "optimised"]
-    worst = t.ppte_um.max()
-    single = optimise_microgeometry(crank_cam, 300.0)
+    d = optimise_microgeometry(crank_cam, [200.0, 300.0, 400.0], refine=False)   # one solve each: the comparison
+    t = d.table[d.table.design == "optimised"]                                  # is of the objectives, not the
+    worst = t.ppte_um.max()                                                     # refinement (tested above)
+    single = optimise_microgeometry(crank_cam, 300.0, refine=False)
     worst_single = max(ltca(crank_cam, x, microgeometry=single.microgeometry).ppte_um for x in (200.0, 300.0, 400.0))
     assert worst < worst_single
 
@@ -96,9 +104,10 @@ def test_min_tip_relief_design_starts_at_single_contact_boundary(crank_cam):
 
 
 def test_multistart_returns_the_best_start_and_tables_every_start(crank_cam):
-    d = optimise_microgeometry(crank_cam, [150.0, 300.0, 450.0], starts=4, seed=1)
+    d = optimise_microgeometry(crank_cam, [150.0, 300.0, 450.0], starts=4, seed=1, max_refinements=1)
     assert len(d.starts) == 4 and d.starts.success.any()
-    assert d.solve.objective == pytest.approx(d.starts.objective_um.min())
+    # the best start is the one refined (semi-infinite refinement: its first row is that start's solve)
+    assert d.refinement["objective_um"].iloc[0] == pytest.approx(d.starts.objective_um.min())
     with pytest.raises(GearoptInputError, match="starts"):
         optimise_microgeometry(crank_cam, [150.0, 300.0, 450.0], starts=0)
 

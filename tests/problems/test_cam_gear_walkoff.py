@@ -201,3 +201,17 @@ def test_trade_off_section_of_the_crank_cam_tip_relief(run):
     report = (run / "report.md").read_text()
     assert "## Trade-off, sensitivities and robustness of the crank-cam tip relief" in report
     assert (run / "figures" / "trade_off_crank_cam.png").stat().st_size > 5000
+
+def test_codesign_stage_reports_both_designs_per_flank_and_mesh(run):
+    """result.json "codesign": per option the macro values, the modifications per gear flank, which flanks each mesh
+    loads, PPTE and margins per mesh, for the co-design and the sequential design."""
+    codesign = json.loads((run / "result.json").read_text())["codesign"]
+    assert codesign["flanks_per_mesh"]["crank-cam"] == ["crank:driving", "cam:driven"]
+    spur = codesign["options"]["spur"]
+    for design in ("sequential", "codesign"):
+        entry = spur[design]
+        assert {"root_profile_shift"} <= set(entry["macro"])
+        assert {"gear", "flank", "tip_relief_um", "tip_relief_start_roll_deg"} <= set(entry["flank_modifications"][0])
+        for mesh in ("crank-cam", "cam-ac", "cam-fp"):
+            assert entry["meshes"][mesh]["ppte_um"] > 0 and "max_contact_stress_MPa" in entry["meshes"][mesh]["margins"]
+    assert "## Co-design" in (run / "report.md").read_text()

@@ -1,0 +1,413 @@
+"""The contact side of a built scene: LTCA models per mesh, the microgeometry each mesh sees (per mesh or per gear
+flank), LTCA quantities, and the exact-LTCA check of an optimum.
+
+Two smooth models serve a scene:
+
+- a mesh whose macro geometry is fixed uses :class:`~gearopt.contact.ltca_smooth.LTCAModel` (its numeric layout
+  keeps only the springs on the path);
+- a mesh whose macro geometry is free (train variables ``root_profile_shift``/``helix_angle_deg``, or mesh macro
+  variables) uses :class:`~gearopt.contact.ltca_macro.MacroLTCAModel`, whose graph is the same for every macro value
+  (normalised positions and slices, a fixed range of tooth pairs, smooth engagement).
+
+Both are evaluated at the mesh's set of mesh positions (fractions of a base pitch): a uniform grid at first, grown
+by the semi-infinite refinement of :mod:`gearopt.design.scene_refine`.
+
+Gear flanks: in forward operation a mesh loads the ``driving`` flank of its driving gear and the ``driven`` flank of
+the other (:data:`gearopt.design.scene_terms.FLANKS`). A micro variable targeting ``"gear:flank"`` is one design
+quantity that every mesh loading that flank sees -- a gear has one tooth form per flank.
+"""
+
+from __future__ import annotations
+
+import itertools
+from dataclasses import replace
+from typing import Any, Mapping
+
+import numpy as np
+import pandas as pd
+
+from .. import numerics as nm
+from ..contact.layout import default_positions, default_slices
+from ..contact.ltca import ltca
+from ..contact.ltca_macro import MacroLTCAModel, macro_vector, micro_vector
+from ..contact.ltca_smooth import LTCAModel
+from ..contact.microgeometry import Microgeometry
+from ..errors import GearoptInputError
+from .microgeometry_nlp import _start_bounds, min_tip_relief_design
+from .scene_refine import extreme_fractions
+from .scene_spec import LoadCase
+from .scene_terms import FLANKS, quantity_kind
+
+MICRO_FIELDS = ("tip_relief_um", "tip_relief_start_roll_deg", "profile_crown_um", "lead_crown_um")
+START_WIDENING_DEG = 3.0
+"""With free macro geometry the start bounds of a tip relief are widened by this much around the initial
+geometry's pitch point .. tip, and constraints on the symbolic geometry keep the start inside the profile."""
+
+
+def mesh_variable_name(field: str, gear_index: int) -> str:
+    """The mesh-targeted variable of a microgeometry field and gear: ``tip_relief_um``, 0 -> ``tip_relief_1_um``."""
+    stem = field.replace("_start_roll_deg", "").replace("_um", "")
+    return f"{stem}_{gear_index + 1}{field[len(stem):]}"
+
+
+def parse_flank(target: str) -> tuple[str, str]:
+    gear, sep, flank = target.partition(":")
+    if not sep or flank not in FLANKS:
+        raise GearoptInputError(f"flank target {target!r} must be 'gear:flank' with flank in {FLANKS}")
+    return gear, flank
+
+
+class ContactModels:
+    """Mixin of :class:`~gearopt.design.scene.BuiltScene`: everything LTCA."""
+
+    # -- flanks --------------------------------------------------------------------------------------------------
+
+    def loaded_flanks(self, mesh: str) -> tuple[str, str]:
+        """The flank targets (``"gear:flank"``) mesh ``mesh`` loads, gear 1 then gear 2."""
+        names = self._meshes[mesh].names
+        d = self._driving_gear(mesh) - 1
+        return tuple(f"{names[i]}:{'driving' if i == d else 'driven'}" for i in (0, 1))
+
+    def flank_meshes(self, flank: str) -> list[str]:
+        """Meshes of the scene that load ``flank`` (``"gear:flank"``)."""
+        return [m for m in self._meshes if flank in self.loaded_flanks(m)]
+
+    def _check_flank_target(self, what: str, name: str, target: str) -> None:
+        gear, _ = parse_flank(target)
+        gears = sorted({g for p in self._meshes.values() for g in p.names})
+        if gear not in gears:
+            raise GearoptInputError(f"{what} {name!r}: target={target!r} names gear {gear!r}, not a gear of the "
+                                    f"scene ({gears})")
+        if not self.flank_meshes(target):
+            loaded = sorted({f for m in self._meshes for f in self.loaded_flanks(m)})
+            raise GearoptInputError(f"{what} {name!r}: no mesh of the scene loads flank {target!r} (loaded flanks: "
+                                    f"{loaded})")
+        for mesh in self.flank_meshes(target):
+            i = self.loaded_flanks(mesh).index(target)
+            if (mesh, mesh_variable_name(name, i)) in {(v.target, v.name) for v in self.scene.variables}:
+                raise GearoptInputError(f"design variable {name!r} of flank {target!r} and "
+                                        f"{mesh_variable_name(name, i)!r} of mesh {mesh!r} set the same tooth form")
+
+    # -- microgeometry -------------------------------------------------------------------------------------------
+
+    def _base_microgeometry(self, mesh: str) -> Microgeometry:
+        return self.scene.microgeometry.get(mesh, Microgeometry())
+
+    def _mesh_cases(self, mesh: str) -> list[LoadCase]:
+        """Load cases at which the mesh's LTCA is evaluated: those its LTCA objectives and limits name (all when
+        any of them names none), in the scene's order."""
+        cases = [lc for lc in (getattr(self, "load_cases", None) or self.scene.load_cases)]
+        wanted: set[str] = set()
+        for q in (*self.scene.objectives, *self.scene.limits):
+            if q.target == mesh and "ltca" in quantity_kind(q.quantity).needs:
+                if q.load_cases is None:
+                    return cases
+                wanted.update(q.load_cases)
+        return [lc for lc in cases if lc.name in wanted] or cases
+
+    def _minimum_relief(self, mesh: str) -> Microgeometry:
+        cases = self._mesh_cases(mesh)
+        if not cases:
+            raise GearoptInputError(f"mesh {mesh!r}: tip-relief variables start from the minimum tip relief at the "
+                                    f"first load case; the scene has no load case")
+        pair = self._meshes[mesh]
+        if float(pair.geometry()["helix_angle_deg"]) == 0.0:
+            return min_tip_relief_design(pair, cases[0].mesh_torque_Nm(mesh), driving_gear=self._driving_gear(mesh))
+        # the thesis' minimum relief is a spur model: for a helical mesh, a starting guess from the spur pair of the
+        # same transverse data (amounts) with starts at the helical mesh's own single-contact boundaries
+        spur = replace(pair, helix_angle_deg=0.0, helix_hands=None)
+        amounts = min_tip_relief_design(spur, cases[0].mesh_torque_Nm(mesh),
+                                        driving_gear=self._driving_gear(mesh)).tip_relief_um
+        g = pair.geometry()
+        starts = tuple(max(float(g["lpstc_roll_deg"][i]), float(g["hpstc_roll_deg"][i])) for i in range(2))
+        return Microgeometry(tip_relief_um=amounts, tip_relief_start_roll_deg=starts, relief_shape="linear")
+
+    def _free_micro(self, mesh: str, i: int, field: str, values: Mapping[str, float] | None):
+        """The free variable (or its value) setting ``field`` of gear ``i`` in ``mesh``: mesh- or flank-targeted."""
+        for target, name in ((mesh, mesh_variable_name(field, i)), (self.loaded_flanks(mesh)[i], field)):
+            if (target, name) in self._variables:
+                return values[f"{target}.{name}"] if values is not None else self._variables[(target, name)]
+        return None
+
+    def _default_start(self, mesh: str, i: int) -> float:
+        """Start of a free tip relief whose start is neither free nor given: where the thesis minimum relief of the
+        first mesh loading that flank starts (one start per flank)."""
+        first = self.flank_meshes(self.loaded_flanks(mesh)[i])[0]
+        j = self.loaded_flanks(first).index(self.loaded_flanks(mesh)[i])
+        return self._minimum_relief(first).tip_relief_start_roll_deg[j]
+
+    def _microgeometry(self, mesh: str, values: Mapping[str, float] | None = None) -> Microgeometry:
+        """The mesh's microgeometry: fixed fields from ``scene.microgeometry``, free ones (mesh or flank targets) as
+        symbols or at ``values`` (``"target.variable"`` keys)."""
+        base = self._base_microgeometry(mesh)
+        kw: dict[str, Any] = {"relief_smoothing_deg": self._opts["relief_smoothing_deg"]}
+        for field in MICRO_FIELDS:
+            vals = list(getattr(base, field))
+            for i in (0, 1):
+                v = self._free_micro(mesh, i, field, values)
+                vals[i] = vals[i] if v is None else v
+            kw[field] = tuple(vals)
+        starts = list(kw["tip_relief_start_roll_deg"])
+        for i in (0, 1):
+            if starts[i] is None and self._free_micro(mesh, i, "tip_relief_um", None) is not None:
+                starts[i] = self._default_start(mesh, i)
+        kw["tip_relief_start_roll_deg"] = tuple(starts)
+        return replace(base, **kw)
+
+    def microgeometry_at(self, values: Mapping[str, float], mesh: str) -> Microgeometry:
+        """The mesh's microgeometry with the free amounts set to ``values`` (``"target.variable"`` keys)."""
+        return self._microgeometry(mesh, values)
+
+    def micro_bounds(self, target: str, name: str, kind) -> tuple[float | None, float | None, float | None]:
+        """Default bounds and start of a micro variable of a mesh or a flank."""
+        lo, hi, init = kind.lower, kind.upper, None
+        if kind.target_kind == "mesh":
+            uses = [(target, int(name.split("_")[2]) - 1)]
+            field = name.replace(f"_{uses[0][1] + 1}_", "_")
+        else:
+            field = name
+            uses = [(m, self.loaded_flanks(m).index(target)) for m in self.flank_meshes(target)]
+        if field == "tip_relief_start_roll_deg":
+            spans = [_start_bounds(self._meshes[m].geometry(), i, self._opts["start_margin_deg"]) for m, i in uses]
+            lo, hi = max(s[0] for s in spans), min(s[1] for s in spans)
+            if hi <= lo:
+                raise GearoptInputError(f"design variable {name!r} of {target!r}: the meshes {[m for m, _ in uses]} "
+                                        f"leave no common room for a tip relief start ({lo:.3f}..{hi:.3f} deg)")
+            if any(self._macro_free(m) for m, _ in uses):
+                lo, hi = lo - START_WIDENING_DEG, hi + START_WIDENING_DEG
+        mesh, i = uses[0]
+        base = self._base_microgeometry(mesh)
+        init = getattr(base, field)[i]
+        if field.startswith("tip_relief") and not any(nm.is_numeric(a) and nm.to_float(a) > 0
+                                                      for a in base.tip_relief_um):
+            first = self.flank_meshes(self.loaded_flanks(mesh)[i])[0] if kind.target_kind == "flank" else mesh
+            j = i if first == mesh else self.loaded_flanks(first).index(self.loaded_flanks(mesh)[i])
+            init = getattr(self._minimum_relief(first), field)[j]
+        return lo, hi, init
+
+    def _start_constraints(self) -> None:
+        """With free macro geometry, keep every free tip-relief start between the pitch point and the tip margin of
+        the symbolic geometry of each mesh it acts in."""
+        margin = self._opts["start_margin_deg"]
+        for mesh in self._ltca_meshes():
+            if not self._macro_free(mesh):
+                continue
+            g = self._geometry(mesh)
+            for i in (0, 1):
+                start = self._free_micro(mesh, i, "tip_relief_start_roll_deg", None)
+                if start is None:
+                    continue
+                label = f"{mesh}.tip_relief_start_{i + 1}_in_profile"
+                self.problem.subject_to(f"{label}.above_pitch_point", start - g["pitch_point_roll_deg"][i], lower=0.0,
+                                        unit="deg")
+                self.problem.subject_to(f"{label}.below_tip", g["eap_roll_deg"][i] - margin - start, lower=0.0,
+                                        unit="deg")
+
+    # -- models --------------------------------------------------------------------------------------------------
+
+    def _ltca_meshes(self) -> list[str]:
+        return [m for m, needs in self._needs.items() if "ltca" in needs]
+
+    def _positions(self, mesh: str):
+        return self._position_sets.get(mesh, int(self._opts["positions"]))
+
+    def _lead(self, mesh: str) -> bool:
+        return any(self._free_micro(mesh, i, "lead_crown_um", None) is not None for i in (0, 1)) \
+            or self._base_microgeometry(mesh).has_lead_modification
+
+    def _ltca_speed(self, mesh: str) -> float | None:
+        if "ltca_temperature" not in self._needs[mesh]:
+            return None
+        speeds = {lc.speed_rpm for lc in self._mesh_cases(mesh)}
+        if len(speeds) != 1 or None in speeds:
+            raise GearoptInputError(f"mesh {mesh!r}: contact temperature needs one speed_rpm for all load cases "
+                                    f"(got {sorted(speeds, key=str)})")
+        return self._driver_speed_rpm(mesh, speeds.pop())
+
+    def _ltca_model(self, mesh: str):
+        needs, o = self._needs[mesh], self._opts
+        speed = self._ltca_speed(mesh)
+        common = dict(driving_gear=self._driving_gear(mesh), stiffness=o["stiffness"], positions=self._positions(mesh),
+                      lead_modification=self._lead(mesh), smoothing_um=o["smoothing_um"],
+                      root_stress="ltca_root_stress" in needs, speed_rpm=speed,
+                      bulk_temperature_C=o["bulk_temperature_C"], friction_coefficient=o["friction_coefficient"])
+        pair = self._pair(mesh)
+        if not self._macro_free(mesh):
+            if float(pair.geometry()["helix_angle_deg"]) != 0.0:
+                common["slices"] = o["helical_slices"]
+            return self._model(f"ltca_smooth:{mesh}", lambda: LTCAModel(pair, **common), lambda m: (
+                f"positions={m.layout.positions}, slices={m.layout.slices}, root_stress={m.root_stress}, "
+                f"flash_temperature={speed is not None}"))
+        helical = self._helix_free() or float(self._meshes[mesh].geometry()["helix_angle_deg"]) != 0.0
+
+        def build():
+            eps_a, eps_b = self._contact_ratio_bounds(mesh)
+            return MacroLTCAModel(self._meshes[mesh], **common, helical=helical,
+                                  slices=o["helical_slices"] if helical else None,
+                                  load_cases=len(self._mesh_cases(mesh)), max_contact_ratio=eps_a,
+                                  max_overlap_ratio=eps_b, engagement_width_mm=o["engagement_width_mm"],
+                                  relief_shape=self._base_microgeometry(mesh).relief_shape,
+                                  relief_smoothing_deg=o["relief_smoothing_deg"])
+
+        return self._model(f"ltca_macro:{mesh}", build, lambda m: (
+            f"positions={m.positions}, slices={m.slices}, pairs={len(m.pair_index)}, root_stress={m.root_stress}, "
+            f"flash_temperature={speed is not None}, symbolic macro geometry"))
+
+    def _driver_speed_rpm(self, mesh: str, crank_speed_rpm: float) -> float:
+        name = self._meshes[mesh].names[self._driving_gear(mesh) - 1]
+        train = self.scene.train
+        return train.gear_speed_rpm(name, crank_speed_rpm) if train is not None else crank_speed_rpm
+
+    def _ltca(self, mesh: str):
+        model = self._ltca_model(mesh)
+        numbers = [lc.mesh_torque_Nm(mesh) for lc in self._mesh_cases(mesh)]
+        if not numbers:
+            raise GearoptInputError(f"mesh {mesh!r}: LTCA quantities need at least one load case")
+        torques = [self._datum(f"torque_Nm[{mesh}]@{lc.name}", t, "N*m")
+                   for lc, t in zip(self._mesh_cases(mesh), numbers)]
+        detail = f"{len(numbers)} load case(s) at {', '.join(f'{t:g}' for t in numbers)} N m"
+        if isinstance(model, MacroLTCAModel):
+            def evaluate():
+                micro = micro_vector(self._microgeometry(mesh), self._meshes[mesh].geometry())
+                return model.evaluate(macro_vector(self._pair(mesh)), micro, torques)
+            return self._model(f"ltca_evaluation:{mesh}", evaluate, detail)
+        return self._model(f"ltca_evaluation:{mesh}", lambda: model.evaluate(self._microgeometry(mesh), torques),
+                           detail)
+
+    def _contact_temperature(self, mesh: str, bulk_C, flash_K):
+        """Bulk + flash temperature; in a parametric build the oil temperature and the friction coefficient are
+        parameters (Blok's flash temperature is proportional to the friction coefficient)."""
+        bulk = self._datum(f"oil_temperature_C[{mesh}]", bulk_C, "C")
+        mu = self._opts["friction_coefficient"]
+        if self.parametric and mu > 0.0:
+            flash_K = flash_K * (self._datum(f"friction_coefficient[{mesh}]", mu, "") / mu)
+        return bulk + flash_K
+
+    def _ltca_elements(self, name: str, target: str, lc: LoadCase):
+        """Expression of an LTCA quantity of ``target`` at ``lc`` (TE column, spring vector or scalar)."""
+        res, model = self._ltca(target), self._ltca_model(target)
+        l_idx = self._mesh_cases(target).index(lc)
+        L = len(self._mesh_cases(target))
+        if isinstance(model, MacroLTCAModel):
+            P = model.positions
+            cols = slice(l_idx * P, (l_idx + 1) * P)
+
+            def block(m):
+                return nm.reshape(m[:, cols], int(m.shape[0]) * P, 1)
+
+            if name == "ppte_um":
+                return res.transmission_error_um[:, l_idx]
+            if name == "loaded_contact_ratio":
+                return nm.column_sum(nm.reshape(res.loaded_pairs[:, cols], P, 1)) / P
+            if name == "max_contact_stress_MPa":
+                return block(res.contact_stress_squared_MPa2)
+            if name == "max_root_stress_MPa":
+                return nm.vcat([block(r) for r in res.root_stress_MPa])
+            if name == "max_contact_temperature_C":
+                return self._contact_temperature(target, res.bulk_temperature_C, block(res.flash_temperature_rise_K))
+        P = model.layout.positions
+        if name == "ppte_um":
+            return nm.reshape(res.transmission_error_um, P, L)[:, l_idx]
+        if name == "loaded_contact_ratio":
+            lcr = res.loaded_contact_ratio
+            return lcr if L == 1 else lcr[l_idx]
+        if name == "max_contact_stress_MPa":
+            return _on_path(res.contact_stress_squared_MPa2, model, l_idx)
+        if name == "max_root_stress_MPa":
+            return nm.vcat([_on_path(r, model, l_idx) for r in res.root_stress_MPa])
+        if name == "max_contact_temperature_C":
+            return self._contact_temperature(target, res.bulk_temperature_C,
+                                             _on_path(res.flash_temperature_rise_K, model, l_idx))
+        raise GearoptInputError(f"quantity {name!r} is not an LTCA quantity")
+
+    # -- exact check ---------------------------------------------------------------------------------------------
+
+    def _exact_check(self, values: Mapping[str, float], evaluate=None) -> pd.DataFrame:
+        """Exact LTCA (``check_positions``, the default slices) of every LTCA mesh at the optimum, per load case,
+        beside the smooth model's values at the same design (``smooth_*``) and their relative differences
+        (``*_error``, relative to the exact value). ``worst_fractions`` lists the mesh positions (fractions of a
+        base pitch) of the exact TE's peak and trough."""
+        rows = []
+        for mesh in self._ltca_meshes():
+            mods = self.microgeometry_at(values, mesh)
+            pair, model = self._numeric_pair(mesh, values), self._ltca_model(mesh)
+            slices = default_slices(pair, mods)
+            positions = max(int(self._opts["check_positions"]), self._model_positions(model)) if slices == 1 \
+                else default_positions(slices)
+            speed = model.speed_rpm
+            for lc in self._mesh_cases(mesh):
+                r = ltca(pair, lc.mesh_torque_Nm(mesh), driving_gear=self._driving_gear(mesh), microgeometry=mods,
+                         stiffness=self._opts["stiffness"], positions=positions, slices=slices, speed_rpm=speed,
+                         bulk_temperature_C=self._opts["bulk_temperature_C"],
+                         friction_coefficient=self._opts["friction_coefficient"])
+                te = r.transmission_error_um
+                fractions = np.arange(positions) / positions
+                row = {"mesh": mesh, "load_case": lc.name, "torque_Nm": lc.mesh_torque_Nm(mesh),
+                       "ppte_um": r.ppte_um, "max_contact_stress_MPa": r.max_contact_stress_MPa,
+                       "loaded_contact_ratio": r.loaded_contact_ratio,
+                       "worst_fractions": extreme_fractions(te, fractions,
+                                                            neighbours=int(self._opts["refine_neighbours"]))}
+                if model.root_stress:
+                    row["max_root_stress_MPa"] = max(r.max_root_stress_MPa)
+                if speed is not None:
+                    row["max_contact_temperature_C"] = r.max_flash_temperature_C
+                if evaluate is not None:
+                    row["smooth_dense_ppte_um"] = self._dense_smooth_ppte(mesh, values, lc, positions)
+                    for q in ("ppte_um", "max_contact_stress_MPa", "max_root_stress_MPa", "max_contact_temperature_C"):
+                        if q in row:
+                            s = self._smooth_value(q, mesh, lc, evaluate)
+                            row[f"smooth_{q}"] = s
+                            row[f"{q}_error"] = abs(s - row[q]) / max(abs(row[q]), 1e-12)
+                rows.append(row)
+        return pd.DataFrame(rows)
+
+    def _dense_smooth_ppte(self, mesh: str, values: Mapping[str, float], lc: LoadCase, positions: int) -> float:
+        """PPTE of the smooth model at the optimum on the exact check's uniform grid: separates the error of the
+        smoothing (dense smooth vs exact) from that of the NLP's sampling (NLP vs dense smooth)."""
+        model = self._ltca_model(mesh)
+        mods, torque = self.microgeometry_at(values, mesh), lc.mesh_torque_Nm(mesh)
+        o = self._opts
+        if isinstance(model, MacroLTCAModel):
+            key = f"ltca_macro_dense:{mesh}"
+            dense = self.models.get(key) or MacroLTCAModel(
+                self._meshes[mesh], driving_gear=model.driving_gear, stiffness=o["stiffness"], positions=positions,
+                slices=model.slices, helical=model.helical, max_contact_ratio=model.max_contact_ratio,
+                max_overlap_ratio=model.max_overlap_ratio, smoothing_um=model.smoothing_um,
+                engagement_width_mm=model.engagement_width_mm, relief_shape=model.relief_shape,
+                relief_smoothing_deg=model.relief_smoothing_deg)
+            self.models[key] = dense
+            pair = self._numeric_pair(mesh, values)
+            r = dense.evaluate(macro_vector(pair), micro_vector(mods, self._meshes[mesh].geometry()), [torque])
+            return float(r.ppte_um[0])
+        dense = LTCAModel(self._meshes[mesh], driving_gear=model.layout.driving_gear, stiffness=o["stiffness"],
+                          positions=positions, slices=model.layout.slices, smoothing_um=model.smoothing_um)
+        return float(dense.evaluate(mods, torque).ppte_um)
+
+    def _model_positions(self, model) -> int:
+        return model.positions if isinstance(model, MacroLTCAModel) else model.layout.positions
+
+    def _smooth_value(self, q: str, mesh: str, lc: LoadCase, evaluate) -> float:
+        v = np.atleast_1d(np.asarray(evaluate(self._ltca_elements(q, mesh, lc)), dtype=float)).ravel()
+        if q == "ppte_um":
+            return float(np.ptp(v))
+        return float(np.sqrt(max(v.max(), 0.0))) if q == "max_contact_stress_MPa" else float(v.max())
+
+
+def _on_path(matrix, model: LTCAModel, l_idx: int):
+    """Elements of an (N, P*L) spring matrix at load case ``l_idx`` where the spring is on the path of contact."""
+    P = model.layout.positions
+    on = model.layout.on_path.reshape(P, -1).T                       # (N, P), pair-major springs
+    idx = np.flatnonzero(on.reshape(-1, order="F")).tolist()
+    block = matrix[:, l_idx * P:(l_idx + 1) * P]
+    return nm.reshape(block, int(on.size), 1)[idx]
+
+
+def corner_values(bounds: Mapping[str, tuple[float, float]]) -> list[dict[str, float]]:
+    """Every corner of a box of named bounds (and its centre), for bounding a quantity over a design space."""
+    names = list(bounds)
+    out = [dict(zip(names, c)) for c in itertools.product(*[bounds[n] for n in names])]
+    out.append({n: 0.5 * (lo + hi) for n, (lo, hi) in bounds.items()})
+    return out
+
+
+__all__ = ["ContactModels", "MICRO_FIELDS", "mesh_variable_name", "parse_flank", "corner_values"]

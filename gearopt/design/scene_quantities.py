@@ -1,0 +1,249 @@
+"""The quantities of a built scene: each objective and limit as an expression of the design variables (geometry,
+ISO 6336, LTCA, joints, blanks), written into the NLP (epigraph forms for maxima and PPTE, squared stresses, joint
+margins with symbolic demands) and tabled at an optimum or any design."""
+
+from __future__ import annotations
+
+from typing import Any, Callable, Mapping, Sequence
+
+import numpy as np
+import pandas as pd
+
+from .. import numerics as nm
+from ..errors import GearoptInputError, InfeasibleProblemError, ViolatedConstraint
+from ..nlp.result import ProblemResult
+from .scene_spec import Limit, LoadCase, Objective
+from .scene_terms import QuantityKind, quantity_kind
+
+
+class QuantityTerms:
+    """Mixin of :class:`~gearopt.design.scene.BuiltScene`: objectives, limits and the quantity table."""
+
+    def _elements(self, kind: QuantityKind, target: str, lc: LoadCase | None, options: Mapping[str, Any]):
+        """The quantity's expression: a scalar, a vector (shape max/min), the TE column (ppte) or a dict (named)."""
+        name = kind.name
+        if kind.target_kind == "mesh" and "ltca" in kind.needs:
+            return self._ltca_elements(name, target, lc)
+        if kind.target_kind == "mesh" and "iso6336_rating" in kind.needs:
+            sf = self._rating(target, lc).safety_factors
+            if name in ("contact_safety_factor", "root_safety_factor"):
+                return nm.vcat(list(sf["S_H" if name == "contact_safety_factor" else "S_F"]))
+            return sf["S_B" if name == "scuffing_safety_factor_flash" else "S_intS"]
+        if kind.target_kind == "mesh" and "iso6336" in kind.needs:
+            iso = self._iso(target, lc)
+            if name.startswith("root_"):
+                key = "sigma_F_MPa" if name == "root_stress_iso6336_MPa" else "safety_factor"
+                return nm.vcat([iso["root"][g][key] for g in ("gear1", "gear2")])
+            key = "sigma_H_MPa" if name == "contact_stress_iso6336_MPa" else "safety_factor"
+            return nm.vcat(list(iso["contact"][key]))
+        if kind.target_kind == "mesh":
+            g = self._geometry(target)
+            if name == "geometry_limits":
+                return self._pair(target).constraints(**dict(options))
+            if name == "min_tip_thickness_mm":
+                return nm.vcat(list(g["tip_thickness_mm"]))
+            if name.startswith("tip_thickness_"):
+                return g["tip_thickness_mm"][int(name[len("tip_thickness_")]) - 1]
+            return g[name]
+        if kind.target_kind == "joint":
+            cap = self._joint(target, lc)
+            if not kind.per_load_case:
+                return cap[name]
+            torque_Nm, axial_N = self.joint_torque_Nm(target, lc), self.joint_axial_force_N(target, lc)
+
+            def torque():   # a datum becomes a parameter only where a quantity uses it (Opti drops unused ones)
+                return self._datum(f"joint_torque_Nm[{target}]@{lc.name}", torque_Nm, "N*m")
+
+            def axial():
+                return self._datum(f"joint_axial_force_N[{target}]@{lc.name}", axial_N, "N")
+            if name == "torque_margin":
+                return _margin(cap["torque_capacity_Nm"], torque(), target, "torque", torque_Nm)
+            if name == "axial_margin":
+                return _margin(cap["axial_capacity_N"], axial(), target, "axial force", axial_N)
+            from ..joints.walk_off import joint_margins
+            return joint_margins(cap["type"], torque(), axial(), cap["torque_capacity_Nm"],
+                                 cap["axial_capacity_N"])["slip_utilisation"]
+        blank = self._blank(target)
+        return blank.backup_ratio if name == "rim_backup_ratio" else getattr(blank, name)()
+
+    def _cases(self, kind: QuantityKind, only: Sequence[str] | None) -> list[LoadCase | None]:
+        if not kind.per_load_case:
+            return [None]
+        cases = self.load_cases
+        if only is not None:
+            missing = set(only) - {lc.name for lc in cases}
+            if missing:
+                raise GearoptInputError(f"load_cases {sorted(missing)} are not load cases of the scene")
+            cases = [lc for lc in cases if lc.name in only]
+        if not cases:
+            raise GearoptInputError(f"quantity {kind.name!r} is evaluated per load case; the scene has none")
+        return cases
+
+    def _initial(self, expr) -> np.ndarray:
+        """Value of an expression at the problem's initial guess (starts of epigraph variables)."""
+        if nm.is_numeric(expr):
+            return np.atleast_1d(np.asarray(expr, dtype=float))
+        opti = self.problem.opti
+        return np.atleast_1d(np.asarray(opti.value(expr, opti.initial()), dtype=float)).ravel()
+
+    def _label(self, quantity: str, target: str, lc: LoadCase | None) -> str:
+        return f"{quantity}[{target}]" + (f"@{lc.name}" if lc is not None else "")
+
+    def _ppte(self, te, label: str):
+        """PPTE of a TE column by its epigraph: hi >= te >= lo, PPTE = hi - lo (exact at a minimum or an upper limit)."""
+        start = self._initial(te)
+        p, n = self.problem, int(np.size(start))
+        hi = p.variable(f"{label}.te_max_um", init=float(start.max()), scale=5.0, unit="um")
+        lo = p.variable(f"{label}.te_min_um", init=float(start.min()), scale=5.0, unit="um")
+        p.subject_to(f"{label}.te_below_max", nm.repeat_rows(hi, n) - te, lower=0.0, unit="um")
+        p.subject_to(f"{label}.te_above_min", te - nm.repeat_rows(lo, n), lower=0.0, unit="um")
+        return hi - lo
+
+    def _add_objective(self, obj: Objective) -> None:
+        kind = quantity_kind(obj.quantity)
+        if kind.shape == "named":
+            raise GearoptInputError(f"{obj.quantity!r} is a set of limits, not an objective")
+        minimise = obj.sense == "min"
+        if (kind.shape in ("max", "ppte") and not minimise) or (kind.shape == "min" and minimise):
+            raise GearoptInputError(f"objective {obj.quantity!r} with sense={obj.sense!r}: the {kind.shape} of a set "
+                                    f"can only be {'minimised' if kind.shape != 'min' else 'maximised'} smoothly")
+        per_case = []
+        for lc in self._cases(kind, obj.load_cases):
+            label = self._label(obj.quantity, obj.target, lc)
+            expr = self._elements(kind, obj.target, lc, {})
+            self._record(label, obj.quantity, obj.target, lc, kind, expr, None, None, "objective")
+            if kind.shape == "ppte":
+                f = self._ppte(expr, label)
+            elif kind.shape in ("max", "min"):
+                start = self._initial(expr)
+                t = self.problem.variable(f"{label}.bound", init=float(start.max() if minimise else start.min()),
+                                          scale=kind.scale ** (2 if kind.squared else 1), unit=kind.unit)
+                n = int(np.size(start))
+                gap = nm.repeat_rows(t, n) - expr if minimise else expr - nm.repeat_rows(t, n)
+                self.problem.subject_to(f"{label}.epigraph", gap, lower=0.0, unit=kind.unit)
+                f = nm.sqrt_safe(t, 1e-12) if kind.squared else t
+            else:
+                f = expr
+            per_case.append(f)
+        if len(per_case) == 1:
+            f = per_case[0]
+        elif obj.aggregate == "mean":
+            f = sum(per_case[1:], per_case[0]) / len(per_case)
+        else:
+            label = f"{obj.quantity}[{obj.target}].{'max' if minimise else 'min'}_over_load_cases"
+            starts = [float(self._initial(x).max()) for x in per_case]
+            z = self.problem.variable(label, init=max(starts) if minimise else min(starts), scale=kind.scale,
+                                      unit=kind.unit)
+            gap = nm.vcat([z - x if minimise else x - z for x in per_case])
+            self.problem.subject_to(f"{label}.epigraph", gap, lower=0.0, unit=kind.unit)
+            f = z
+        scale = obj.scale or kind.scale
+        self._objective_terms.append((obj.weight / scale) * (f if minimise else -f))
+
+    def _add_limit(self, lim: Limit) -> None:
+        kind = quantity_kind(lim.quantity)
+        if kind.shape == "named":
+            margins = self._elements(kind, lim.target, None, lim.options)
+            for name, expr in margins.items():
+                label = f"{lim.target}.{name}"
+                self._record(label, name, lim.target, None, kind, expr, 0.0, None, "limit")
+                self.problem.subject_to(label, expr, lower=0.0, unit="mm" if name.endswith("_mm") else "")
+            return
+        if kind.shape in ("max", "ppte") and lim.lower is not None:
+            raise GearoptInputError(f"Limit {lim.quantity!r}: a lower limit on the largest value of a set is not a "
+                                    f"smooth constraint; give an upper limit")
+        if kind.shape == "min" and lim.upper is not None:
+            raise GearoptInputError(f"Limit {lim.quantity!r}: an upper limit on the smallest value of a set is not a "
+                                    f"smooth constraint; give a lower limit")
+        for lc in self._cases(kind, lim.load_cases):
+            label = self._label(lim.quantity, lim.target, lc)
+            if self._add_margin_limit(lim, kind, lc, label):
+                continue
+            expr = self._elements(kind, lim.target, lc, lim.options)
+            self._record(label, lim.quantity, lim.target, lc, kind, expr, lim.lower, lim.upper, "limit")
+            if kind.shape == "ppte":
+                expr = self._ppte(expr, label)
+            lower, upper, scale, unit = lim.lower, lim.upper, kind.scale, kind.unit
+            if kind.squared:
+                upper, scale, unit = upper ** 2, upper ** 2 / 100.0, f"({unit})^2"
+            if nm.is_numeric(expr):
+                _check_constant(label, expr, lower, upper, unit)
+                continue
+            self.problem.subject_to(label, expr, lower=lower, upper=upper, scale=scale, unit=unit)
+
+    def _add_margin_limit(self, lim: Limit, kind: QuantityKind, lc: LoadCase, label: str) -> bool:
+        """A lower limit S on a joint margin whose demand is symbolic (walk-off through a free helix angle):
+        ``capacity^2 - S^2 demand^2 >= 0`` (smooth also where the demand vanishes). False when not applicable."""
+        if kind.name not in ("axial_margin", "torque_margin") or lim.lower is None or lim.upper is not None:
+            return False
+        demand = (self.joint_axial_force_N if kind.name == "axial_margin" else self.joint_torque_Nm)(lim.target, lc)
+        if not nm.is_symbolic(demand):
+            return False
+        cap = self._joint(lim.target, lc)["axial_capacity_N" if kind.name == "axial_margin" else "torque_capacity_Nm"]
+        ratio = cap / nm.fmax(nm.sqrt(demand * demand), 1e-9)
+        self._record(label, lim.quantity, lim.target, lc, kind, ratio, lim.lower, None, "limit")
+        c0 = float(np.max(self._initial(cap)))
+        self.problem.subject_to(label, (cap * cap - lim.lower ** 2 * demand * demand) / c0 ** 2, lower=0.0)
+        return True
+
+    def _record(self, label, quantity, target, lc, kind, expr, lower, upper, role) -> None:
+        self._records.append({"label": label, "quantity": quantity, "target": target,
+                              "load_case": lc.name if lc is not None else "", "kind": kind, "expr": expr,
+                              "lower": lower, "upper": upper, "role": role})
+
+    def quantities_at(self, values: Mapping[str, float]) -> pd.DataFrame:
+        """Every objective and limit quantity of the smooth models at a design (``"target.variable"`` values; the
+        table of :attr:`SceneResult.quantities`): e.g. two designs compared on one model."""
+        missing = {f"{t}.{n}" for (t, n) in self._variables} - set(values)
+        if missing:
+            raise GearoptInputError(f"quantities_at: values miss {sorted(missing)}")
+        return self._quantity_table(None, self.evaluator_at(values))
+
+    def evaluator_at(self, values: Mapping[str, float]) -> Callable:
+        """``expr -> value`` of expressions of the design variables at ``values`` (``"target.variable"`` keys)."""
+        opti = self.problem.opti
+        at = [self.problem._variables[k].symbol == values[k] / self.problem._variables[k].scale[0]
+              for k in (f"{t}.{n}" for (t, n) in self._variables)]
+        return lambda expr: opti.value(expr, at)
+
+    def _quantity_table(self, solved: ProblemResult | None, evaluate: Callable | None = None) -> pd.DataFrame:
+        evaluate = evaluate or solved.value
+        rows = []
+        for r in self._records:
+            kind, expr = r["kind"], r["expr"]
+            v = np.atleast_1d(np.asarray(expr if nm.is_numeric(expr) else evaluate(expr), dtype=float))
+            if kind.squared:
+                v = np.sqrt(np.maximum(v, 0.0))
+            value = {"ppte": np.ptp(v), "max": np.max(v), "min": np.min(v)}.get(kind.shape, float(v.ravel()[0]))
+            lo, hi = r["lower"], r["upper"]
+            margin = min(value - lo if lo is not None else np.inf, hi - value if hi is not None else np.inf)
+            rows.append({"quantity": r["quantity"], "target": r["target"], "load_case": r["load_case"],
+                         "role": r["role"], "value": float(value), "lower": lo, "upper": hi,
+                         "margin": float(margin) if r["role"] == "limit" else np.nan,
+                         "unit": kind.unit if kind.shape != "named" else ""})
+        return pd.DataFrame(rows)
+
+
+def _check_constant(label: str, expr, lower, upper, unit: str) -> None:
+    """A limit on a quantity no design variable changes: it holds (nothing to impose) or the scene is infeasible."""
+    v = np.atleast_1d(np.asarray(expr, dtype=float)).ravel()
+    lo = -np.inf if lower is None else lower
+    hi = np.inf if upper is None else upper
+    excess = np.maximum(lo - v, 0.0) + np.maximum(v - hi, 0.0)
+    if np.any(excess > 0.0):
+        i = int(np.argmax(excess))
+        raise InfeasibleProblemError(
+            f"limit {label!r} does not depend on the design variables and is violated ({v[i]:g} {unit} against "
+            f"[{lo:g}, {hi:g}])", status="constant constraint violated",
+            hint="free a variable that changes this quantity, or change the data",
+            violated=[ViolatedConstraint(label, float(excess[i]), float(v[i]), float(lo), float(hi), "scene")])
+
+
+def _margin(capacity, demand, joint: str, what: str, nominal):
+    """``capacity / |demand|``; ``nominal``: the demand's value (``demand`` may be its parameter)."""
+    if nm.is_numeric(nominal) and nm.to_float(nominal) == 0.0:
+        raise GearoptInputError(f"joint {joint!r}: the {what} demand is zero, its margin is infinite (drop the limit)")
+    return capacity / abs(demand)
+
+
+__all__ = ["QuantityTerms"]

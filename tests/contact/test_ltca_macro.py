@@ -1,0 +1,123 @@
+"""Macro-symbolic smooth LTCA against the exact numeric solver (our reference, itself validated against the analytic
+constant-stiffness PPTE and ISO 6336-1 in test_ltca_numeric): convergence as both smoothing widths shrink, the same
+answers at geometries far from the template (another root shift, a helix angle), derivatives with respect to the
+macro and micro inputs and through a symbolic gear train against central differences, one graph for every value."""
+
+import dataclasses
+import math
+
+import casadi as ca
+import numpy as np
+import pytest
+
+import gearopt as go
+from gearopt.contact.ltca import ltca
+from gearopt.contact.ltca_macro import MICRO_INPUTS, MacroLTCAModel, macro_vector, micro_vector
+from gearopt.contact.microgeometry import Microgeometry
+from gearopt.errors import GearoptInputError
+
+MODS = Microgeometry(tip_relief_um=(10.0, 8.0), tip_relief_start_roll_deg=(26.0, 24.0), profile_crown_um=(1.0, 0.5))
+FRACTIONS = (np.arange(24) + 0.37) / 24          # off the path ends (a contact exactly on A or E weighs 1/2)
+
+
+@pytest.fixture(scope="module")
+def train():
+    return go.load_default_train("spur")
+
+
+@pytest.fixture(scope="module")
+def template(train):
+    return train.pairs["crank-cam"]
+
+
+def _shifted(train, x=None, beta=None):
+    kw = {k: v for k, v in (("root_profile_shift", x), ("helix_angle_deg", beta)) if v is not None}
+    return dataclasses.replace(train, **kw).pairs["crank-cam"]
+
+
+def test_smooth_model_converges_to_the_exact_ltca_as_the_widths_shrink(template):
+    exact = ltca(template, 300.0, microgeometry=MODS, positions=FRACTIONS)
+    errors = []
+    for w in (1.0, 0.3, 0.1):
+        m = MacroLTCAModel(template, positions=FRACTIONS, smoothing_um=w, engagement_width_mm=w / 100.0)
+        r = m.evaluate(None, micro_vector(MODS, template.geometry()), [300.0])
+        err = np.abs(r.transmission_error_um[:, 0] - exact.transmission_error_um)
+        # each softplus over-estimates its spring's load by <= c db w ln2: the approach is low by at most w ln 2
+        assert err.max() <= w * math.log(2) + 1e-9
+        errors.append(err.max())
+    assert errors[0] > errors[1] > errors[2] > 0.0
+
+
+def test_other_macro_values_reproduce_the_exact_ltca_of_that_geometry(train, template):
+    """The template is the data's spur mesh; the inputs describe another root shift (every output) and a helical
+    geometry at 8 deg (sliced face): the model must give that geometry's exact LTCA, not the template's."""
+    m = MacroLTCAModel(template, positions=FRACTIONS, smoothing_um=1e-4, engagement_width_mm=1e-6, root_stress=True,
+                       speed_rpm=2000.0, count_width_um=1e-4)
+    pair = _shifted(train, x=0.05)
+    ex = ltca(pair, 300.0, microgeometry=MODS, positions=FRACTIONS, speed_rpm=2000.0)
+    r = m.evaluate(macro_vector(pair), micro_vector(MODS, template.geometry()), [300.0])
+    np.testing.assert_allclose(r.transmission_error_um[:, 0], ex.transmission_error_um, atol=1e-3)
+    assert r.max_contact_stress_MPa[0] == pytest.approx(ex.max_contact_stress_MPa, rel=1e-4)
+    assert r.max_root_stress_MPa[0] == pytest.approx(max(ex.max_root_stress_MPa), rel=1e-4)
+    assert r.max_flash_temperature_C[0] == pytest.approx(ex.max_flash_temperature_C, rel=1e-3)
+    assert r.loaded_contact_ratio[0] == pytest.approx(ex.loaded_contact_ratio, abs=1e-3)
+
+    helical = MacroLTCAModel(template, positions=FRACTIONS, slices=7, helical=True, smoothing_um=1e-4,
+                             engagement_width_mm=1e-6, max_overlap_ratio=0.6)
+    pair = _shifted(train, beta=8.0)
+    ex = ltca(pair, 300.0, microgeometry=MODS, positions=FRACTIONS, slices=7)
+    r = helical.evaluate(macro_vector(pair), micro_vector(MODS, template.geometry()), [300.0])
+    np.testing.assert_allclose(r.transmission_error_um[:, 0], ex.transmission_error_um, atol=2e-3)
+    assert r.ppte_um[0] == pytest.approx(ex.ppte_um, abs=3e-3)
+
+
+def test_derivatives_through_a_symbolic_train_match_central_differences(train, template):
+    """d(TE, contact stress^2, root stress)/d(root shift, helix angle, tip relief) of the crank-cam mesh of a train
+    symbolic in its root shift and helix angle."""
+    m = MacroLTCAModel(template, positions=12, slices=3, helical=True, max_overlap_ratio=0.6, root_stress=True,
+                       smoothing_um=0.05, engagement_width_mm=0.01)
+    x, beta, relief = ca.SX.sym("x"), ca.SX.sym("beta"), ca.SX.sym("relief")
+    pair = dataclasses.replace(train, root_profile_shift=x, helix_angle_deg=beta).pairs["crank-cam"]
+    micro = micro_vector(dataclasses.replace(MODS, tip_relief_um=(relief, 8.0)), template.geometry())
+    out = m.kernel(ca.vertcat(*macro_vector(pair)), ca.vertcat(*micro), 300.0)
+    names = m.output_names
+    y = ca.vertcat(ca.vec(out[names.index("te_um")]), ca.vec(out[names.index("stress_sq_MPa2")]) / 1e4,
+                   ca.vec(out[names.index("root_stress_1_MPa")]))
+    p = ca.vertcat(x, beta, relief)
+    f = ca.Function("f", [p], [y, ca.jacobian(y, p)])
+    p0 = np.array([0.25, 5.0, 12.0])
+    _, jac = (np.array(v) for v in f(p0))
+    for i, h in enumerate((1e-5, 1e-4, 1e-4)):
+        d = np.zeros(3)
+        d[i] = h
+        fd = (np.array(f(p0 + d)[0]) - np.array(f(p0 - d)[0])).ravel() / (2 * h)
+        np.testing.assert_allclose(jac[:, i], fd, rtol=1e-4, atol=1e-5 * max(1.0, np.abs(fd).max()))
+    assert np.abs(jac[:, 0]).max() > 0 and np.abs(jac[:, 1]).max() > 0
+
+
+def test_one_graph_for_every_macro_value_and_position_count(train, template):
+    """The tooth pairs and positions are fixed at build: the same model evaluates a spur and a helical geometry
+    (different numbers of pairs in contact), and the position function is the same for 20 and 400 positions."""
+    m = MacroLTCAModel(template, positions=20, slices=5, helical=True, max_overlap_ratio=1.0)
+    shapes = []
+    for beta in (0.0, 12.0):
+        r = m.evaluate(macro_vector(_shifted(train, beta=beta)), None, [300.0])
+        shapes.append(r.load_intensity_N_per_mm.shape)
+    assert shapes[0] == shapes[1] == (m.springs_per_position, 20)
+    big = MacroLTCAModel(template, positions=400, slices=5, helical=True, max_overlap_ratio=1.0)
+    assert big.springs_per_position == m.springs_per_position
+    assert big.kernel.n_nodes() == m.kernel.n_nodes()
+
+
+def test_bad_inputs_raise_clear_errors(template):
+    with pytest.raises(GearoptInputError, match="stiffness"):
+        MacroLTCAModel(template, stiffness="potential_energy")
+    with pytest.raises(GearoptInputError, match="numeric template"):
+        MacroLTCAModel(dataclasses.replace(template, profile_shifts=(ca.SX.sym("x"), 0.1)))
+    m = MacroLTCAModel(template, positions=8)
+    with pytest.raises(GearoptInputError, match="load case"):
+        m.evaluate(None, None, [100.0, 200.0])
+    with pytest.raises(GearoptInputError, match="micro 19"):
+        m.evaluate(None, [0.0] * (len(MICRO_INPUTS) - 1), [100.0])
+    with pytest.raises(GearoptInputError, match="positions"):
+        MacroLTCAModel(template, positions=[0.1, 1.2])
