@@ -81,44 +81,50 @@ def point(train, loads, meshes, cases, positions, refine=False, warm=None):
     return out
 
 
-def main(argv=None) -> int:
+def main(argv=None) -> dict:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--quick", action="store_true")
+    parser.add_argument("--quick", action="store_true", help="seconds: the test suite's smoke run, no refinements")
+    parser.add_argument("--full", action="store_true", help="three meshes and load cases, up to 640 positions")
+    parser.add_argument("--out", type=Path, default=RESULTS, help="results directory (default benchmarks/results)")
     args = parser.parse_args(argv)
+    mode = "quick" if args.quick else ("full" if args.full else "default")
     warnings.simplefilter("ignore")
     data = go.load_default_data()
     loads = values(data)["design_loads"]
     train = go.load_default_train("spur")
     names = list(MESHES)
     t_all = time.perf_counter()
-    sweeps = {"meshes": [point(train, loads, names[:n], 1, 40) for n in ((1, 2) if args.quick else (1, 2, 3))],
-              "load_cases": [point(train, loads, names[:1], c, 40) for c in ((1, 2) if args.quick else (1, 2, 3))],
-              "positions": [point(train, loads, names[:1], 1, p) for p in ((20, 40, 80) if args.quick
-                                                                            else (20, 40, 80, 160, 320))]}
-    dense = (160, 320) if args.quick else (160, 320, 640)
-    t0 = time.perf_counter()
-    micro = Scene("micro", train=train, load_cases=[LoadCase("1x", {"crank-cam": loads[MESHES["crank-cam"]]})],
-                  variables=[DesignVariable(n, f) for f in ("crank:driving", "cam:driven")
-                             for n in ("tip_relief_um", "tip_relief_start_roll_deg")],
-                  objectives=[Objective("ppte_um", "crank-cam")],
-                  limits=scene(train, loads, names[:1], 1, {}).limits).build().solve()
-    t_micro = time.perf_counter() - t0
-    warm = point(train, loads, names[:1], 1, 40, refine=True, warm=micro)
-    warm.update(sequential_s=t_micro, sequential_exact_ppte_um=float(micro.exact_check["ppte_um"].max()),
-                sequential_refinements=micro.refinements)
-    to_2pct = {"refinement_from_40": point(train, loads, names[:1], 1, 40, refine=True),
-               "refinement_from_80": point(train, loads, names[:1], 1, 80, refine=True),
-               "refinement_warm_from_sequential": warm,
-               **{f"uniform_{p}": point(train, loads, names[:1], 1, p) for p in dense}}
+    counts = {"quick": (1,), "default": (1, 2), "full": (1, 2, 3)}[mode]
+    sweeps = {"meshes": [point(train, loads, names[:n], 1, 40) for n in counts],
+              "load_cases": [point(train, loads, names[:1], c, 40) for c in counts],
+              "positions": [point(train, loads, names[:1], 1, p)
+                            for p in {"quick": (20, 40), "default": (20, 40, 80),
+                                      "full": (20, 40, 80, 160, 320)}[mode]]}
+    dense = {"quick": (160,), "default": (160, 320), "full": (160, 320, 640)}[mode]
+    to_2pct = {f"uniform_{p}": point(train, loads, names[:1], 1, p) for p in dense}
+    if mode != "quick":
+        t0 = time.perf_counter()
+        micro = Scene("micro", train=train, load_cases=[LoadCase("1x", {"crank-cam": loads[MESHES["crank-cam"]]})],
+                      variables=[DesignVariable(n, f) for f in ("crank:driving", "cam:driven")
+                                 for n in ("tip_relief_um", "tip_relief_start_roll_deg")],
+                      objectives=[Objective("ppte_um", "crank-cam")],
+                      limits=scene(train, loads, names[:1], 1, {}).limits).build().solve()
+        t_micro = time.perf_counter() - t0
+        warm = point(train, loads, names[:1], 1, 40, refine=True, warm=micro)
+        warm.update(sequential_s=t_micro, sequential_exact_ppte_um=float(micro.exact_check["ppte_um"].max()),
+                    sequential_refinements=micro.refinements)
+        to_2pct = {"refinement_from_40": point(train, loads, names[:1], 1, 40, refine=True),
+                   "refinement_from_80": point(train, loads, names[:1], 1, 80, refine=True),
+                   "refinement_warm_from_sequential": warm, **to_2pct}
     base = sweeps["positions"][1]
     for rows in (*sweeps.values(), to_2pct.values()):
         for r in rows:
             if "solve_s" in r:
                 r["time_ratio_to_base"] = (r["build_s"] + r["solve_s"]) / (base["build_s"] + base["solve_s"])
-    result = {"quick": args.quick, "platform": platform.platform(), "python": platform.python_version(),
+    result = {"quick": args.quick, "mode": mode, "platform": platform.platform(), "python": platform.python_version(),
               "total_s": time.perf_counter() - t_all, "sweeps": sweeps, "time_to_2_percent": to_2pct}
-    RESULTS.mkdir(exist_ok=True)
-    (RESULTS / "codesign.json").write_text(json.dumps(result, indent=2) + "\n")
+    args.out.mkdir(parents=True, exist_ok=True)
+    (args.out / "codesign.json").write_text(json.dumps(result, indent=2) + "\n")
 
     fig, axes = plt.subplots(1, 2, figsize=(11, 4))
     for key, marker in (("meshes", "o"), ("load_cases", "s"), ("positions", "^")):
@@ -143,10 +149,10 @@ def main(argv=None) -> int:
     axes[1].legend(fontsize=8)
     axes[1].set_title("time against verified error (x: position sweep)")
     fig.tight_layout()
-    fig.savefig(RESULTS / "codesign.png", dpi=120)
+    fig.savefig(args.out / "codesign.png", dpi=120)
     print(json.dumps(to_2pct, indent=1))
-    return 0
+    return result
 
 
 if __name__ == "__main__":
-    raise SystemExit(main())
+    main()

@@ -155,7 +155,7 @@ def codesign(d) -> str:
                         if r.get("refinements") is not None else "")
                      + f", exact PPTE {r['exact_max_ppte_um']:.3g} um"
                      for name, r in d["time_to_2_percent"].items())
-    return (f"`codesign.json` ({'quick' if d['quick'] else 'full'} run; one mesh, one load case, "
+    return (f"`codesign.json` ({d.get('mode', 'quick' if d['quick'] else 'full')} run; one mesh, one load case, "
             f"{base['positions']} positions: build {base['build_s']:.2g} s, solve + exact check {base['solve_s']:.2g} s, "
             f"{base['ipopt_iterations']} Ipopt iterations). Time relative to it: {grow}. Smooth-vs-exact PPTE error of "
             f"the optimum: {errors}. Time to a verified 2 %: {runs}.")

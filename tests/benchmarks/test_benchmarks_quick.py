@@ -83,10 +83,18 @@ def check_robustness(result, out):
     assert (out / "robustness_quick.json").exists()
 
 
+def check_codesign(result, out):
+    err = {r["positions"]: r["ppte_error"] for r in result["sweeps"]["positions"]}
+    assert err[40] < err[20]                                   # more mesh positions: a smaller smooth-vs-exact gap
+    assert result["time_to_2_percent"]["uniform_160"]["ppte_error"] < err[40]
+    assert (out / "codesign.json").exists() and (out / "codesign.png").exists()
+
+
 CHECKS = {"bench_geometry": check_geometry, "bench_ltca": check_ltca,
           "bench_microgeometry_nlp": check_microgeometry_nlp, "bench_stability": check_stability,
           "bench_dynamics": check_dynamics, "bench_dynamics_speed": check_dynamics_speed,
-          "bench_studies": check_studies, "bench_robustness": check_robustness}
+          "bench_studies": check_studies, "bench_robustness": check_robustness,
+          "bench_codesign": check_codesign}
 
 
 @pytest.mark.parametrize("name", SCRIPTS)
