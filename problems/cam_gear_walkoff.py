@@ -400,12 +400,12 @@ def contact_stage(data: dict, trains: dict, quick: bool = False) -> dict:
 def codesign_stage(data: dict, quick: bool = False):
     """Stage: co-design of the spur train and a low-helix alternative (profile shift, helix angle, per-flank tip
     relief, walk-off margins in one NLP) beside the sequential design (gearopt.design.scene_codesign); quick: the
-    spur option, one load case, no refinement. The main job caps the refinement at 3 re-solves and slices helical
+    spur option, one load case, no refinement. The main job caps the refinement at 1 re-solve and slices helical
     faces 7 times (run time); problems/codesign.py runs the study at its defaults."""
     from gearopt.design.scene_codesign import codesign_study
 
     return codesign_study(data, quick=quick, options=("spur",) if quick else ("spur", "low_helix"),
-                          ltca_options=None if quick else {"max_refinements": 3, "helical_slices": 7})
+                          ltca_options=None if quick else {"max_refinements": 1, "helical_slices": 7})
 
 
 def write_contact(out: Path, studies: dict) -> tuple[list[str], dict]:

@@ -31,7 +31,8 @@ import numpy as np
 from ..errors import GearoptInputError
 from ..validation import check_int, check_range, check_result
 from ..geometry.pair import GearPair
-from .layout import MeshLayout, default_positions, default_slices, hertz_stress_factor, mesh_layout, single_pair_stiffness_profile
+from .layout import (MeshLayout, default_positions, default_slices, hertz_stress_factor, mesh_layout,
+                     position_fractions, single_pair_stiffness_profile)
 from .microgeometry import Microgeometry
 from .validity import check_ltca_inputs, check_ltca_size
 
@@ -207,8 +208,8 @@ def ltca(pair: GearPair, torque_Nm: float, *, driving_gear: int = 1, microgeomet
         slices = default_slices(pair, mods)
     if positions is None:
         positions = default_positions(slices)
-    positions, slices = check_int("positions", positions, 2, 100000), check_int("slices", slices, 1, 10000)
-    check_ltca_size(pair, positions, slices)
+    slices = check_int("slices", slices, 1, 10000)
+    check_ltca_size(pair, position_fractions(positions).size, slices)  # a count, or fractions of a base pitch
     lay = mesh_layout(pair, driving_gear=driving_gear, positions=positions, slices=slices, stiffness=stiffness,
                       E_MPa=E_MPa, poisson=poisson)
     P = lay.positions

@@ -33,7 +33,7 @@ from ..errors import GearoptInputError, NumericalSolveError
 from ..validation import check_int, check_range
 from .validity import check_ltca_inputs, check_ltca_size
 from ..geometry.pair import GearPair
-from .layout import MeshLayout, hertz_stress_factor, mesh_layout
+from .layout import MeshLayout, hertz_stress_factor, mesh_layout, position_fractions
 from .microgeometry import Microgeometry
 
 DEFAULT_SMOOTHING_UM = 0.05
@@ -128,7 +128,7 @@ class LTCAModel:
         if slices is None:
             spur = float(pair.geometry()["helix_angle_deg"]) == 0.0
             slices = 1 if spur and not lead_modification else 11
-        check_ltca_size(pair, check_int("positions", positions, 2, 100000), check_int("slices", slices, 1, 10000))
+        check_ltca_size(pair, position_fractions(positions).size, check_int("slices", slices, 1, 10000))
         self.layout = mesh_layout(pair, driving_gear=driving_gear, positions=positions, slices=slices,
                                   stiffness=stiffness, E_MPa=E_MPa, poisson=poisson)
         self.smoothing_um = float(smoothing_um)
