@@ -1,7 +1,8 @@
 """The crank-cam microgeometry NLP: Ipopt with exact derivatives against a brute-force grid and scipy SLSQP with
 finite differences, plus a stability study (random starts, smoothing widths, relief blending, positions).
 
-Problem (:func:`gearopt.design.microgeometry_nlp.optimise_microgeometry` with its defaults): default spur crank-cam
+Problem (:func:`gearopt.design.microgeometry_nlp.optimise_microgeometry` with its defaults, one solve: ``refine=False``,
+the fixed 40-position NLP every method here works on): default spur crank-cam
 pair, 300 N m on the crank gear, 6 variables (linear tip relief amount and start roll angle of both gears, profile
 crown of both gears), minimum PPTE subject to the LTCA contact stress <= the unmodified pair's maximum and loaded
 contact ratio >= 1.2; 40 mesh positions, 1 slice, contact smoothing 0.05 um, relief starts blended over 0.1 deg.
@@ -127,7 +128,7 @@ def vector(values: dict) -> np.ndarray:
 
 # ---------------------------------------------------------------- Ipopt
 def bench_ipopt(pair):
-    design = optimise_microgeometry(pair, TORQUE_NM)
+    design = optimise_microgeometry(pair, TORQUE_NM, refine=False)
     t0 = time.perf_counter()
     model = LTCAModel(pair, positions=POSITIONS)
     t_model = time.perf_counter() - t0
@@ -143,10 +144,10 @@ def head_to_head(pair, model, slsqp_fun, exact_fun):
     out = None
     for _ in range(REPEATS):
         t0 = time.perf_counter()
-        optimise_microgeometry(pair, TORQUE_NM)
+        optimise_microgeometry(pair, TORQUE_NM, refine=False)
         rows["build_and_solve_s"].append(time.perf_counter() - t0)
         t0 = time.perf_counter()
-        d = optimise_microgeometry(pair, TORQUE_NM, model=model)
+        d = optimise_microgeometry(pair, TORQUE_NM, model=model, refine=False)
         rows["with_prebuilt_model_s"].append(time.perf_counter() - t0)
         rows["solve_only_s"].append(d.solve.solve_time_s)
         rows["nlp_build_s"].append(d.solve.build_time_s)
@@ -291,7 +292,7 @@ def slsqp_row(name, score, out, target, median_total=None, median_reach=None):
 def attempt(pair, **kw):
     t0 = time.perf_counter()
     try:
-        d = optimise_microgeometry(pair, TORQUE_NM, **kw)
+        d = optimise_microgeometry(pair, TORQUE_NM, refine=False, **kw)
     except go.GearoptError as exc:           # typed: SolveError subclasses, GearoptInputError
         res = getattr(exc, "result", None)
         return {"success": False, "error": type(exc).__name__, "status": getattr(exc, "status", ""),

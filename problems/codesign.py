@@ -16,13 +16,16 @@ from pathlib import Path
 
 import numpy as np
 
+from gearopt.data import load_default_data
 from gearopt.design.scene_codesign import CodesignStudy, codesign_study
 
 DEFAULT_OUT = Path("out") / "codesign"
 
 
-def run(quick: bool = False) -> CodesignStudy:
-    return codesign_study(quick=quick, options=("spur",) if quick else ("spur", "low_helix"))
+def run(quick: bool = False, data_file: Path | None = None) -> CodesignStudy:
+    """The study on the packaged data, or on ``data_file`` (your own train)."""
+    return codesign_study(load_default_data(data_file), quick=quick,
+                          options=("spur",) if quick else ("spur", "low_helix"))
 
 
 def write(study: CodesignStudy, out: Path) -> dict:
@@ -46,9 +49,11 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="spur option, one load case, no refinement (tests)")
     parser.add_argument("--out", type=Path, default=DEFAULT_OUT, help=f"output directory (default {DEFAULT_OUT})")
+    parser.add_argument("--data", type=Path, default=None, metavar="FILE",
+                        help="train data file (TOML in the format of the packaged default data; default: that data)")
     args = parser.parse_args(argv)
     t0 = time.perf_counter()
-    study = run(quick=args.quick)
+    study = run(quick=args.quick, data_file=args.data)
     write(study, args.out)
     print(study.summary().to_string())
     print(f"wrote {args.out}/report.md, result.json, codesign_summary.csv in {time.perf_counter() - t0:.1f} s")

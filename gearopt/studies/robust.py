@@ -39,12 +39,15 @@ def robust_design(scene: Scene, tolerances: Sequence[Tolerance] | None = None, *
         samples: ``None``: the corners of the tolerance box; ``n``: ``n`` points drawn uniformly (numpy PCG64 at
             ``seed``) in the box of each tolerance's interval.
         start: a solved result of the same scene (the nominal optimum) to start from instead of the declared guess.
-        **solve: keyword arguments of ``BuiltScene.solve`` (``starts``, Ipopt options, ``check``).
+        **solve: keyword arguments of ``BuiltScene.solve`` (``starts``, Ipopt options, ``check``; ``refine``
+            defaults to False: the semi-infinite refinement rebuilds the scene, which would drop the corners).
 
     Returns:
         the :class:`SceneResult` of the robust optimum (its ``quantities`` are the nominal ones).
     """
-    built = scene.build(parametric=True)
+    source = getattr(start, "source", None)
+    # from a nominal optimum: its NLP as it was solved (a refinement's mesh positions included), data as parameters
+    built = source.parametric_twin() if source is not None and source.scene is scene else scene.build(parametric=True)
     problem = built.problem
     opti = problem.opti
     names_x, names_p = list(problem.variable_names), list(problem.parameter_names)
@@ -85,7 +88,8 @@ def robust_design(scene: Scene, tolerances: Sequence[Tolerance] | None = None, *
                 problem.set_initial(name, value)
     with warnings.catch_warnings():      # the nominal optimum may sit on a bound (read as just outside it)
         warnings.simplefilter("ignore", InitialGuessWarning)
-        return built.solve(**solve)
+        # the corner constraints live in this build: a refinement would re-build the scene without them
+        return built.solve(**{"refine": False, **solve})
 
 
 def _deltas(tols: list[Tolerance], samples: int | None, seed: int) -> np.ndarray:
