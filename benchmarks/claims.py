@@ -155,7 +155,8 @@ def codesign(d) -> str:
                         if r.get("refinements") is not None else "")
                      + f", exact PPTE {r['exact_max_ppte_um']:.3g} um"
                      for name, r in d["time_to_2_percent"].items())
-    return (f"`codesign.json` ({d.get('mode', 'quick' if d['quick'] else 'full')} run; one mesh, one load case, "
+    label = f"{d['mode']} run" if "mode" in d else f"run at {len(sw['positions'])} position counts"
+    return (f"`codesign.json` ({label}; one mesh, one load case, "
             f"{base['positions']} positions: build {base['build_s']:.2g} s, solve + exact check {base['solve_s']:.2g} s, "
             f"{base['ipopt_iterations']} Ipopt iterations). Time relative to it: {grow}. Smooth-vs-exact PPTE error of "
             f"the optimum: {errors}. Time to a verified 2 %: {runs}.")
