@@ -1,20 +1,9 @@
 """Every problem script takes the user's own train: ``--data FILE``."""
 
 import pytest
+from conftest import PROBLEMS, load_script
 
 from gearopt.errors import DataFileError
-
-import importlib.util
-from pathlib import Path
-
-PROBLEMS = Path(__file__).resolve().parents[2] / "problems"
-
-
-def load_script(name: str):
-    spec = importlib.util.spec_from_file_location(f"problem_{name}_data", PROBLEMS / f"{name}.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
 
 SCRIPTS = sorted(p.stem for p in PROBLEMS.glob("*.py"))
 
