@@ -65,15 +65,17 @@ DEFAULT_LTCA_OPTIONS: dict[str, Any] = {
     "positions": 40, "smoothing_um": DEFAULT_SMOOTHING_UM, "stiffness": "iso6336", "relief_smoothing_deg": 0.1,
     "bulk_temperature_C": 100.0, "friction_coefficient": 0.06, "check_positions": 1280, "start_margin_deg": 0.25,
     "helical_slices": 11, "engagement_width_mm": DEFAULT_ENGAGEMENT_WIDTH_MM, "root_rotation": "cw",
-    "refine_tolerance": 0.02, "max_refinements": 6, "min_smoothing_um": 0.005, "refine_neighbours": 3}
+    "refine_tolerance": 0.02, "max_refinements": 6, "max_helical_slices": 41, "min_smoothing_um": 0.005,
+    "refine_abs_tolerance_um": 0.01,
+    "refine_neighbours": 3}
 """LTCA settings of a scene (override per scene with ``ltca_options``): the NLP's initial uniform positions and
 contact smoothing (:class:`~gearopt.contact.ltca_smooth.LTCAModel`), the relief-start blend of the design, the oil
 temperature and friction of the flash temperature, the positions of the exact-LTCA check of the optimum
 (benchmarks/results/ltca.json); for free macro geometry the face slices of a possibly helical mesh and the
 engagement width (:class:`~gearopt.contact.ltca_macro.MacroLTCAModel`); the crank's sense of rotation seen from the
-front (walk-off); and the semi-infinite refinement: relative PPTE agreement of smooth and exact model, the most
-re-solves, the smallest contact smoothing it may halve down to and the grid neighbours added on either side of
-each worst position (:mod:`gearopt.design.scene_refine`)."""
+front (walk-off); and the semi-infinite refinement: relative PPTE agreement of smooth and exact model (with an absolute floor), the most
+re-solves, the most face slices it may raise a helical mesh to, the smallest contact smoothing it may halve down to
+and the grid neighbours added on either side of each worst position (:mod:`gearopt.design.scene_refine`)."""
 
 
 @dataclass

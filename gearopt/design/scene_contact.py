@@ -342,7 +342,7 @@ class ContactModels:
                          friction_coefficient=self._opts["friction_coefficient"])
                 te = r.transmission_error_um
                 fractions = np.arange(positions) / positions
-                row = {"mesh": mesh, "load_case": lc.name, "torque_Nm": lc.mesh_torque_Nm(mesh),
+                row = {"mesh": mesh, "load_case": lc.name, "torque_Nm": lc.mesh_torque_Nm(mesh), "slices": slices,
                        "ppte_um": r.ppte_um, "max_contact_stress_MPa": r.max_contact_stress_MPa,
                        "loaded_contact_ratio": r.loaded_contact_ratio,
                        "worst_fractions": extreme_fractions(te, fractions,

@@ -11,6 +11,7 @@ import gearopt as go
 from gearopt.contact.ltca import ltca
 from gearopt.data import load_default_data
 from gearopt.design.scene import DesignVariable, Limit, LoadCase, Objective, Scene
+from gearopt.design.scene_refine import ppte_disagreement
 from gearopt.errors import GearoptInputError
 from gearopt.joints import joint_capacity
 from gearopt.joints.walk_off import quasi_static_mesh_torques_Nm, walk_off
@@ -38,10 +39,16 @@ def micro_only(train):
 def test_refinement_reaches_two_percent_against_the_exact_ltca_and_reports_its_iterations(micro_only):
     ref = micro_only.refinement
     assert ref.attrs["status"] == "converged" and ref["iteration"].tolist() == list(range(len(ref)))
-    assert ref["max_ppte_error"].iloc[0] > 0.02 >= ref["max_ppte_error"].iloc[-1]   # 40 positions alone miss
+    assert ref["max_ppte_error"].iloc[0] > 0.02                                    # 40 positions alone miss
     assert (np.diff(ref["positions"]) >= 0).all() and micro_only.refinements == len(ref) - 1
-    check = micro_only.exact_check.iloc[0]
-    assert check["ppte_um_error"] <= 0.02 and check["max_contact_stress_MPa_error"] <= 0.01
+    check = micro_only.exact_check
+    # agreement: within 2 % or within the absolute floor (10 nm) of a sub-micron optimum
+    assert ppte_disagreement(check, "smooth_ppte_um", 0.02, 0.01).max() <= 1.0
+    assert (check["smooth_ppte_um"] - check["ppte_um"]).abs().max() <= max(0.02 * check["ppte_um"].max(), 0.01)
+    assert check["max_contact_stress_MPa_error"].max() <= 0.01
+    assert ref.attrs["verified"] and ref.attrs["verified_objective"] == pytest.approx(
+        ref.loc[ref["admissible"], "exact_objective"].min(), rel=0.02)
+    check = check.iloc[0]
     assert check["smooth_ppte_um"] == pytest.approx(
         micro_only.quantities.query("quantity == 'ppte_um'")["value"].iloc[0], rel=1e-9)
 
@@ -61,12 +68,18 @@ def test_free_root_shift_with_reliefs_is_no_worse_than_the_sequential_design(tra
     result = built.solve()
     assert set(result.values) == {"train.root_profile_shift", *(f"{MESH}.{v}" for v in RELIEF)}
     co, seq = result.exact_check["ppte_um"].max(), micro_only.exact_check["ppte_um"].max()
-    assert result.exact_check["ppte_um_error"].max() <= 0.02
+    assert ppte_disagreement(result.exact_check, "smooth_ppte_um", 0.02, 0.01).max() <= 1.0
     assert co <= seq * 1.02
-    final = scene.build(positions=result.positions)
     start = {**micro_only.values, "train.root_profile_shift": train.profile_shifts["crank"]}
-    ppte = [final.quantities_at(v).query("quantity == 'ppte_um'")["value"].iloc[0] for v in (result.values, start)]
-    assert ppte[0] <= ppte[1] + 1e-6
+    label = result.refinement.attrs["chosen"]               # "solve <i>" or "start (...)" (scene_refine, step 5)
+    if label.startswith("solve"):
+        chosen = result.refinement.iloc[int(label.split()[1])]
+        final = dataclasses.replace(scene, ltca_options={"smoothing_um": chosen["smoothing_um"]}).build(
+            positions=result.positions)
+        ppte = [final.quantities_at(v).query("quantity == 'ppte_um'")["value"].iloc[0] for v in (result.values, start)]
+        assert ppte[0] <= ppte[1] + 1e-6
+    else:
+        assert result.values == pytest.approx(start)
     # the optimum's geometry is the train's at that root shift: every mesh follows at its centre distance
     moved = dataclasses.replace(train, root_profile_shift=result.values["train.root_profile_shift"])
     assert built._numeric_pair("cam-fp", result.values).profile_shifts[1] == pytest.approx(
@@ -196,3 +209,26 @@ def test_mesh_macro_variables_beside_ltca_quantities(train):
     result = built.solve()
     assert result.values[f"{MESH}.face_width_mm"] == pytest.approx(30.0, abs=1e-4)
     assert result.exact_check["max_contact_stress_MPa_error"].max() <= 0.01
+
+
+def test_refinement_raises_the_face_slices_of_a_helical_mesh_until_smooth_and_exact_agree(train):
+    """A 4 deg crank-cam mesh whose smooth model starts with 3 face slices (the exact LTCA slices it 81 times): the
+    discretisation error cannot be cut by positions or smoothing, so the refinement raises the slices (3, 5, 9, 17:
+    2n - 1 keeps the old slice centres) until the smooth PPTE agrees with the exact one within 2 % -- relative, the
+    PPTE here being far above the absolute floor."""
+    helical = dataclasses.replace(train, helix_angle_deg=4.0)
+    scene = Scene("helical", train=helical, load_cases=[LoadCase("design", 300.0)],
+                  variables=[DesignVariable("tip_relief_1_um", MESH), DesignVariable("tip_relief_2_um", MESH)],
+                  objectives=[Objective("ppte_um", MESH, aggregate="max")],
+                  limits=[Limit("max_contact_stress_MPa", MESH, upper=1300.0)],
+                  ltca_options={"positions": 16, "helical_slices": 3, "max_refinements": 6})
+    result = scene.build().solve()
+    ref = result.refinement
+    assert ref.attrs["status"] == "converged" and ref.attrs["verified"]
+    assert ref["smoothing_error"].iloc[0] > 0.1                          # 3 slices: the slicing error dominates
+    slices = ref["helical_slices"].tolist()
+    assert slices[0] == 3 and slices[-1] > 3 and all(b in (a, 2 * a - 1) for a, b in zip(slices, slices[1:]))
+    check = result.exact_check.iloc[0]
+    assert check["slices"] == 81 and check["ppte_um_error"] <= 0.02 and check["ppte_um"] > 0.1
+    # the chosen design is the admissible solve with the lowest exact objective (within the tolerance)
+    assert ref.attrs["verified_objective"] <= ref.loc[ref["admissible"], "exact_objective"].min() * 1.02
