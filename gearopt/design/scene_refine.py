@@ -23,7 +23,8 @@ without a dense grid everywhere:
    width (not below ``min_smoothing_um``; the softplus contact law lowers the TE by up to ``w ln 2`` where gaps just
    close, which matters against a sub-micron optimum). Re-solve from the previous optimum (a primal warm start:
    the new NLP has more constraints, so its multipliers do not carry over);
-4. stop when all agree, after ``max_refinements`` re-solves, or when no remedy applies (reported);
+4. stop when all agree, after ``max_refinements`` re-solves, when no remedy applies, or when a re-solve fails or
+   overruns its wall-time budget (:data:`RESOLVE_BUDGET_FACTOR`; reported);
 5. return the *best verified* design. Every solve is re-evaluated by the exact LTCA, so each has an exact objective
    (its PPTE terms from the exact model); a solve is admissible when it meets every limit and its exact stresses,
    temperatures and (where PPTE is limited) PPTE agree with the smooth ones within the tolerance. The result is the
@@ -48,6 +49,12 @@ import numpy as np
 import pandas as pd
 
 from ..errors import SolveError
+
+RESOLVE_BUDGET_FACTOR, RESOLVE_BUDGET_MIN_S = 4.0, 5.0
+"""Wall-time budget of a re-solve: this many times the first solve's Ipopt time, at least the minimum [s]. A warm
+re-solve on a few more positions normally takes 1-3 first-solve times; one that runs longer is in Ipopt's
+restoration phase heading for "infeasible" (seen: 65 s on the timing train's co-design), and the refinement keeps
+its best admissible design instead."""
 
 REUSED_MODELS = ("data:", "dynamics:", "simulation:")
 """Models a re-solve takes over from the previous build (they do not depend on the positions)."""
@@ -168,9 +175,13 @@ def solve_refined(built, *, starts: int = 1, seed: int = 0, verbose: bool = Fals
     t_start = time.perf_counter()
     for it in range(max_refinements + 1):
         t0 = time.perf_counter()
+        options = dict(ipopt)
+        if it > 0:          # a re-solve that has not converged in a few first-solve times will not pay (step 4)
+            budget = max(RESOLVE_BUDGET_MIN_S, RESOLVE_BUDGET_FACTOR * rows[0]["solve_time_s"])
+            options["max_wall_time"] = min(float(ipopt.get("max_wall_time", budget)), budget)
         try:
             result = current.solve_once(starts=starts if it == 0 else 1, seed=seed, verbose=verbose, check=True,
-                                        **ipopt)
+                                        **options)
         except SolveError as exc:
             if it == 0:
                 raise
