@@ -362,12 +362,17 @@ def write_dynamics(out: Path, dyn: dict, design_torques: pd.DataFrame | None = N
         lines += [f"### Campbell diagram ({kind})", "", f"![Campbell]({path.relative_to(out)})", "",
                   f"{len(crossings)} crossings of natural frequencies with engine orders between {speeds_c[0]:g} and "
                   f"{speeds_c[1]:g} rpm (`campbell_crossings_{kind}.csv`).", ""]
-    lines += ["### Walk-off and slip margins over speed (with backlash)", ""]
+    lines += ["### Walk-off and slip margins over speed (with backlash)", "",
+              "With backlash the response is not periodic: each recorded engine cycle has its own worst margin. "
+              "`min_torque_margin` is the worst over all recorded cycles; `torque_margin_cycle_median` and "
+              "`torque_margin_cycle_best` are the median and the best of the per-cycle worst margins (equal for a "
+              "periodic response).", ""]
     for kind, sweep in dyn["sweeps"].items():
         write_table(sweep, out, f"speed_sweep_{kind}")
         joints = sweep[sweep["element_type"] == "joint"]
         cols = [c for c in ("element", "speed_rpm", "peak_torque_Nm", "peak_axial_force_N", "min_torque_margin",
-                            "min_axial_margin", "max_slip_utilisation") if c in joints.columns]
+                            "torque_margin_cycle_median", "torque_margin_cycle_best", "min_axial_margin",
+                            "max_slip_utilisation", "cycles") if c in joints.columns]
         lines += [f"#### {kind}", "", to_markdown(joints[cols]), ""]
         for _, r in joints.iterrows():
             joint = str(r["element"]).removeprefix("joint:")
@@ -375,7 +380,9 @@ def write_dynamics(out: Path, dyn: dict, design_torques: pd.DataFrame | None = N
             entry.append({"speed_rpm": float(r["speed_rpm"]), "torque_margin": _json_number(r["min_torque_margin"]),
                           "axial_margin": _json_number(r["min_axial_margin"]),
                           "peak_torque_Nm": float(r["peak_torque_Nm"]),
-                          "peak_axial_force_N": float(r["peak_axial_force_N"])})
+                          "peak_axial_force_N": float(r["peak_axial_force_N"]), "cycles": int(r["cycles"]),
+                          **{f"{k}_cycle_{stat}": _json_number(r[f"{k}_cycle_{stat}"])
+                             for k in ("torque_margin", "axial_margin") for stat in ("worst", "median", "best")}})
     return lines, result
 
 
@@ -755,8 +762,9 @@ def summary_inputs(data: dict, dynamics: dict | None, out: Path) -> dict:
         sims = list(dynamics["runs"].values())
         changes = [float(s.cycle_change[-1]) for s in sims if len(s.cycle_change) and np.isfinite(s.cycle_change[-1])]
         change = max(changes) if changes else float("nan")
-        basis["dynamics"] = (f"peaks over {min(s.cycles for s in sims)} recorded cycle(s) after "
-                             f"{min(s.run_in_cycles for s in sims)} run-in cycle(s) at "
+        lash = [s for k, s in dynamics["runs"].items() if k[2]] or sims
+        basis["dynamics"] = (f"peaks over {min(s.cycles for s in lash)} recorded cycle(s) with backlash (one "
+                             f"periodic cycle without) after {min(s.run_in_cycles for s in sims)} run-in cycle(s) at "
                              + ", ".join(f"{s:g}" for s in sorted({k[1] for k in dynamics["runs"]})) + " rpm; "
                              + (f"largest cycle-to-cycle change {change:.2g}"
                                 + (" (not periodic: peaks may not have settled)" if change > 0.05 else "")

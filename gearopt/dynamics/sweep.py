@@ -88,7 +88,8 @@ def walk_off_history(model, sim, joint: str = "cam", interference: str = "nomina
     The capacity is :func:`gearopt.joints.joint_capacity` of ``[joints.<joint>]`` at the simulation speed
     (centrifugal loss) and ``interference`` case, and :func:`gearopt.joints.margin_history` gives the margins.
 
-    Returns a dict: ``axial_force_N`` and ``joint_torque_Nm`` (arrays over the simulation), ``capacity`` (dict),
+    Returns a dict: ``axial_force_N``, ``joint_torque_Nm``, ``torque_margin`` and ``axial_margin`` (arrays over the
+    simulation), ``capacity`` (dict),
     ``joint_torque_method`` (``"shaft"`` or ``"mesh_sum"``), ``gear_inertia_kgm2`` (mesh_sum only), and the
     margin summary (``min_torque_margin``, ``min_axial_margin``, ``min_combined_margin``, ``max_slip_utilisation``,
     ...). A gear that is its own node without a shaft element (the lube-pump idler on its stub) raises
@@ -137,7 +138,21 @@ def walk_off_history(model, sim, joint: str = "cam", interference: str = "nomina
     cap = joint_capacity(data, joint, interference=interference, speed_rpm=sim.speed_rpm)
     hist = margin_history(cap["type"], torque, axial, cap["torque_capacity_Nm"], cap["axial_capacity_N"])
     summary = {k: v for k, v in hist.items() if k.startswith(("min_", "max_", "argmin_"))}
-    return {"axial_force_N": axial, "joint_torque_Nm": torque, "capacity": cap, **extra, **summary}
+    margins = {k: np.atleast_1d(hist[k]) * np.ones(len(sim.time_s)) for k in ("torque_margin", "axial_margin")}
+    return {"axial_force_N": axial, "joint_torque_Nm": torque, "capacity": cap, **extra, **summary, **margins}
+
+
+def cycle_spread(history, cycles: int) -> dict:
+    """Spread over the recorded engine cycles of a margin history (samples evenly spread over ``cycles`` cycles):
+    the worst (smallest) value of each cycle, summarised as ``worst``, ``median`` and ``best`` of those per-cycle
+    minima. A periodic response gives three equal numbers; a rattling backlash response does not, and the spread
+    says how far one recorded cycle is from another."""
+    arr = np.atleast_1d(np.asarray(history, dtype=float))
+    n = max(1, int(cycles))
+    if arr.size < n:
+        n = 1
+    per_cycle = arr[: arr.size - arr.size % n].reshape(n, -1).min(axis=1)
+    return {"worst": float(per_cycle.min()), "median": float(np.median(per_cycle)), "best": float(per_cycle.max())}
 
 
 def speed_sweep(model, speeds_rpm, backlash=(False, True), cycles: int = 2, run_in_cycles: int = 2,
@@ -149,7 +164,9 @@ def speed_sweep(model, speeds_rpm, backlash=(False, True), cycles: int = 2, run_
     change) and ``run_time_s``; with ``joints`` (``[joints.*]`` names) also one ``element_type == "joint"`` row per
     joint from :func:`walk_off_history`: ``peak_axial_force_N`` (largest |F_a| on the gear), ``max_off_nose_force_N``
     (largest pull off the shaft nose, +z), ``peak_torque_Nm`` (largest |joint torque|), ``min_torque_margin``,
-    ``min_axial_margin``, ``min_combined_margin``, ``max_slip_utilisation`` -- the walk-off margin over speed.
+    ``min_axial_margin``, ``min_combined_margin``, ``max_slip_utilisation`` -- the walk-off margin over speed --
+    and the margins' spread over the recorded ``cycles`` (:func:`cycle_spread`: ``torque_margin_cycle_worst``,
+    ``..._median``, ``..._best``, the same for ``axial_margin``).
     ``options`` go to the simulator (JIT kernels come from the on-disk compile cache, :mod:`gearopt.compile_cache`).
     A (speed, lash) run already computed this session with the same settings is re-used
     (:func:`gearopt.dynamics.simulate.simulate`, ``reuse``)."""
@@ -164,7 +181,9 @@ def speed_sweep(model, speeds_rpm, backlash=(False, True), cycles: int = 2, run_
             rows = []
             for joint in joints:
                 w = walk_off_history(model, sim, joint)
-                rows.append({"element": f"joint:{joint}", "element_type": "joint",
+                spread = {f"{key}_cycle_{stat}": v for key in ("torque_margin", "axial_margin")
+                          for stat, v in cycle_spread(w[key], sim.cycles).items()}
+                rows.append({"element": f"joint:{joint}", "element_type": "joint", "cycles": int(sim.cycles), **spread,
                              "peak_axial_force_N": float(np.max(np.abs(w["axial_force_N"]))),
                              "max_off_nose_force_N": float(np.max(w["axial_force_N"])),
                              "peak_torque_Nm": float(np.max(np.abs(w["joint_torque_Nm"]))),
@@ -180,4 +199,4 @@ def speed_sweep(model, speeds_rpm, backlash=(False, True), cycles: int = 2, run_
     return pd.concat(frames, ignore_index=True)
 
 
-__all__ = ["speed_sweep", "simulation_statistics", "walk_off_history"]
+__all__ = ["speed_sweep", "cycle_spread", "simulation_statistics", "walk_off_history"]

@@ -70,6 +70,18 @@ def requirement(name: str, instances: Iterable[tuple[str, Any]], limit: float, u
             "basis": basis}
 
 
+def cycle_spread(over_speed: dict, train: str, label: str, key: str) -> dict | None:
+    """The per-cycle spread of the worst instance ``label`` ("<joint> at <speed> rpm") of a margin over speed: the
+    number of recorded cycles and the worst, median and best of the per-cycle worst margins (None when the sweep
+    did not record them)."""
+    joint, _, speed = label.partition(" at ")
+    for e in over_speed.get(joint, {}).get(train, []):
+        if f"{e['speed_rpm']:g} rpm" == speed and f"{key}_cycle_median" in e:
+            return {"cycles": e.get("cycles"), **{s: _round(e[f"{key}_cycle_{s}"]) for s in ("worst", "median",
+                                                                                                  "best")}}
+    return None
+
+
 def build_summary(result: dict, *, train: str = "spur", limits: dict | None = None,
                   load_basis: dict | None = None, figures: Iterable[str] = ()) -> dict:
     """The summary of ``result`` (the main job's result dict) for the design ``train`` (``"spur"``, the redesign):
@@ -83,10 +95,15 @@ def build_summary(result: dict, *, train: str = "spur", limits: dict | None = No
         def by_speed(key):
             return [(f"{j} at {e['speed_rpm']:g} rpm", e[key]) for j, kinds in over_speed.items()
                     for e in kinds.get(train, [])]
-        rows.append(requirement("Joint slip margin over speed (dynamic peak, with backlash)", by_speed("torque_margin"),
-                                lim["min_slip_margin"], "-", ">=", "capacity / peak joint torque of the speed sweep"))
-        rows.append(requirement("Walk-off (axial) margin over speed", by_speed("axial_margin"),
-                                lim["min_axial_margin"], "-", ">=", "axial capacity / peak thrust of the speed sweep"))
+        for name, key, limit, basis in (
+                ("Joint slip margin over speed (dynamic peak, with backlash)", "torque_margin", "min_slip_margin",
+                 "capacity / peak joint torque of the speed sweep"),
+                ("Walk-off (axial) margin over speed", "axial_margin", "min_axial_margin",
+                 "axial capacity / peak thrust of the speed sweep")):
+            row = requirement(name, by_speed(key), lim[limit], "-", ">=", basis)
+            rows.append(row)
+            if row is not None:
+                row["cycle_spread"] = cycle_spread(over_speed, train, row["worst_case"], key)
     else:
         left_out.append("joint margins over speed (no dynamics stage)")
     joints = result.get("joints") or {}
@@ -189,6 +206,10 @@ def summary_markdown(summary: dict, title: str = "Summary") -> str:
         others = [f for f in r["failing"] if f != r["worst_case"]]
         also = "also fails" if r["worst_case"] in r["failing"] else "fails"
         worst = r["worst_case"] + (f" ({also}: {', '.join(others)})" if others else "")
+        spread = r.get("cycle_spread")
+        if spread and spread.get("cycles", 1) > 1:
+            worst += (f"; per-cycle worst over {spread['cycles']} cycles: median {eng(spread['median'])}, "
+                      f"best {eng(spread['best'])}")
         lines.append(f"| {r['requirement']} | {worst} | {eng(r['value'])} | {r['sense']} {eng(r['limit'])} | "
                      f"{r['unit']} | {verdict} |")
     lines.append("")

@@ -11,7 +11,7 @@ from gearopt.dynamics import default_timing_model
 from gearopt.dynamics.mesh import MeshStiffnessShape
 from gearopt.dynamics.sensitivity import response_sensitivities
 from gearopt.dynamics.simulate import Simulator, node_accelerations
-from gearopt.dynamics.sweep import simulation_statistics, speed_sweep, walk_off_history
+from gearopt.dynamics.sweep import cycle_spread, simulation_statistics, speed_sweep, walk_off_history
 from gearopt.engine import AccessoryTorque, EngineExcitation
 from gearopt.errors import GearoptInputError
 from gearopt.joints import walk_off
@@ -142,6 +142,20 @@ def test_speed_sweep_rows_and_statistics(spur, spur_run):
     assert joint["peak_axial_force_N"] == 0.0                       # spur: no thrust, the margin is the torque's
     assert joint["min_combined_margin"] == pytest.approx(joint["min_torque_margin"], rel=1e-12)
     assert (sweep["speed_rpm"] == 1200.0).all() and not sweep["backlash"].any()
+    # one recorded cycle: its worst is every statistic of the per-cycle spread, and it is the sweep's minimum
+    assert crank["cycles"] == 1
+    assert crank["torque_margin_cycle_worst"] == crank["torque_margin_cycle_median"] == \
+        crank["torque_margin_cycle_best"] == pytest.approx(crank["min_torque_margin"], rel=1e-12)
+
+
+def test_cycle_spread_of_a_margin_history():
+    """Per-cycle worst margins: a periodic history gives one number thrice; a history whose third cycle dips gives
+    that dip as the worst, the median of the per-cycle minima and the best cycle's minimum."""
+    periodic = np.tile(2.0 + np.sin(np.linspace(0.0, 2 * np.pi, 40, endpoint=False)), 4)
+    assert cycle_spread(periodic, 4) == pytest.approx({"worst": 1.0, "median": 1.0, "best": 1.0}, abs=1e-12)
+    cycles = np.array([[3.0, 2.0, 4.0], [5.0, 2.5, 6.0], [0.5, 9.0, 9.0], [7.0, 3.0, 8.0]])
+    assert cycle_spread(cycles.ravel(), 4) == {"worst": 0.5, "median": 2.25, "best": 3.0}
+    assert cycle_spread(5.0, 3) == {"worst": 5.0, "median": 5.0, "best": 5.0}      # a constant margin (spur axial)
 
 
 def test_sensitivities_through_the_integrator_match_finite_differences():

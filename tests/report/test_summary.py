@@ -102,3 +102,20 @@ def test_margins_named_in_their_own_units(design):
              "verified_margins": verified}
     text = "\n".join(headlines_markdown(entry))
     assert "worst over 150-450 N m" in text and "start diameter [mm]" in text
+
+
+def test_margins_over_speed_carry_their_spread_over_the_recorded_cycles():
+    """A rattling backlash response: the requirement is judged on the worst cycle, and the row and its Markdown say
+    how the per-cycle worst margins spread (median, best) at that worst instance."""
+    entry = lambda speed, worst, median, best: {
+        "speed_rpm": speed, "torque_margin": worst, "axial_margin": "inf", "cycles": 5,
+        "torque_margin_cycle_worst": worst, "torque_margin_cycle_median": median, "torque_margin_cycle_best": best,
+        "axial_margin_cycle_worst": "inf", "axial_margin_cycle_median": "inf", "axial_margin_cycle_best": "inf"}
+    result = {"dynamics": {"joint_margins_over_speed": {
+        "crank": {"spur": [entry(2500.0, 0.62, 0.70, 0.81), entry(3000.0, 0.66, 0.71, 0.75)]},
+        "cam": {"spur": [entry(2500.0, 3.1, 3.3, 3.6)]}}}}
+    s = build_summary(result)
+    slip = next(r for r in s["requirements"] if r["requirement"].startswith("Joint slip margin over speed"))
+    assert (slip["value"], slip["worst_case"], slip["verdict"]) == (0.62, "crank at 2500 rpm", "FAIL")
+    assert slip["cycle_spread"] == {"cycles": 5, "worst": 0.62, "median": 0.7, "best": 0.81}
+    assert "per-cycle worst over 5 cycles: median 0.700, best 0.810" in summary_markdown(s)
