@@ -18,6 +18,7 @@ import numpy as np  # noqa: E402
 import pandas as pd  # noqa: E402
 
 from ..errors import GearoptInputError  # noqa: E402
+from . import figure_writer  # noqa: E402
 
 #: Line styles cycled with the colours so that overlapping curves stay distinguishable.
 LINE_STYLES = ("-", "--", "-.", ":")
@@ -195,12 +196,9 @@ def plot_percentage_change(table: pd.DataFrame, baseline: str, *, by: str | None
 
 
 def save(fig, path: str | Path, dpi: int = 120) -> Path:
-    """Write ``fig`` to ``path`` (directories created) and close it."""
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=dpi)
-    plt.close(fig)
-    return path
+    """Write ``fig`` to ``path`` (directories created) and close it (in the background inside
+    :func:`gearopt.report.figure_writer.background_figures`)."""
+    return figure_writer.save(fig, path, dpi=dpi)
 
 
 def _finish_line_plot(fig, ax, xlabel: str, ylabel: str, title: str):

@@ -115,11 +115,13 @@ def scene_study(scene: Scene, quantity: str, target: str, *, points: int = 9, sa
     return SceneStudy(front, optimum, report, mc, error)
 
 
-def relief_scene_from_data(data: dict, train, mesh: str = "crank-cam", *, positions: int | None = None) -> Scene:
+def relief_scene_from_data(data: dict, train, mesh: str = "crank-cam", *, positions: int | None = None,
+                           ltca_options: dict | None = None) -> Scene:
     """The data's tip-relief scene of ``mesh``: the four relief variables, the largest PPTE over the design torque
     range (``[design_loads]`` ``<mesh>_torque_Nm`` x ``torque_range_fractions``) minimised, the loaded contact ratio
     >= ``[design_limits] min_loaded_contact_ratio`` and the largest contact stress not above the unmodified pair's
-    own maximum over the range (exact LTCA). ``positions``: NLP positions of the smooth LTCA (default 40)."""
+    own maximum over the range (exact LTCA). ``positions``: NLP positions of the smooth LTCA (default 40);
+    ``ltca_options``: further scene LTCA options (e.g. ``max_refinements``, :data:`gearopt.design.scene.DEFAULT_LTCA_OPTIONS`)."""
     from ..contact.ltca import ltca
     from ..data import values
 
@@ -132,7 +134,7 @@ def relief_scene_from_data(data: dict, train, mesh: str = "crank-cam", *, positi
                  objectives=[Objective("ppte_um", mesh, aggregate="max")],
                  limits=[Limit("max_contact_stress_MPa", mesh, upper=stress),
                          Limit("loaded_contact_ratio", mesh, lower=limits["min_loaded_contact_ratio"])],
-                 ltca_options={} if positions is None else {"positions": positions})
+                 ltca_options={**({} if positions is None else {"positions": positions}), **(ltca_options or {})})
 
 
 def _cell(v) -> str:

@@ -1,0 +1,73 @@
+"""Figure files written in the background: a long report renders its PNGs in a worker process while the caller
+goes on computing.
+
+Rendering a figure (layout, text, rasterising: 0.2-0.6 s for the report's multi-panel figures) is pure output work
+that nothing downstream reads. Inside :func:`background_figures`, :func:`save` pickles the finished figure, closes
+it and hands the pickle to one worker process that renders and writes it; leaving the block waits for every file
+and re-raises the first error of a worker. Outside the block :func:`save` writes at once. The files are the same
+either way (the worker unpickles the very figure the caller built).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import multiprocessing
+import pickle
+from concurrent.futures import Future, ProcessPoolExecutor
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+_POOL: ProcessPoolExecutor | None = None
+_PENDING: list[Future] = []
+
+
+def _render(payload: bytes, path: str, dpi: int) -> str:
+    fig = pickle.loads(payload)
+    fig.savefig(path, dpi=dpi)
+    plt.close(fig)
+    return path
+
+
+def save(fig, path: str | Path, dpi: int = 120) -> Path:
+    """Write ``fig`` to ``path`` (directories created) and close it; inside :func:`background_figures` the
+    rendering happens in the worker and the file exists when the block ends."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    if _POOL is None:
+        fig.savefig(path, dpi=dpi)
+        plt.close(fig)
+        return path
+    payload = pickle.dumps(fig)
+    plt.close(fig)
+    _PENDING.append(_POOL.submit(_render, payload, str(path), dpi))
+    return path
+
+
+@contextlib.contextmanager
+def background_figures(enabled: bool = True):
+    """Render the figures saved inside the block in one worker process (``enabled=False``: at once, in this
+    process). The worker is started with ``spawn`` (no fork of a process holding solver threads) and needs only
+    matplotlib. Leaving the block waits for every figure; a failed one raises here."""
+    global _POOL
+    if not enabled or _POOL is not None:
+        yield
+        return
+    _POOL = ProcessPoolExecutor(max_workers=1, mp_context=multiprocessing.get_context("spawn"))
+    try:
+        yield
+    finally:
+        pool, pending = _POOL, list(_PENDING)
+        _POOL = None
+        _PENDING.clear()
+        try:
+            for future in pending:
+                future.result()
+        finally:
+            pool.shutdown(wait=True)
+
+
+__all__ = ["save", "background_figures"]
