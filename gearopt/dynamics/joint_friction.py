@@ -35,11 +35,36 @@ the key engaged, part of the torque goes into the key, the circumferential frict
 torque swing that slips the hub (forward against the key and back on the key's spring-back) lets the thrust drive
 the gear along the shaft: ratcheting ("walk-out"). A spur mesh gives ``D_a = 0`` and no axial creep.
 
+Axial inertia. The gear moves axially as a mass ``m`` on the interface: its position ``u_a`` is a state with its
+velocity, and the interface carries the axial force ``D_a = k_c (u_a - z)`` through a stiff elastic layer ``k_c``
+(the fit's tangential contact stiffness before gross slip) in series with the plastic slip ``z`` that the friction
+law above drives (``D_a`` replaces ``F_thrust + F_shoulder`` in ``D``)::
+
+    dz/dt = v_a(D_t, D_a)                          (the flow law above)
+    m d2u_a/dt2 = F_thrust + F_shoulder(u_a) - D_a - c_c (du_a/dt - dz/dt),   c_c = 2 zeta_c sqrt(k_c m)
+
+(the dashpot ``c_c`` damps the gear's oscillation on the stuck interface only: it fades out linearly up to a slip
+speed of :data:`STICK_DAMPING_FADE_M_S`, so a slipping interface carries no more than its capacity).
+Quasi-statically (slow thrust) ``D_a = F_thrust + F_shoulder`` and the element is the massless law above. When the
+thrust alone exceeds the capacity the massless law has no bounded answer (it would slide at ``V (|F|/C - 1)``, a
+speed set by the regularisation, not by physics); with the mass the gear accelerates at ``(F - C)/m`` as Coulomb
+friction with inertia does, until ``V`` itself bounds it (terminal speed ``V (F/C - 1)`` after ``m V / C``; both
+closed forms tested).
+
+Definitions. *Slip utilisation* (``rigid_utilisation``, the headline): the combined friction demand the fit would
+have to carry if the gear stuck on its seat with the key unloaded, ``|(T_joint/r, F_thrust)| / C``; above 1 the fit
+slips and the key (circumferentially) and the gear's inertia (axially) carry the excess -- it says how far the fit
+is from holding, not what the interface carries. The interface itself never carries more than its capacity:
+``utilisation`` ``|(D_t, D_a)|/C`` exceeds 1 only by the regularisation's overstress ``|v|/V``. *Axial creep*: the
+change of the plastic axial slip ``z`` over the recorded cycles per engine cycle (+ off the nose); the gear's elastic
+axial deflection on the interface (``D_a/k_c``) and on the shoulder recovers and is not creep.
+
 Coupling (approximation, stated): one-way. The slip states are driven by the network's mesh forces and node
 accelerations but do not feed back into the torsional model (the gear stays lumped in its node): the relative
 rotation is bounded by the key clearance (about 1 mrad) and the friction dissipated by slip would only damp the
-vibration, so the one-way coupling over-estimates rather than hides the slip. The hub's own inertia in the slip
-directions is replaced by the viscoplastic regularisation ``V`` (its slip speed follows the overstress). Under
+vibration, so the one-way coupling over-estimates rather than hides the slip. The hub's circumferential inertia relative
+to its shaft is replaced by the viscoplastic regularisation ``V`` (its slip speed follows the overstress; the slip
+is bounded by the key's clearance and stiffness); its axial inertia is modelled (above). Under
 slowly varying loads the result converges quickly in ``V`` (tested); under short impacts (a rattling mesh) the slip
 of each impact grows with ``V`` towards the key-bounded limit of a massless hub, and the hub's inertia would hold it
 back: there ``V`` is a stated modelling choice with a measured sensitivity
@@ -69,12 +94,18 @@ SLIP_UNIT_M = 1e-6
 #: Floor of |D| [N] in the slip direction D/|D| (keeps the direction finite at zero demand; no effect on slip,
 #: which needs |D| > C > 0).
 DEMAND_FLOOR_N = 1e-3
+#: Slip speed [m/s] above which the stuck layer's dashpot is faded out (its force stays below c_c x this, about
+#: 100 N for the default gears, far below any capacity).
+STICK_DAMPING_FADE_M_S = 1e-3
 #: Names of the per-joint integration parameters (prefixed ``<joint>.``).
 JOINT_PARAMETERS = ("capacity_N", "key_clearance_um", "slip_speed_m_s", "thrust_scale")
 #: Per-joint outputs (``joint_outputs`` frames).
 JOINT_OUTPUTS = ("joint_torque_Nm", "thrust_N", "demand_tangential_N", "demand_axial_N", "rigid_utilisation",
                  "utilisation", "key_force_N", "shoulder_force_N", "slip_um", "axial_position_um",
-                 "slip_speed_m_s")
+                 "slip_speed_m_s", "axial_slip_um", "axial_velocity_m_s")
+#: Slip states per joint: circumferential slip u_t, plastic axial slip z [um], the gear's axial position u_a [um]
+#: and its axial velocity du_a/d(crank angle) [um/rad].
+STATES_PER_JOINT = 4
 
 
 class JointIntegrationError(SolveError):
@@ -97,7 +128,10 @@ class FrictionJoint:
     node's inertia when the gear is its own node); ``key_clearance_um`` c per side (arc at the fit radius; None = no
     key); ``key_stiffness_N_per_m``; ``shoulder_stiffness_N_per_m``; ``slip_speed_m_s`` V (the
     regularisation: slip speed at 100 % overstress); ``thrust_scale`` multiplies the thrust (1; e.g.
-    the ratio of tan(beta) of a lower helix angle, an approximation that keeps the dynamics of the present train).
+    the ratio of tan(beta) of a lower helix angle, an approximation that keeps the dynamics of the present train);
+    ``gear_mass_kg`` m of the gear in its axial motion; ``interface_stiffness_N_per_m`` k_c the axial (tangential)
+    stiffness of the fit interface before it slips and ``interface_damping_ratio`` zeta_c of the gear's mass on it
+    (module docstring, "Axial inertia").
     """
 
     name: str
@@ -111,6 +145,9 @@ class FrictionJoint:
     shoulder_stiffness_N_per_m: float = 5.0e9
     slip_speed_m_s: float = 10.0
     thrust_scale: float = 1.0
+    gear_mass_kg: float = 2.0
+    interface_stiffness_N_per_m: float = 1.0e9
+    interface_damping_ratio: float = 1.0
 
     def __post_init__(self):
         if not isinstance(self.name, str) or not self.name:
@@ -128,6 +165,11 @@ class FrictionJoint:
         check_range(f"slip_speed_m_s of {self.name!r}", self.slip_speed_m_s, 0.0, None,
                     low_inclusive=False, unit="m/s")
         check_range(f"thrust_scale of {self.name!r}", self.thrust_scale, 0.0, None, unit="-")
+        check_range(f"gear_mass_kg of {self.name!r}", self.gear_mass_kg, 0.0, None, low_inclusive=False, unit="kg")
+        check_range(f"interface_stiffness_N_per_m of {self.name!r}", self.interface_stiffness_N_per_m, 0.0, None,
+                    low_inclusive=False, unit="N/m")
+        check_range(f"interface_damping_ratio of {self.name!r}", self.interface_damping_ratio, 0.0, None,
+                    low_inclusive=False, unit="-")
         for mesh, sign in self.thrust_signs:
             if sign not in (-1.0, 0.0, 1.0, -1, 0, 1):
                 raise GearoptInputError(f"thrust sign of mesh {mesh!r} in joint {self.name!r} is {sign!r}; must be "
@@ -165,15 +207,31 @@ def shoulder_force_N(axial_position_m, stiffness_N_per_m):
     return stiffness_N_per_m * nm.fmax(-axial_position_m, 0.0)
 
 
-def joint_demand(joint: FrictionJoint, joint_torque_Nm, thrust_N, slip_m, axial_position_m, key_clearance_m):
-    """Friction demand (D_t, D_a) [N], key and shoulder forces [N] of ``joint`` at its slip state (dual-typed)."""
+def joint_rates(joint: FrictionJoint, joint_torque_Nm, thrust_N, slip_m, axial_slip_m, axial_position_m,
+                axial_velocity_m_s, capacity_N, key_clearance_m, slip_speed_m_s):
+    """Slip rates and forces of ``joint`` at its state (dual-typed; module docstring, "Axial inertia").
+
+    Returns a dict: ``demand_tangential_N`` D_t = T/r - F_key, ``demand_axial_N`` the interface's elastic axial
+    force k_c (u_a - z), ``key_force_N``, ``shoulder_force_N``, ``slip_rate_m_s`` du_t/dt, ``axial_slip_rate_m_s``
+    dz/dt, ``axial_acceleration_m_s2`` d2u_a/dt2."""
     r = 0.5e-3 * joint.fit_diameter_mm
     if joint.key_clearance_um is None:
         f_key = 0.0 * slip_m
     else:
         f_key = key_force_N(slip_m, key_clearance_m, joint.key_stiffness_N_per_m)
     f_sh = shoulder_force_N(axial_position_m, joint.shoulder_stiffness_N_per_m)
-    return joint_torque_Nm / r - f_key, thrust_N + f_sh, f_key, f_sh
+    k_c, m = joint.interface_stiffness_N_per_m, joint.gear_mass_kg
+    d_t = joint_torque_Nm / r - f_key
+    d_a = k_c * (axial_position_m - axial_slip_m)
+    v_t, v_z = slip_rates_m_s(d_t, d_a, capacity_N, slip_speed_m_s)
+    c_c = 2.0 * joint.interface_damping_ratio * math.sqrt(k_c * m)
+    # the dashpot damps the stuck layer only: it fades out (Lipschitz ramp) as the slip speed reaches
+    # STICK_DAMPING_FADE_M_S, so it never adds to the force a slipping interface carries (that is its capacity)
+    stick = nm.fmax(1.0 - nm.sqrt(v_t ** 2 + v_z ** 2 + 1e-18) / STICK_DAMPING_FADE_M_S, 0.0)
+    f_interface = d_a + stick * c_c * (axial_velocity_m_s - v_z)
+    return {"demand_tangential_N": d_t, "demand_axial_N": d_a, "key_force_N": f_key, "shoulder_force_N": f_sh,
+            "slip_rate_m_s": v_t, "axial_slip_rate_m_s": v_z,
+            "axial_acceleration_m_s2": (thrust_N + f_sh - f_interface) / m}
 
 
 # ----------------------------------------------------------------------------------------------------------------
@@ -217,7 +275,7 @@ def joint_equations(network: TorsionalNetwork, joints, lash: bool = True) -> Joi
     acc = eq.rhs[n:] * omega
     extra_names = [f"{j.name}.{k}" for j in joints for k in JOINT_PARAMETERS]
     p_joint = ca.SX.sym("p_joint", len(extra_names))
-    u = ca.SX.sym("u", 2 * len(joints))
+    u = ca.SX.sym("u", STATES_PER_JOINT * len(joints))
     rates, outputs, out_names = [], [], []
     for i, j in enumerate(joints):
         if j.gear_node not in network.inertias:
@@ -243,15 +301,19 @@ def joint_equations(network: TorsionalNetwork, joints, lash: bool = True) -> Joi
                                     f"touch node {j.gear_node!r}")
         torque = torque - j.gear_inertia_kgm2 * acc[free.index(j.gear_node)]
         thrust = scale * thrust
-        slip, axial = u[2 * i] * SLIP_UNIT_M, u[2 * i + 1] * SLIP_UNIT_M
-        d_t, d_a, f_key, f_sh = joint_demand(j, torque, thrust, slip, axial, clearance_um * 1e-6)
-        v_t, v_a = slip_rates_m_s(d_t, d_a, capacity, v_reg)
-        rates += [v_t / SLIP_UNIT_M / omega, v_a / SLIP_UNIT_M / omega]
+        k = STATES_PER_JOINT * i
+        slip, z, axial = (u[k + q] * SLIP_UNIT_M for q in range(3))
+        w = u[k + 3] * SLIP_UNIT_M * omega  # axial velocity [m/s]
+        jr = joint_rates(j, torque, thrust, slip, z, axial, w, capacity, clearance_um * 1e-6, v_reg)
+        d_t, d_a, v_t, v_z = (jr["demand_tangential_N"], jr["demand_axial_N"], jr["slip_rate_m_s"],
+                              jr["axial_slip_rate_m_s"])
+        rates += [v_t / SLIP_UNIT_M / omega, v_z / SLIP_UNIT_M / omega, u[k + 3],
+                  jr["axial_acceleration_m_s2"] / SLIP_UNIT_M / omega ** 2]
         r = 0.5e-3 * j.fit_diameter_mm
         rigid = nm.sqrt((torque / r) ** 2 + thrust ** 2) / capacity
         util = nm.sqrt(d_t ** 2 + d_a ** 2) / capacity
-        outputs += [torque, thrust, d_t, d_a, rigid, util, f_key, f_sh, u[2 * i], u[2 * i + 1],
-                    nm.sqrt(v_t ** 2 + v_a ** 2)]
+        outputs += [torque, thrust, d_t, d_a, rigid, util, jr["key_force_N"], jr["shoulder_force_N"], u[k],
+                    u[k + 2], nm.sqrt(v_t ** 2 + v_z ** 2), u[k + 1], w]
         out_names += [(q, j.name) for q in JOINT_OUTPUTS]
     # the network's own equations do not depend on the joint states (one-way coupling)
     result = JointEquations(x=ca.vertcat(eq.x, u), p=ca.vertcat(eq.p, p_joint), tau=eq.tau,
@@ -329,8 +391,9 @@ class JointSimulator:
         dae = {"x": self.eq.x, "p": self.eq.p, "t": self.eq.tau, "ode": ode(self.eq.tau, self.eq.x, self.eq.p)}
         self.integrator = ca.integrator("joint_cycle", "cvodes", dae, 0.0, self.grid_rad, opts)
         fopts = dict({"cse": True}, **(jit_opts if jit else {}))
-        self.output_function = ca.Function("joint_outputs", [self.eq.tau, self.eq.x, self.eq.p], [self.eq.outputs],
-                                           fopts).map(self.n_out)
+        point = ca.Function("joint_outputs", [self.eq.tau, self.eq.x, self.eq.p], [self.eq.outputs], fopts)
+        self.output_function = point.map(self.n_out)
+        self._point_outputs = point
         self.build_time_s = time.perf_counter() - t0
         self.options = opts
 
@@ -365,11 +428,25 @@ class JointSimulator:
         return np.concatenate([self.network.parameter_vector(speed_rpm, net_over),
                                np.array([joint_p[f"{j.name}.{k}"] for j in self.joints for k in JOINT_PARAMETERS])])
 
+    def _axial_preload(self, x: np.ndarray, pvec: np.ndarray) -> np.ndarray:
+        """Start each gear at rest in axial equilibrium under the initial thrust F (z = 0): u_a = F/k_c off the
+        nose, or F/(k_c + k_sh) against the shoulder (interface and shoulder in parallel)."""
+        out = np.array(self._point_outputs(0.0, x, pvec)).ravel()
+        names = self.eq.output_names
+        x = x.copy()
+        for i, j in enumerate(self.joints):
+            f = out[names.index(("thrust_N", j.name))]
+            if f >= 0.0:  # the interface holds at most its capacity
+                f = min(f, pvec[self.eq.parameter_names.index(f"{j.name}.capacity_N")])
+            k = j.interface_stiffness_N_per_m + (j.shoulder_stiffness_N_per_m if f < 0.0 else 0.0)
+            x[self.eq.n_network + STATES_PER_JOINT * i + 2] = f / k / SLIP_UNIT_M
+        return x
+
     def run(self, speed_rpm: float, cycles: int = 2, *, parameters: dict | None = None, run_in_cycles: int = 1,
             x0=None) -> JointSimulation:
         """Integrate ``run_in_cycles`` + ``cycles`` engine cycles at ``speed_rpm`` from the network's static state
         (``x0`` to continue a run; slip states start at 0: gear centred in the key clearance, against the
-        shoulder) and summarise the recorded cycles. Raises :class:`JointIntegrationError` if CVODES cannot hold
+        shoulder, at rest in axial equilibrium under the initial thrust) and summarise the recorded cycles. Raises :class:`JointIntegrationError` if CVODES cannot hold
         its tolerance within its step budget."""
         check_range("cycles", cycles, 1, None)
         check_range("run_in_cycles", run_in_cycles, 0, None)
@@ -377,7 +454,9 @@ class JointSimulator:
         n_net = self.eq.n_network
         if x0 is None:
             net_p = {k: v for k, v in (parameters or {}).items() if k in self.network.parameters()}
-            x = np.concatenate([self.base.static_state(speed_rpm, net_p), np.zeros(2 * len(self.joints))])
+            x = np.concatenate([self.base.static_state(speed_rpm, net_p),
+                                np.zeros(STATES_PER_JOINT * len(self.joints))])
+            x = self._axial_preload(x, pvec)
         else:
             x = np.asarray(x0, dtype=float).reshape(-1)
             if x.size != self.eq.x.numel():
@@ -416,9 +495,11 @@ class JointSimulator:
         frames = {q: pd.DataFrame(v, index=index) for q, v in frames.items()}
         rows = []
         for i, j in enumerate(self.joints):
-            ut = np.concatenate([[starts[0][n_net + 2 * i]], frames["slip_um"][j.name].to_numpy()])
-            ua_start, ua_end = starts[0][n_net + 2 * i + 1], x[n_net + 2 * i + 1]
-            ua = np.array([st[n_net + 2 * i + 1] for st in starts] + [ua_end])
+            k = n_net + STATES_PER_JOINT * i
+            ut = np.concatenate([[starts[0][k]], frames["slip_um"][j.name].to_numpy()])
+            # creep = change of the plastic axial slip z (the gear's elastic deflection on the interface recovers)
+            ua_start, ua_end = starts[0][k + 1], x[k + 1]
+            ua = np.array([st[k + 1] for st in starts] + [ua_end])
             per_cycle = np.diff(ua)
             rows.append({"joint": j.name,
                          "max_rigid_utilisation": float(frames["rigid_utilisation"][j.name].max()),
@@ -427,7 +508,7 @@ class JointSimulator:
                          "axial_creep_um_per_cycle": float(ua_end - ua_start) / cycles,
                          "axial_creep_um_cycle_std": float(np.std(per_cycle, ddof=1)) if cycles > 1 else 0.0,
                          "max_cycle_axial_creep_um": float(per_cycle.max()),
-                         "axial_position_um": float(ua_end),
+                         "axial_position_um": float(x[k + 2]),
                          "max_key_force_N": float(frames["key_force_N"][j.name].abs().max()),
                          "max_off_nose_thrust_N": float(frames["thrust_N"][j.name].max())})
         stats = {"integration_time_s": time.perf_counter() - t0, "build_time_s": self.build_time_s,
@@ -460,11 +541,12 @@ __all__ = [
     "JOINT_OUTPUTS",
     "JOINT_PARAMETERS",
     "SLIP_UNIT_M",
+    "STATES_PER_JOINT",
     "FrictionJoint",
     "JointIntegrationError",
     "JointSimulation",
     "JointSimulator",
-    "joint_demand",
+    "joint_rates",
     "joint_equations",
     "joint_simulator",
     "key_force_N",

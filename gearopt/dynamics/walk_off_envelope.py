@@ -39,6 +39,16 @@ JOINT_FRICTION_DATA = {
     "shoulder_stiffness_N_per_m": 5.0e9,
     "shoulder_stiffness_N_per_m_source": "[E] axial contact of the hub face on the shaft shoulder (annulus ~ 40 "
                                          "cm^2 at 200 GPa over a few mm of effective length)",
+    "interface_stiffness_N_per_m": 1.0e9,
+    "interface_stiffness_N_per_m_source": "[E] axial (tangential) stiffness of the fit interface before gross slip: "
+                                          "a few um of elastic micro-slip at the capacity (Mindlin-type tangential "
+                                          "compliance of a 25-30 mm long, 42-65 mm fit); creep is a plastic slip and "
+                                          "does not depend on it in the quasi-static limit",
+    "interface_damping_ratio": 1.0,
+    "interface_damping_ratio_source": "[E] critical damping of the gear's axial oscillation on the stuck interface "
+                                      "(micro-slip hysteresis); carries no force in steady slip",
+    "gear_mass_source": "[E] solid-disc equivalent of the gear's own inertia at its base radius, m = 2 J_gear / "
+                        "r_b^2 (gears.<gear>.inertia_kgm2 or solid_disc_inertia_kgm2): 2.6 kg crank, 5.2 kg cam",
     "slip_speed_m_s": 10.0,
     "slip_speed_m_s_source": "regularisation (not a material property): slip speed at 100 % overstress. V -> inf is "
                              "rate-independent Coulomb slip of a massless hub. Measured on the default helical model "
@@ -148,8 +158,24 @@ def model_joints(model, joint: str, levels: int = 1, *, thrust_scale: float = 1.
                           thrust_signs(model.train, gear, root_rotation), float(j_g), key_clearance_um=clearance,
                           key_stiffness_N_per_m=f["key_stiffness_N_per_m"],
                           shoulder_stiffness_N_per_m=f["shoulder_stiffness_N_per_m"],
-                          slip_speed_m_s=f["slip_speed_m_s"], thrust_scale=thrust_scale)
+                          slip_speed_m_s=f["slip_speed_m_s"], thrust_scale=thrust_scale,
+                          gear_mass_kg=gear_mass_kg(model, gear),
+                          interface_stiffness_N_per_m=f["interface_stiffness_N_per_m"],
+                          interface_damping_ratio=f["interface_damping_ratio"])
             for i in range(levels)]
+
+
+def gear_mass_kg(model, gear: str) -> float:
+    """Axial mass of ``gear`` [kg]: the solid-disc equivalent ``2 J_gear / r_b^2`` of its own inertia at its base
+    radius (:data:`JOINT_FRICTION_DATA` ``gear_mass_source``)."""
+    from .sweep import _gear_inertia_kgm2
+    j_gear = _gear_inertia_kgm2(model.data, gear)[0]
+    node = model.gear_nodes.get(gear, gear)
+    radii = [m.base_radii_mm[0] if m.gear_1 == node else m.base_radii_mm[1]
+             for m in model.network.meshes.values() if node in (m.gear_1, m.gear_2)]
+    if not radii:
+        raise GearoptInputError(f"gear {gear!r} (node {node!r}) has no mesh in the model")
+    return 2.0 * j_gear / (1e-3 * max(radii)) ** 2
 
 
 def damper_coefficient(data: dict, state) -> float:
@@ -275,6 +301,7 @@ __all__ = [
     "envelope_speeds_rpm",
     "fit_capacity_N",
     "fit_cases",
+    "gear_mass_kg",
     "joint_envelope",
     "model_joints",
     "thrust_signs",
