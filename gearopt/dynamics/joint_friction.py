@@ -84,13 +84,15 @@ import casadi as ca
 import numpy as np
 import pandas as pd
 
+from .. import compile_cache
 from .. import numerics as nm
 from ..errors import GearoptInputError, SolveError
 from ..validation import check_range
 from .network import OFFSET_PARAMETER, SPEED_PARAMETER, TorsionalNetwork
 
-#: Slip states are integrated in micrometres (creep per cycle is of order 0.01-10 um).
-SLIP_UNIT_M = 1e-6
+#: Unit of the slip states [m] (millimetres: the integrator's absolute tolerance, 0.1 rtol in state units, is then
+#: 1e-7 mm = 0.1 nm at rtol 1e-6, far below the 0.01 um creep per cycle resolved; outputs are in um).
+SLIP_UNIT_M = 1e-3
 #: Floor of |D| [N] in the slip direction D/|D| (keeps the direction finite at zero demand; no effect on slip,
 #: which needs |D| > C > 0).
 DEMAND_FLOOR_N = 1e-3
@@ -312,8 +314,8 @@ def joint_equations(network: TorsionalNetwork, joints, lash: bool = True) -> Joi
         r = 0.5e-3 * j.fit_diameter_mm
         rigid = nm.sqrt((torque / r) ** 2 + thrust ** 2) / capacity
         util = nm.sqrt(d_t ** 2 + d_a ** 2) / capacity
-        outputs += [torque, thrust, d_t, d_a, rigid, util, jr["key_force_N"], jr["shoulder_force_N"], u[k],
-                    u[k + 2], nm.sqrt(v_t ** 2 + v_z ** 2), u[k + 1], w]
+        outputs += [torque, thrust, d_t, d_a, rigid, util, jr["key_force_N"], jr["shoulder_force_N"], slip * 1e6,
+                    axial * 1e6, nm.sqrt(v_t ** 2 + v_z ** 2), z * 1e6, w]
         out_names += [(q, j.name) for q in JOINT_OUTPUTS]
     # the network's own equations do not depend on the joint states (one-way coupling)
     result = JointEquations(x=ca.vertcat(eq.x, u), p=ca.vertcat(eq.p, p_joint), tau=eq.tau,
@@ -352,7 +354,8 @@ class JointSimulator:
     ``lash``, ``rtol``/``atol`` (network states as in :class:`~gearopt.dynamics.simulate.Simulator`; the slip
     states in um), ``output_step_deg``, ``max_step_deg`` (default: the network simulator's contact step limit at
     ``min_speed_rpm``), ``max_num_steps`` per cycle (the step budget: beyond it a :class:`JointIntegrationError`),
-    ``jit`` (compile the equations with the C compiler).
+    ``jit`` (compile the integrator and outputs with the C compiler, once: :mod:`gearopt.compile_cache` keeps the
+    binaries on disk across runs).
     """
 
     def __init__(self, network: TorsionalNetwork, joints, *, lash: bool = True, rtol: float = 1e-6,
@@ -383,19 +386,32 @@ class JointSimulator:
         opts = {"reltol": float(rtol), "abstol": float(atol), "max_num_steps": int(max_num_steps)}
         if self.max_step_deg is not None:
             opts["max_step_size"] = math.radians(self.max_step_deg)
-        jit_opts = {"jit": True, "compiler": "shell", "jit_options": {"flags": ["-O2"], "verbose": False}}
-        if jit:
-            opts.update(jit_opts)
         t0 = time.perf_counter()
         ode = ca.Function("joint_ode", [self.eq.tau, self.eq.x, self.eq.p], [self.eq.rhs], {"cse": True})
         dae = {"x": self.eq.x, "p": self.eq.p, "t": self.eq.tau, "ode": ode(self.eq.tau, self.eq.x, self.eq.p)}
-        self.integrator = ca.integrator("joint_cycle", "cvodes", dae, 0.0, self.grid_rad, opts)
-        fopts = dict({"cse": True}, **(jit_opts if jit else {}))
-        point = ca.Function("joint_outputs", [self.eq.tau, self.eq.x, self.eq.p], [self.eq.outputs], fopts)
-        self.output_function = point.map(self.n_out)
-        self._point_outputs = point
+        self.compiled: dict = {}
+        self.jit = bool(jit)
+        self.integrator = self._build(
+            "joint_cycle", dae["ode"],
+            lambda extra: ca.integrator("joint_cycle", "cvodes", dae, 0.0, self.grid_rad, dict(opts, **extra)),
+            repr(("cvodes", sorted(opts.items()), self.grid_rad.tolist())))
+        self.output_function = self._build("joint_outputs", self.eq.outputs, lambda extra: ca.Function(
+            "joint_outputs", [self.eq.tau, self.eq.x, self.eq.p], [self.eq.outputs],
+            dict({"cse": True}, **extra)).map(self.n_out), repr(("map", self.n_out)))
+        self._point_outputs = ca.Function("joint_outputs", [self.eq.tau, self.eq.x, self.eq.p], [self.eq.outputs])
         self.build_time_s = time.perf_counter() - t0
         self.options = opts
+
+    def _build(self, name: str, expression, build, options_repr: str):
+        """``build(extra_options)`` through the on-disk compile cache (:mod:`gearopt.compile_cache`) when ``jit``,
+        keyed by the serialized graph of ``expression`` over (tau, x, p) and ``options_repr``."""
+        if not self.jit:
+            self.compiled[name] = "interpreted"
+            return build({})
+        graph = ca.Function(name, [self.eq.tau, self.eq.x, self.eq.p], [expression])
+        fun, how = compile_cache.compiled(name, graph.serialize() + options_repr, build)
+        self.compiled[name] = how
+        return fun
 
     def parameters(self) -> dict[str, float]:
         """Default parameters: the network's and each joint's (``<joint>.capacity_N`` ...)."""
@@ -496,10 +512,11 @@ class JointSimulator:
         rows = []
         for i, j in enumerate(self.joints):
             k = n_net + STATES_PER_JOINT * i
-            ut = np.concatenate([[starts[0][k]], frames["slip_um"][j.name].to_numpy()])
+            um = SLIP_UNIT_M * 1e6
+            ut = np.concatenate([[starts[0][k] * um], frames["slip_um"][j.name].to_numpy()])
             # creep = change of the plastic axial slip z (the gear's elastic deflection on the interface recovers)
-            ua_start, ua_end = starts[0][k + 1], x[k + 1]
-            ua = np.array([st[k + 1] for st in starts] + [ua_end])
+            ua_start, ua_end = starts[0][k + 1] * um, x[k + 1] * um
+            ua = np.array([st[k + 1] * um for st in starts] + [ua_end])
             per_cycle = np.diff(ua)
             rows.append({"joint": j.name,
                          "max_rigid_utilisation": float(frames["rigid_utilisation"][j.name].max()),
@@ -508,7 +525,7 @@ class JointSimulator:
                          "axial_creep_um_per_cycle": float(ua_end - ua_start) / cycles,
                          "axial_creep_um_cycle_std": float(np.std(per_cycle, ddof=1)) if cycles > 1 else 0.0,
                          "max_cycle_axial_creep_um": float(per_cycle.max()),
-                         "axial_position_um": float(x[k + 2]),
+                         "axial_position_um": float(x[k + 2] * um),
                          "max_key_force_N": float(frames["key_force_N"][j.name].abs().max()),
                          "max_off_nose_thrust_N": float(frames["thrust_N"][j.name].max())})
         stats = {"integration_time_s": time.perf_counter() - t0, "build_time_s": self.build_time_s,

@@ -206,13 +206,15 @@ HELICAL_ALTERNATIVES = {
 
 
 def failure_reproduction(data: dict, *, quick: bool = False, joints=("cam", "crank"), samples: int = 20000,
-                         seed: int = 0, distance_mm: float = WALK_OFF_DISTANCE_MM, executor_map=map,
+                         seed: int = 0, distance_mm: float = WALK_OFF_DISTANCE_MM, executor="serial",
+                         workers: int | None = None,
                          alternatives: dict | None = None) -> dict:
     """Envelope (:func:`~gearopt.dynamics.walk_off_envelope.joint_envelope`) and Monte Carlo
     (:func:`walk_off_probability`) of the helical and the spur train and the helical alternatives
-    (:data:`HELICAL_ALTERNATIVES`). ``quick``: 3300 rpm, nominal and degraded damper (probabilities renormalised),
-    one cycle from the static state (about 10 s); else all speeds and damper states, 3 cycles after 1 (about
-    a minute on two cores).
+    (:data:`HELICAL_ALTERNATIVES`). ``quick`` (smoke test, not a result): 3300 rpm, degraded damper only (probabilities conditional on it),
+    three fit levels, one cycle from the static state (start-up transient included); else all speeds and damper states, recorded cycles after one run-in cycle.
+    ``executor`` (``"serial"``, ``"processes"``, an :class:`~gearopt.studies.executor.Executor` ...; ``workers``)
+    runs the envelope's (speed, damper state) points.
 
     Returns ``{"envelopes": {train: DataFrame}, "probabilities": {train: {joint: dict}}, "summary": {train:
     {joint: {"max_slip_utilisation", "max_axial_creep_um_per_cycle", "walk_off_probability", ...}}},
@@ -230,10 +232,10 @@ def failure_reproduction(data: dict, *, quick: bool = False, joints=("cam", "cra
     check_range("distance_mm", distance_mm, 0.0, None, low_inclusive=False, unit="mm")
     bands = envelope_speeds_rpm(data)
     speeds = [bands["motoring_overspeed"][0]] if quick else [v for v, _ in bands.values()]
-    states = ("nominal", "degraded") if quick else tuple(DAMPER_STATES)
+    states = ("degraded",) if quick else tuple(DAMPER_STATES)
     total = sum(DAMPER_STATE_PROBABILITIES[s] for s in states)
     damper_probabilities = {s: DAMPER_STATE_PROBABILITIES[s] / total for s in states}
-    run = {"cycles": 1, "run_in_cycles": 0, "levels": 3} if quick else {"cycles": 3, "run_in_cycles": 1,
+    run = {"cycles": 1, "run_in_cycles": 0, "levels": 3} if quick else {"cycles": 2, "run_in_cycles": 1,
                                                                        "levels": 4}
     run["damper_states"] = states
     alternatives = HELICAL_ALTERNATIVES if alternatives is None else alternatives
@@ -244,9 +246,16 @@ def failure_reproduction(data: dict, *, quick: bool = False, joints=("cam", "cra
                         float(alt["interference_shift_um"]))
         if float(alt["thrust_scale"]) != 1.0:
             helical_variants.update({f"{name}:{j}": (j, float(alt["thrust_scale"])) for j in joints})
-    runs = {kind: joint_envelope(default_timing_model(kind, data=data), joints, speeds_rpm=speeds,
-                                 executor_map=executor_map, variants=helical_variants if kind == "helical" else None,
-                                 **run) for kind in ("helical", "spur")}
+    from .executor import using_executor
+    models = {kind: default_timing_model(kind, data=data) for kind in ("helical", "spur")}
+    def envelope(kind, executor_map):
+        return joint_envelope(models[kind], joints, speeds_rpm=speeds, executor_map=executor_map,
+                              variants=helical_variants if kind == "helical" else None, **run)
+
+    for kind in models:  # build both simulators first (no runs), so that forked workers inherit both
+        envelope(kind, lambda fn, items: [])
+    with using_executor(executor, workers=workers) as ex:
+        runs = {kind: envelope(kind, ex.map) for kind in models}
     envelopes, probabilities, summary = {}, {}, {}
     for name, (kind, prefix, shift) in trains.items():
         env = runs[kind]
@@ -270,6 +279,10 @@ def failure_reproduction(data: dict, *, quick: bool = False, joints=("cam", "cra
                 "max_axial_creep_um_per_cycle_nominal_fit": _creep_summary(nominal, distance_mm)[
                     "max_axial_creep_um_per_cycle"],
                 "max_off_nose_thrust_N": float(rows["max_off_nose_thrust_N"].max()),
+                "max_key_force_N": float(rows["max_key_force_N"].max()),
+                "capacity_N_weakest_fit": float(rows.loc[rows["fit_case"] == "weakest", "capacity_N"].min())
+                if (rows["fit_case"] == "weakest").any() else float("nan"),
+                "capacity_N_nominal_fit": float(nominal["capacity_N"].min()) if not nominal.empty else float("nan"),
                 "below_tolerance": {f"{f:g}x_weakest_fit": {
                     "max_slip_utilisation": float(g["max_rigid_utilisation"].max()), **_creep_summary(g, distance_mm)}
                     for f, (_, g) in zip(BELOW_TOLERANCE_FRACTIONS, below.groupby("level"))},

@@ -11,6 +11,7 @@ from gearopt.dynamics import TorsionalNetwork
 from gearopt.dynamics.joint_friction import (
     FrictionJoint,
     JointIntegrationError,
+    SLIP_UNIT_M,
     JointSimulator,
     slip_rates_m_s,
     walked_distance_mm,
@@ -107,7 +108,7 @@ def test_ratchet_creep_direction_follows_thrust_sign(sign):
 def test_thrust_towards_the_shoulder_pulls_a_loose_gear_back():
     net = gear_on_shaft(20.0, 100.0, 250.0)
     sim = JointSimulator(net, [joint(-1.0, key=10.0)], lash=False)
-    x0 = np.concatenate([sim.base.static_state(SPEED), [0.0, 50.0, 50.0, 0.0]])  # gear 50 um off the shoulder
+    x0 = np.concatenate([sim.base.static_state(SPEED), np.array([0.0, 50.0, 50.0, 0.0]) * 1e-6 / SLIP_UNIT_M])  # gear 50 um off the shoulder
     res = sim.run(SPEED, 2, run_in_cycles=0, x0=x0)
     assert res.summary.loc["j", "axial_creep_um_per_cycle"] < -0.5  # mirror of the +1 ratchet
 
@@ -199,8 +200,8 @@ def test_thrust_above_capacity_slides_the_gear_by_newton_with_coulomb_friction()
     sim = JointSimulator(gear_on_shaft(beta, T), [j], lash=False, rtol=1e-8)
     # start with the key already holding the torque (u_t = T/(r k)) and the interface at its capacity (u_a = C/k_c)
     x0 = np.concatenate([sim.base.static_state(SPEED),
-                         [-T / R_FIT / j.key_stiffness_N_per_m * 1e6, 0.0, C / j.interface_stiffness_N_per_m * 1e6,
-                          0.0]])
+                         np.array([-T / R_FIT / j.key_stiffness_N_per_m, 0.0, C / j.interface_stiffness_N_per_m,
+                                   0.0]) / SLIP_UNIT_M])
     res = sim.run(SPEED, 1, run_in_cycles=0, x0=x0)
     t = np.radians(res.crank_angle_deg) / (2 * math.pi) * CYCLE_S
     tau = m * V / C
