@@ -176,6 +176,10 @@ def test_bad_input_names_the_parameter():
         joint(capacity=-1.0)
     with pytest.raises(GearoptInputError, match="slip_speed_m_s"):
         joint(slip_speed=0.0)
+    with pytest.raises(GearoptInputError, match="gear_mass_kg"):
+        joint(gear_mass_kg=0.0)
+    with pytest.raises(GearoptInputError, match="interface_stiffness_N_per_m"):
+        joint(interface_stiffness_N_per_m=-1.0)
     with pytest.raises(GearoptInputError, match="thrust sign"):
         FrictionJoint("j", "gear", 40.0, 1e4, (("drive-gear", 0.5),), JG)
     sim = JointSimulator(gear_on_shaft(), [joint()], lash=False)
