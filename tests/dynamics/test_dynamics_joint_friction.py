@@ -9,9 +9,9 @@ import pytest
 from gearopt import numerics as nm
 from gearopt.dynamics import TorsionalNetwork
 from gearopt.dynamics.joint_friction import (
+    SLIP_UNIT_M,
     FrictionJoint,
     JointIntegrationError,
-    SLIP_UNIT_M,
     JointSimulator,
     slip_rates_m_s,
     walked_distance_mm,

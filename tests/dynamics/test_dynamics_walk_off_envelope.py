@@ -108,7 +108,11 @@ def test_regularisation_converges_at_the_envelopes_overstress():
 
     from gearopt.dynamics import default_timing_model
     from gearopt.dynamics.joint_friction import joint_simulator
-    from gearopt.dynamics.walk_off_envelope import DAMPER_PARAMETER, gear_mass_kg, model_joints
+    from gearopt.dynamics.walk_off_envelope import (
+        DAMPER_PARAMETER,
+        gear_mass_kg,
+        model_joints,
+    )
 
     model = default_timing_model("helical", data=DATA)
     base = model_joints(model, "crank", 2)
