@@ -106,6 +106,22 @@ def sample_inputs(data: dict, joint: str, samples: int, seed: int = 0, *, speeds
     return out
 
 
+def sampled_capacity_N(data: dict, joint: str, speed_rpm: float, interference_um, smoothing_loss_um,
+                       friction_coefficient) -> np.ndarray:
+    """Vectorised fit capacity [N] of the Monte Carlo samples: linear in mu and in the effective interference above
+    the centrifugal loss (the elastic Lame solution of :func:`~gearopt.dynamics.walk_off_envelope.fit_capacity_N`,
+    fitted through two of its evaluations at ``speed_rpm``; tested against it)."""
+    from ..dynamics.walk_off_envelope import fit_capacity_N
+    mu0 = 0.5
+    c_hi = fit_capacity_N(data, joint, interference_um=200.0, friction_coefficient=mu0, speed_rpm=speed_rpm)
+    c_lo = fit_capacity_N(data, joint, interference_um=100.0, friction_coefficient=mu0, speed_rpm=speed_rpm)
+    slope = (c_hi - c_lo) / 100.0
+    loss = 200.0 - c_hi / slope
+    eff = np.maximum(np.asarray(interference_um, dtype=float) - np.asarray(smoothing_loss_um, dtype=float) - loss,
+                     0.0)
+    return np.maximum(slope * eff * np.asarray(friction_coefficient, dtype=float) / mu0, 1e-3)
+
+
 def walk_off_probability(envelope: pd.DataFrame, data: dict, joint: str = "cam", *, samples: int = 20000,
                          seed: int = 0, distance_mm: float = WALK_OFF_DISTANCE_MM,
                          damper_probabilities: dict | None = None, exposure_hours: dict | None = None,
@@ -119,7 +135,7 @@ def walk_off_probability(envelope: pd.DataFrame, data: dict, joint: str = "cam",
     ``seed``, ``field_rate`` and the ``assumptions`` (distance, period, exposure, damper probabilities, sources).
     """
     from ..dynamics.joint_friction import walked_distance_mm
-    from ..dynamics.walk_off_envelope import envelope_speeds_rpm, fit_capacity_N
+    from ..dynamics.walk_off_envelope import envelope_speeds_rpm
     check_range("distance_mm", distance_mm, 0.0, None, low_inclusive=False, unit="mm")
     speeds = set(envelope["speed_rpm"].astype(float))
     bands = {b: v for b, v in envelope_speeds_rpm(data).items() if v[0] in speeds}
@@ -129,16 +145,10 @@ def walk_off_probability(envelope: pd.DataFrame, data: dict, joint: str = "cam",
     inputs = sample_inputs(data, joint, samples, seed, speeds_rpm=bands, damper_probabilities=damper_probabilities,
                            exposure_hours=exposure_hours, interference_shift_um=interference_shift_um)
     table = _creep_interpolator(envelope, joint)
-    mu0 = 0.5
     distance = np.zeros(samples)
     for band, (speed, _) in bands.items():
-        # capacity linear in mu and in the effective interference above the centrifugal loss (Lame, elastic)
-        c_hi = fit_capacity_N(data, joint, interference_um=200.0, friction_coefficient=mu0, speed_rpm=speed)
-        c_lo = fit_capacity_N(data, joint, interference_um=100.0, friction_coefficient=mu0, speed_rpm=speed)
-        slope = (c_hi - c_lo) / 100.0
-        loss = 200.0 - c_hi / slope
-        eff = np.maximum(inputs["interference_um"] - inputs["smoothing_loss_um"] - loss, 0.0)
-        cap = np.maximum(slope * eff * inputs["friction_coefficient"] / mu0, 1e-3)
+        cap = sampled_capacity_N(data, joint, speed, inputs["interference_um"].to_numpy(),
+                                 inputs["smoothing_loss_um"].to_numpy(), inputs["friction_coefficient"].to_numpy())
         creep = np.zeros(samples)
         for state in inputs["damper_state"].unique():
             key = (float(speed), str(state))
@@ -311,4 +321,4 @@ def failure_reproduction(data: dict, *, quick: bool = False, joints=("cam", "cra
 
 
 __all__ = ["DAMPER_STATE_PROBABILITIES", "EXPOSURE_HOURS", "FIELD_RATE", "HELICAL_ALTERNATIVES", "WALK_OFF_DISTANCE_MM",
-           "WARRANTY_MONTHS", "failure_reproduction", "sample_inputs", "walk_off_probability"]
+           "WARRANTY_MONTHS", "failure_reproduction", "sample_inputs", "sampled_capacity_N", "walk_off_probability"]

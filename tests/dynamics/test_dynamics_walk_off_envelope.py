@@ -135,3 +135,16 @@ def test_regularisation_converges_at_the_envelopes_overstress():
     f_max = s.loc["crank#0", "max_off_nose_thrust_N"]
     bound_um = 0.5 * (f_max - cases["weakest"]) / base[0].gear_mass_kg * cycle_s ** 2 * 1e6
     assert abs(s.loc["crank#0", "max_cycle_axial_creep_um"]) < bound_um
+
+
+@pytest.mark.parametrize("joint", ["cam", "crank"])
+def test_monte_carlo_capacity_surrogate_matches_the_press_fit_model(joint):
+    # the vectorised capacity of the Monte Carlo samples against the press-fit (Lame, DIN 7190) calculation
+    from gearopt.studies.failure import sampled_capacity_N
+    rng = np.random.default_rng(3)
+    delta, smooth, mu = rng.uniform(40.0, 120.0, 8), rng.uniform(4.0, 9.0, 8), rng.uniform(0.08, 0.16, 8)
+    for speed in (2500.0, 3300.0):
+        fast = sampled_capacity_N(DATA, joint, speed, delta, smooth, mu)
+        exact = [fit_capacity_N(DATA, joint, interference_um=d, friction_coefficient=m, smoothing_loss_um=s,
+                                speed_rpm=speed) for d, s, m in zip(delta, smooth, mu)]
+        assert fast == pytest.approx(exact, rel=1e-6)
