@@ -540,7 +540,8 @@ def write_failure(out: Path, failure: dict) -> tuple[list[str], dict]:
         verdict = (f"The helical cam gear walks off in the model: it slips at the weakest fits (peak combined slip "
                    f"utilisation {cam['max_slip_utilisation']:.2f}) and ratchets off its seat up to "
                    f"{cam['max_axial_creep_um_per_cycle']:.3g} um per engine cycle; walk-off probability "
-                   f"{cam['walk_off_probability']:.3%} in {a['period_months']:g} months (field "
+                   f"{cam['walk_off_probability']:.3%} ({round(cam['walk_off_probability'] * a['samples'])} of "
+                   f"{a['samples']} samples) in {a['period_months']:g} months (field "
                    f"{a['field_rate']:.3%}: a sanity check, not a target), driven by "
                    f"{', '.join(list(cam['drivers'])[:3])}.")
     elif cam["max_axial_creep_um_per_cycle"] > 0:
