@@ -619,6 +619,7 @@ def plot_failure_map(out: Path, envelope: pd.DataFrame) -> Path:
                     "-" if train == "helical" else "--", marker=".",
                     label=f"{train} {speed:g} rpm {state}")
         ax.set_xscale("log")
+        ax.set_yscale("symlog", linthresh=0.01)  # creep spans 0.01 um (cam, edge of slip) to mm (sub-tolerance crank)
         ax.set_xlabel("friction capacity C [kN]")
         ax.set_ylabel("axial creep off the nose [um per engine cycle]")
         ax.set_title(f"{joint} gear")
