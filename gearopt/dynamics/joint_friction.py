@@ -332,9 +332,10 @@ class JointSimulation:
     cycles (``frames[quantity]``, index ``crank_angle_deg`` from the start of the recording), and per joint the
     summary ``summary`` (DataFrame): ``max_rigid_utilisation`` (peak combined demand with the gear stuck and the
     key unloaded, |(T/r, F_thrust)|/C), ``max_utilisation`` (peak |D|/C of the element), ``slip_um_per_cycle``
-    (total circumferential slip path per cycle), ``axial_creep_um_per_cycle`` (change of the axial position over
+    (total circumferential slip path per cycle), ``axial_creep_um_per_cycle`` (change of the plastic axial slip over
     the recorded cycles per cycle, + off the nose), ``axial_creep_um_cycle_std`` (its standard deviation from cycle
-    to cycle; 0 for one cycle), ``max_cycle_axial_creep_um`` (largest single cycle), ``axial_position_um`` at the end, ``max_key_force_N``,
+    to cycle; 0 for one cycle), ``max_cycle_axial_creep_um`` (largest single cycle), ``axial_position_um`` (the
+    gear's, at the end), ``max_key_force_N``,
     ``max_off_nose_thrust_N``; ``speed_rpm``, ``cycles``, ``run_in_cycles``, ``stats``."""
 
     speed_rpm: float
