@@ -508,7 +508,9 @@ def failure_reproduction_stage(data: dict, quick: bool = False) -> dict:
     walk-off probability (``gearopt.studies.failure``), for the helical train, the spur cure and helical
     alternatives."""
     from gearopt.studies.failure import failure_reproduction
-    return failure_reproduction(data, quick=quick, joints=FAILURE_JOINTS, samples=5000 if quick else 20000)
+    # the full envelope's (speed, damper) points run in two forked worker processes (the quick one serially)
+    return failure_reproduction(data, quick=quick, joints=FAILURE_JOINTS, samples=5000 if quick else 20000,
+                                executor="serial" if quick else "processes", workers=2)
 
 
 def write_failure(out: Path, failure: dict) -> tuple[list[str], dict]:
@@ -546,7 +548,8 @@ def write_failure(out: Path, failure: dict) -> tuple[list[str], dict]:
         verdict = (f"The helical cam gear walks off in the model: it slips at the weakest fits (peak combined slip "
                    f"utilisation {cam['max_slip_utilisation']:.2f}) and ratchets off its seat up to "
                    f"{cam['max_axial_creep_um_per_cycle']:.3g} um per engine cycle; walk-off probability "
-                   f"{cam['walk_off_probability']:.3%} in {a['period_months']:g} months (field "
+                   f"{cam['walk_off_probability']:.3%} ({round(cam['walk_off_probability'] * a['samples'])} of "
+                   f"{a['samples']} samples) in {a['period_months']:g} months (field "
                    f"{a['field_rate']:.3%}: a sanity check, not a target), driven by "
                    f"{', '.join(list(cam['drivers'])[:3])}.")
     elif cam["max_axial_creep_um_per_cycle"] > 0:
@@ -569,9 +572,8 @@ def write_failure(out: Path, failure: dict) -> tuple[list[str], dict]:
                 + (f"fit, the creep of single cycles ranged up to {worst['max_cycle_axial_creep_um']:.3g} um with a "
                    f"standard deviation of {worst['axial_creep_um_cycle_std']:.2g} um over {a['recorded_cycles']} "
                    f"cycles" if a["recorded_cycles"] > 1 else "fit, one recorded cycle (quick mode)")
-                + "; whole re-runs of this stage "
-                "during development gave cam walk-off probabilities from 0 to 0.07 %. A utilisation near 1 is at the "
-                "edge of slip; `problems/failure_reproduction.py` runs longer statistics.)")
+                + "; so re-runs of this stage can differ at the edge of slip. A utilisation near 1 is at the edge of "
+                "slip; `problems/failure_reproduction.py` runs longer statistics.)")
     verdict += (f" The mechanism is there: below the tolerance range ({below}) the gear ratchets off at overspeed. "
                 "Data that would change the verdict: the real cam fit (interference after fretting wear, friction "
                 "coefficient), the damper's state at overspeed, and measured overspeed exposure.")
@@ -587,8 +589,11 @@ def write_failure(out: Path, failure: dict) -> tuple[list[str], dict]:
              f"state probabilities {a['damper_state_probabilities']} ({a['damper_probability_source']}); "
              f"{a['recorded_cycles']} recorded cycles after {a['run_in_cycles']} run-in per point (the lash model "
              "rattles at overspeed: peaks vary from cycle to cycle); slip regularisation "
-             f"V = {a['joint_data']['slip_speed_m_s']:g} m/s (creep about 20 % below the rate-independent limit of a "
-             "massless hub, whose inertia would in turn slow the slip in short impacts).", "",
+             f"V = {a['joint_data']['slip_speed_m_s']:g} m/s ({a['joint_data']['slip_speed_m_s_source']}); the gear's "
+             "axial inertia is modelled (a thrust above the capacity accelerates the gear at (F - C)/m, it does not "
+             "slide at a speed set by V). Slip utilisation = |(T/r, F_axial)|/C with the gear stuck and the key "
+             "unloaded (> 1: the fit slips and the key carries the excess torque); creep = change of the plastic "
+             "axial slip per engine cycle.", "",
              f"**Verdict.** {verdict} The spur train has no thrust: its cam joint "
              f"(peak utilisation {spur['max_slip_utilisation']:.2f}) cannot creep, walk-off probability "
              f"{spur['walk_off_probability']:.2%}. A retained helical cam gear (retainer plate and bolt, dropped in "
@@ -622,6 +627,7 @@ def plot_failure_map(out: Path, envelope: pd.DataFrame) -> Path:
                     "-" if train == "helical" else "--", marker=".",
                     label=f"{train} {speed:g} rpm {state}")
         ax.set_xscale("log")
+        ax.set_yscale("symlog", linthresh=0.01)  # creep spans 0.01 um (cam, edge of slip) to mm (sub-tolerance crank)
         ax.set_xlabel("friction capacity C [kN]")
         ax.set_ylabel("axial creep off the nose [um per engine cycle]")
         ax.set_title(f"{joint} gear")
@@ -637,16 +643,24 @@ def _crank_sentence(summary: dict) -> str:
     h, s = summary["helical"].get("crank"), summary["spur"].get("crank")
     if h is None:
         return "not modelled."
-    return (f"it slips at the nominal fit in both trains (peak utilisation helical "
-            f"{h['max_slip_utilisation_nominal_fit']:.2f}, spur {s['max_slip_utilisation_nominal_fit']:.2f}); in the "
-            f"spur train the slip is circumferential only and nothing accumulates axially (creep "
-            f"{s['max_axial_creep_um_per_cycle']:.3g} um/cycle), in the helical train the model ratchets it off its "
-            f"seat (up to {h['max_axial_creep_um_per_cycle_nominal_fit']:.3g} um/cycle at the nominal fit, walk-off "
+    c_weak, c_nom = h["capacity_N_weakest_fit"], h["capacity_N_nominal_fit"]
+    return (f"its slip utilisation (the demand the fit would carry if the gear stuck with the key unloaded) peaks at "
+            f"{h['max_slip_utilisation']:.0f} (helical) / {s['max_slip_utilisation']:.0f} (spur) at the weakest "
+            f"H7/r6 fit: after DIN 7190 smoothing (0.8 sum Rz = 8 um of its 11 um minimum interference) that fit "
+            f"holds only {c_weak * 1e-3:.2f} kN, {c_weak / c_nom:.0%} of the nominal fit's {c_nom * 1e-3:.1f} kN "
+            f"(utilisation {h['max_slip_utilisation_nominal_fit']:.2f} / {s['max_slip_utilisation_nominal_fit']:.2f} "
+            f"at the nominal fit). Beyond the capacity the key carries the torque (peak key force "
+            f"{h['max_key_force_N'] * 1e-3:.0f} kN) while the interface slips round within the key's clearance and "
+            f"compliance. Slip without thrust accumulates nothing: the spur crank gear's creep is "
+            f"{s['max_axial_creep_um_per_cycle']:.3g} um/cycle. In the helical train the off-nose thrust (peak "
+            f"{h['max_off_nose_thrust_N'] * 1e-3:.1f} kN) alone exceeds the weakest fits' capacity, so the gear slides "
+            f"back and forth on its seat against its own inertia (net creep of either sign, up to "
+            f"{h['max_axial_creep_um_per_cycle']:.3g} um/cycle), and at the nominal fit the torque-driven slip "
+            f"ratchets it off at up to {h['max_axial_creep_um_per_cycle_nominal_fit']:.3g} um/cycle (walk-off "
             f"probability {h['walk_off_probability']:.0%}) -- which the field never showed. The crank joint's data "
-            f"(H7/r6 fit, friction 0.12, no axial retention) or its demand (mesh torques minus the gear's inertia "
-            f"torque at the crank node's acceleration) are therefore not credible: the real crank gear is most likely "
-            f"held axially by the damper hub clamped on the crank nose, or has a heavier fit. Data that would settle "
-            f"it: the crank gear's fit and its axial retention.")
+            f"(H7/r6 fit, friction 0.12, no axial retention) are therefore not credible: the real crank gear is most "
+            f"likely held axially by the damper hub clamped on the crank nose, or has a heavier fit. Data that would "
+            f"settle it: the crank gear's fit and its axial retention.")
 
 
 def write_outputs(out: Path, macro: dict, split: dict, timings: dict, contact: dict | None = None,

@@ -35,11 +35,36 @@ the key engaged, part of the torque goes into the key, the circumferential frict
 torque swing that slips the hub (forward against the key and back on the key's spring-back) lets the thrust drive
 the gear along the shaft: ratcheting ("walk-out"). A spur mesh gives ``D_a = 0`` and no axial creep.
 
+Axial inertia. The gear moves axially as a mass ``m`` on the interface: its position ``u_a`` is a state with its
+velocity, and the interface carries the axial force ``D_a = k_c (u_a - z)`` through a stiff elastic layer ``k_c``
+(the fit's tangential contact stiffness before gross slip) in series with the plastic slip ``z`` that the friction
+law above drives (``D_a`` replaces ``F_thrust + F_shoulder`` in ``D``)::
+
+    dz/dt = v_a(D_t, D_a)                          (the flow law above)
+    m d2u_a/dt2 = F_thrust + F_shoulder(u_a) - D_a - c_c (du_a/dt - dz/dt),   c_c = 2 zeta_c sqrt(k_c m)
+
+(the dashpot ``c_c`` damps the gear's oscillation on the stuck interface only: it fades out linearly up to a slip
+speed of :data:`STICK_DAMPING_FADE_M_S`, so a slipping interface carries no more than its capacity).
+Quasi-statically (slow thrust) ``D_a = F_thrust + F_shoulder`` and the element is the massless law above. When the
+thrust alone exceeds the capacity the massless law has no bounded answer (it would slide at ``V (|F|/C - 1)``, a
+speed set by the regularisation, not by physics); with the mass the gear accelerates at ``(F - C)/m`` as Coulomb
+friction with inertia does, until ``V`` itself bounds it (terminal speed ``V (F/C - 1)`` after ``m V / C``; both
+closed forms tested).
+
+Definitions. *Slip utilisation* (``rigid_utilisation``, the headline): the combined friction demand the fit would
+have to carry if the gear stuck on its seat with the key unloaded, ``|(T_joint/r, F_thrust)| / C``; above 1 the fit
+slips and the key (circumferentially) and the gear's inertia (axially) carry the excess -- it says how far the fit
+is from holding, not what the interface carries. The interface itself never carries more than its capacity:
+``utilisation`` ``|(D_t, D_a)|/C`` exceeds 1 only by the regularisation's overstress ``|v|/V``. *Axial creep*: the
+change of the plastic axial slip ``z`` over the recorded cycles per engine cycle (+ off the nose); the gear's elastic
+axial deflection on the interface (``D_a/k_c``) and on the shoulder recovers and is not creep.
+
 Coupling (approximation, stated): one-way. The slip states are driven by the network's mesh forces and node
 accelerations but do not feed back into the torsional model (the gear stays lumped in its node): the relative
 rotation is bounded by the key clearance (about 1 mrad) and the friction dissipated by slip would only damp the
-vibration, so the one-way coupling over-estimates rather than hides the slip. The hub's own inertia in the slip
-directions is replaced by the viscoplastic regularisation ``V`` (its slip speed follows the overstress). Under
+vibration, so the one-way coupling over-estimates rather than hides the slip. The hub's circumferential inertia relative
+to its shaft is replaced by the viscoplastic regularisation ``V`` (its slip speed follows the overstress; the slip
+is bounded by the key's clearance and stiffness); its axial inertia is modelled (above). Under
 slowly varying loads the result converges quickly in ``V`` (tested); under short impacts (a rattling mesh) the slip
 of each impact grows with ``V`` towards the key-bounded limit of a massless hub, and the hub's inertia would hold it
 back: there ``V`` is a stated modelling choice with a measured sensitivity
@@ -59,22 +84,33 @@ import casadi as ca
 import numpy as np
 import pandas as pd
 
+from .. import compile_cache
 from .. import numerics as nm
 from ..errors import GearoptInputError, SolveError
 from ..validation import check_range
+from .joint_element import (  # noqa: F401 -- the element's names are part of this module's interface
+    DEMAND_FLOOR_N,
+    STICK_DAMPING_FADE_M_S,
+    FrictionJoint,
+    joint_rates,
+    key_force_N,
+    shoulder_force_N,
+    slip_rates_m_s,
+)
 from .network import OFFSET_PARAMETER, SPEED_PARAMETER, TorsionalNetwork
 
-#: Slip states are integrated in micrometres (creep per cycle is of order 0.01-10 um).
-SLIP_UNIT_M = 1e-6
-#: Floor of |D| [N] in the slip direction D/|D| (keeps the direction finite at zero demand; no effect on slip,
-#: which needs |D| > C > 0).
-DEMAND_FLOOR_N = 1e-3
+#: Unit of the slip states [m] (millimetres: the integrator's absolute tolerance, 0.1 rtol in state units, is then
+#: 1e-7 mm = 0.1 nm at rtol 1e-6, far below the 0.01 um creep per cycle resolved; outputs are in um).
+SLIP_UNIT_M = 1e-3
 #: Names of the per-joint integration parameters (prefixed ``<joint>.``).
 JOINT_PARAMETERS = ("capacity_N", "key_clearance_um", "slip_speed_m_s", "thrust_scale")
 #: Per-joint outputs (``joint_outputs`` frames).
 JOINT_OUTPUTS = ("joint_torque_Nm", "thrust_N", "demand_tangential_N", "demand_axial_N", "rigid_utilisation",
                  "utilisation", "key_force_N", "shoulder_force_N", "slip_um", "axial_position_um",
-                 "slip_speed_m_s")
+                 "slip_speed_m_s", "axial_slip_um", "axial_velocity_m_s")
+#: Slip states per joint: circumferential slip u_t, plastic axial slip z, the gear's axial position u_a (all in
+#: SLIP_UNIT_M) and its axial velocity du_a/d(crank angle) [SLIP_UNIT_M/rad].
+STATES_PER_JOINT = 4
 
 
 class JointIntegrationError(SolveError):
@@ -84,96 +120,6 @@ class JointIntegrationError(SolveError):
     def __init__(self, message: str, *, status: str = "", hint: str = ""):
         super().__init__(message, hint=hint)
         self.status = status
-
-
-@dataclass(frozen=True)
-class FrictionJoint:
-    """A press-fitted gear on its shaft as a friction element (module docstring).
-
-    ``name``; ``gear_node`` the network node carrying the gear; ``fit_diameter_mm`` d; ``capacity_N`` friction
-    capacity C = mu p pi d l (default of the integration parameter ``<name>.capacity_N``); ``thrust_signs``
-    ((mesh, sign), ...): off-nose axial force on the gear = sum sign x the mesh's axial force output (0 for a spur
-    mesh); ``gear_inertia_kgm2`` J_g of the gear (its inertia torque is taken out of the mesh-torque sum; the whole
-    node's inertia when the gear is its own node); ``key_clearance_um`` c per side (arc at the fit radius; None = no
-    key); ``key_stiffness_N_per_m``; ``shoulder_stiffness_N_per_m``; ``slip_speed_m_s`` V (the
-    regularisation: slip speed at 100 % overstress); ``thrust_scale`` multiplies the thrust (1; e.g.
-    the ratio of tan(beta) of a lower helix angle, an approximation that keeps the dynamics of the present train).
-    """
-
-    name: str
-    gear_node: str
-    fit_diameter_mm: float
-    capacity_N: float
-    thrust_signs: tuple
-    gear_inertia_kgm2: float
-    key_clearance_um: float | None = 10.0
-    key_stiffness_N_per_m: float = 1.0e9
-    shoulder_stiffness_N_per_m: float = 5.0e9
-    slip_speed_m_s: float = 10.0
-    thrust_scale: float = 1.0
-
-    def __post_init__(self):
-        if not isinstance(self.name, str) or not self.name:
-            raise GearoptInputError(f"joint name={self.name!r} must be a non-empty string")
-        check_range(f"fit_diameter_mm of {self.name!r}", self.fit_diameter_mm, 0.0, None, low_inclusive=False,
-                    unit="mm")
-        check_range(f"capacity_N of {self.name!r}", self.capacity_N, 0.0, None, low_inclusive=False, unit="N")
-        check_range(f"gear_inertia_kgm2 of {self.name!r}", self.gear_inertia_kgm2, 0.0, None, unit="kg m^2")
-        if self.key_clearance_um is not None:
-            check_range(f"key_clearance_um of {self.name!r}", self.key_clearance_um, 0.0, None, unit="um")
-        check_range(f"key_stiffness_N_per_m of {self.name!r}", self.key_stiffness_N_per_m, 0.0, None,
-                    low_inclusive=False, unit="N/m")
-        check_range(f"shoulder_stiffness_N_per_m of {self.name!r}", self.shoulder_stiffness_N_per_m, 0.0, None,
-                    low_inclusive=False, unit="N/m")
-        check_range(f"slip_speed_m_s of {self.name!r}", self.slip_speed_m_s, 0.0, None,
-                    low_inclusive=False, unit="m/s")
-        check_range(f"thrust_scale of {self.name!r}", self.thrust_scale, 0.0, None, unit="-")
-        for mesh, sign in self.thrust_signs:
-            if sign not in (-1.0, 0.0, 1.0, -1, 0, 1):
-                raise GearoptInputError(f"thrust sign of mesh {mesh!r} in joint {self.name!r} is {sign!r}; must be "
-                                        f"-1, 0 or +1")
-
-    def parameters(self) -> dict[str, float]:
-        """Default values of the joint's integration parameters (names ``<joint>.<key>``)."""
-        return {f"{self.name}.capacity_N": float(self.capacity_N),
-                f"{self.name}.key_clearance_um": float(self.key_clearance_um or 0.0),
-                f"{self.name}.slip_speed_m_s": float(self.slip_speed_m_s),
-                f"{self.name}.thrust_scale": float(self.thrust_scale)}
-
-
-# ----------------------------------------------------------------------------------------------------------------
-# element laws (dual-typed)
-# ----------------------------------------------------------------------------------------------------------------
-
-def slip_rates_m_s(demand_tangential_N, demand_axial_N, capacity_N, slip_speed_m_s):
-    """Viscoplastic Coulomb slip velocity (v_t, v_a) [m/s]: ``V <|D|/C - 1>_+`` along ``D/|D|`` (module
-    docstring; ``V`` = ``slip_speed_m_s``, the slip speed at 100 % overstress). Exactly zero inside the capacity
-    circle."""
-    mag = nm.sqrt(demand_tangential_N ** 2 + demand_axial_N ** 2 + DEMAND_FLOOR_N ** 2)
-    speed = slip_speed_m_s * nm.fmax(mag / capacity_N - 1.0, 0.0)
-    return speed * demand_tangential_N / mag, speed * demand_axial_N / mag
-
-
-def key_force_N(slip_m, clearance_m, stiffness_N_per_m):
-    """Force of the key on the hub against its circumferential slip [N] (+ when ``slip > c``): a symmetric dead
-    zone of half-width ``c``, linear beyond."""
-    return stiffness_N_per_m * (nm.fmax(slip_m - clearance_m, 0.0) - nm.fmax(-slip_m - clearance_m, 0.0))
-
-
-def shoulder_force_N(axial_position_m, stiffness_N_per_m):
-    """Reaction of the shaft shoulder on the gear [N] (+ = off the nose): one-sided, acts only at ``u_a < 0``."""
-    return stiffness_N_per_m * nm.fmax(-axial_position_m, 0.0)
-
-
-def joint_demand(joint: FrictionJoint, joint_torque_Nm, thrust_N, slip_m, axial_position_m, key_clearance_m):
-    """Friction demand (D_t, D_a) [N], key and shoulder forces [N] of ``joint`` at its slip state (dual-typed)."""
-    r = 0.5e-3 * joint.fit_diameter_mm
-    if joint.key_clearance_um is None:
-        f_key = 0.0 * slip_m
-    else:
-        f_key = key_force_N(slip_m, key_clearance_m, joint.key_stiffness_N_per_m)
-    f_sh = shoulder_force_N(axial_position_m, joint.shoulder_stiffness_N_per_m)
-    return joint_torque_Nm / r - f_key, thrust_N + f_sh, f_key, f_sh
 
 
 # ----------------------------------------------------------------------------------------------------------------
@@ -217,7 +163,7 @@ def joint_equations(network: TorsionalNetwork, joints, lash: bool = True) -> Joi
     acc = eq.rhs[n:] * omega
     extra_names = [f"{j.name}.{k}" for j in joints for k in JOINT_PARAMETERS]
     p_joint = ca.SX.sym("p_joint", len(extra_names))
-    u = ca.SX.sym("u", 2 * len(joints))
+    u = ca.SX.sym("u", STATES_PER_JOINT * len(joints))
     rates, outputs, out_names = [], [], []
     for i, j in enumerate(joints):
         if j.gear_node not in network.inertias:
@@ -243,15 +189,19 @@ def joint_equations(network: TorsionalNetwork, joints, lash: bool = True) -> Joi
                                     f"touch node {j.gear_node!r}")
         torque = torque - j.gear_inertia_kgm2 * acc[free.index(j.gear_node)]
         thrust = scale * thrust
-        slip, axial = u[2 * i] * SLIP_UNIT_M, u[2 * i + 1] * SLIP_UNIT_M
-        d_t, d_a, f_key, f_sh = joint_demand(j, torque, thrust, slip, axial, clearance_um * 1e-6)
-        v_t, v_a = slip_rates_m_s(d_t, d_a, capacity, v_reg)
-        rates += [v_t / SLIP_UNIT_M / omega, v_a / SLIP_UNIT_M / omega]
+        k = STATES_PER_JOINT * i
+        slip, z, axial = (u[k + q] * SLIP_UNIT_M for q in range(3))
+        w = u[k + 3] * SLIP_UNIT_M * omega  # axial velocity [m/s]
+        jr = joint_rates(j, torque, thrust, slip, z, axial, w, capacity, clearance_um * 1e-6, v_reg)
+        d_t, d_a, v_t, v_z = (jr["demand_tangential_N"], jr["demand_axial_N"], jr["slip_rate_m_s"],
+                              jr["axial_slip_rate_m_s"])
+        rates += [v_t / SLIP_UNIT_M / omega, v_z / SLIP_UNIT_M / omega, u[k + 3],
+                  jr["axial_acceleration_m_s2"] / SLIP_UNIT_M / omega ** 2]
         r = 0.5e-3 * j.fit_diameter_mm
         rigid = nm.sqrt((torque / r) ** 2 + thrust ** 2) / capacity
         util = nm.sqrt(d_t ** 2 + d_a ** 2) / capacity
-        outputs += [torque, thrust, d_t, d_a, rigid, util, f_key, f_sh, u[2 * i], u[2 * i + 1],
-                    nm.sqrt(v_t ** 2 + v_a ** 2)]
+        outputs += [torque, thrust, d_t, d_a, rigid, util, jr["key_force_N"], jr["shoulder_force_N"], slip * 1e6,
+                    axial * 1e6, nm.sqrt(v_t ** 2 + v_z ** 2), z * 1e6, w]
         out_names += [(q, j.name) for q in JOINT_OUTPUTS]
     # the network's own equations do not depend on the joint states (one-way coupling)
     result = JointEquations(x=ca.vertcat(eq.x, u), p=ca.vertcat(eq.p, p_joint), tau=eq.tau,
@@ -268,9 +218,10 @@ class JointSimulation:
     cycles (``frames[quantity]``, index ``crank_angle_deg`` from the start of the recording), and per joint the
     summary ``summary`` (DataFrame): ``max_rigid_utilisation`` (peak combined demand with the gear stuck and the
     key unloaded, |(T/r, F_thrust)|/C), ``max_utilisation`` (peak |D|/C of the element), ``slip_um_per_cycle``
-    (total circumferential slip path per cycle), ``axial_creep_um_per_cycle`` (change of the axial position over
+    (total circumferential slip path per cycle), ``axial_creep_um_per_cycle`` (change of the plastic axial slip over
     the recorded cycles per cycle, + off the nose), ``axial_creep_um_cycle_std`` (its standard deviation from cycle
-    to cycle; 0 for one cycle), ``max_cycle_axial_creep_um`` (largest single cycle), ``axial_position_um`` at the end, ``max_key_force_N``,
+    to cycle; 0 for one cycle), ``max_cycle_axial_creep_um`` (largest single cycle), ``axial_position_um`` (the
+    gear's, at the end), ``max_key_force_N``,
     ``max_off_nose_thrust_N``; ``speed_rpm``, ``cycles``, ``run_in_cycles``, ``stats``."""
 
     speed_rpm: float
@@ -290,7 +241,8 @@ class JointSimulator:
     ``lash``, ``rtol``/``atol`` (network states as in :class:`~gearopt.dynamics.simulate.Simulator`; the slip
     states in um), ``output_step_deg``, ``max_step_deg`` (default: the network simulator's contact step limit at
     ``min_speed_rpm``), ``max_num_steps`` per cycle (the step budget: beyond it a :class:`JointIntegrationError`),
-    ``jit`` (compile the equations with the C compiler).
+    ``jit`` (compile the integrator and outputs with the C compiler, once: :mod:`gearopt.compile_cache` keeps the
+    binaries on disk across runs).
     """
 
     def __init__(self, network: TorsionalNetwork, joints, *, lash: bool = True, rtol: float = 1e-6,
@@ -321,18 +273,32 @@ class JointSimulator:
         opts = {"reltol": float(rtol), "abstol": float(atol), "max_num_steps": int(max_num_steps)}
         if self.max_step_deg is not None:
             opts["max_step_size"] = math.radians(self.max_step_deg)
-        jit_opts = {"jit": True, "compiler": "shell", "jit_options": {"flags": ["-O2"], "verbose": False}}
-        if jit:
-            opts.update(jit_opts)
         t0 = time.perf_counter()
         ode = ca.Function("joint_ode", [self.eq.tau, self.eq.x, self.eq.p], [self.eq.rhs], {"cse": True})
         dae = {"x": self.eq.x, "p": self.eq.p, "t": self.eq.tau, "ode": ode(self.eq.tau, self.eq.x, self.eq.p)}
-        self.integrator = ca.integrator("joint_cycle", "cvodes", dae, 0.0, self.grid_rad, opts)
-        fopts = dict({"cse": True}, **(jit_opts if jit else {}))
-        self.output_function = ca.Function("joint_outputs", [self.eq.tau, self.eq.x, self.eq.p], [self.eq.outputs],
-                                           fopts).map(self.n_out)
+        self.compiled: dict = {}
+        self.jit = bool(jit)
+        self.integrator = self._build(
+            "joint_cycle", dae["ode"],
+            lambda extra: ca.integrator("joint_cycle", "cvodes", dae, 0.0, self.grid_rad, dict(opts, **extra)),
+            repr(("cvodes", sorted(opts.items()), self.grid_rad.tolist())))
+        self.output_function = self._build("joint_outputs", self.eq.outputs, lambda extra: ca.Function(
+            "joint_outputs", [self.eq.tau, self.eq.x, self.eq.p], [self.eq.outputs],
+            dict({"cse": True}, **extra)).map(self.n_out), repr(("map", self.n_out)))
+        self._point_outputs = ca.Function("joint_outputs", [self.eq.tau, self.eq.x, self.eq.p], [self.eq.outputs])
         self.build_time_s = time.perf_counter() - t0
         self.options = opts
+
+    def _build(self, name: str, expression, build, options_repr: str):
+        """``build(extra_options)`` through the on-disk compile cache (:mod:`gearopt.compile_cache`) when ``jit``,
+        keyed by the serialized graph of ``expression`` over (tau, x, p) and ``options_repr``."""
+        if not self.jit:
+            self.compiled[name] = "interpreted"
+            return build({})
+        graph = ca.Function(name, [self.eq.tau, self.eq.x, self.eq.p], [expression])
+        fun, how = compile_cache.compiled(name, graph.serialize() + options_repr, build)
+        self.compiled[name] = how
+        return fun
 
     def parameters(self) -> dict[str, float]:
         """Default parameters: the network's and each joint's (``<joint>.capacity_N`` ...)."""
@@ -365,11 +331,25 @@ class JointSimulator:
         return np.concatenate([self.network.parameter_vector(speed_rpm, net_over),
                                np.array([joint_p[f"{j.name}.{k}"] for j in self.joints for k in JOINT_PARAMETERS])])
 
+    def _axial_preload(self, x: np.ndarray, pvec: np.ndarray) -> np.ndarray:
+        """Start each gear at rest in axial equilibrium under the initial thrust F (z = 0): u_a = F/k_c off the
+        nose, or F/(k_c + k_sh) against the shoulder (interface and shoulder in parallel)."""
+        out = np.array(self._point_outputs(0.0, x, pvec)).ravel()
+        names = self.eq.output_names
+        x = x.copy()
+        for i, j in enumerate(self.joints):
+            f = out[names.index(("thrust_N", j.name))]
+            if f >= 0.0:  # the interface holds at most its capacity
+                f = min(f, pvec[self.eq.parameter_names.index(f"{j.name}.capacity_N")])
+            k = j.interface_stiffness_N_per_m + (j.shoulder_stiffness_N_per_m if f < 0.0 else 0.0)
+            x[self.eq.n_network + STATES_PER_JOINT * i + 2] = f / k / SLIP_UNIT_M
+        return x
+
     def run(self, speed_rpm: float, cycles: int = 2, *, parameters: dict | None = None, run_in_cycles: int = 1,
             x0=None) -> JointSimulation:
         """Integrate ``run_in_cycles`` + ``cycles`` engine cycles at ``speed_rpm`` from the network's static state
         (``x0`` to continue a run; slip states start at 0: gear centred in the key clearance, against the
-        shoulder) and summarise the recorded cycles. Raises :class:`JointIntegrationError` if CVODES cannot hold
+        shoulder, at rest in axial equilibrium under the initial thrust) and summarise the recorded cycles. Raises :class:`JointIntegrationError` if CVODES cannot hold
         its tolerance within its step budget."""
         check_range("cycles", cycles, 1, None)
         check_range("run_in_cycles", run_in_cycles, 0, None)
@@ -377,7 +357,9 @@ class JointSimulator:
         n_net = self.eq.n_network
         if x0 is None:
             net_p = {k: v for k, v in (parameters or {}).items() if k in self.network.parameters()}
-            x = np.concatenate([self.base.static_state(speed_rpm, net_p), np.zeros(2 * len(self.joints))])
+            x = np.concatenate([self.base.static_state(speed_rpm, net_p),
+                                np.zeros(STATES_PER_JOINT * len(self.joints))])
+            x = self._axial_preload(x, pvec)
         else:
             x = np.asarray(x0, dtype=float).reshape(-1)
             if x.size != self.eq.x.numel():
@@ -416,9 +398,12 @@ class JointSimulator:
         frames = {q: pd.DataFrame(v, index=index) for q, v in frames.items()}
         rows = []
         for i, j in enumerate(self.joints):
-            ut = np.concatenate([[starts[0][n_net + 2 * i]], frames["slip_um"][j.name].to_numpy()])
-            ua_start, ua_end = starts[0][n_net + 2 * i + 1], x[n_net + 2 * i + 1]
-            ua = np.array([st[n_net + 2 * i + 1] for st in starts] + [ua_end])
+            k = n_net + STATES_PER_JOINT * i
+            um = SLIP_UNIT_M * 1e6
+            ut = np.concatenate([[starts[0][k] * um], frames["slip_um"][j.name].to_numpy()])
+            # creep = change of the plastic axial slip z (the gear's elastic deflection on the interface recovers)
+            ua_start, ua_end = starts[0][k + 1] * um, x[k + 1] * um
+            ua = np.array([st[k + 1] * um for st in starts] + [ua_end])
             per_cycle = np.diff(ua)
             rows.append({"joint": j.name,
                          "max_rigid_utilisation": float(frames["rigid_utilisation"][j.name].max()),
@@ -427,7 +412,7 @@ class JointSimulator:
                          "axial_creep_um_per_cycle": float(ua_end - ua_start) / cycles,
                          "axial_creep_um_cycle_std": float(np.std(per_cycle, ddof=1)) if cycles > 1 else 0.0,
                          "max_cycle_axial_creep_um": float(per_cycle.max()),
-                         "axial_position_um": float(ua_end),
+                         "axial_position_um": float(x[k + 2] * um),
                          "max_key_force_N": float(frames["key_force_N"][j.name].abs().max()),
                          "max_off_nose_thrust_N": float(frames["thrust_N"][j.name].max())})
         stats = {"integration_time_s": time.perf_counter() - t0, "build_time_s": self.build_time_s,
@@ -460,12 +445,13 @@ __all__ = [
     "JOINT_OUTPUTS",
     "JOINT_PARAMETERS",
     "SLIP_UNIT_M",
+    "STATES_PER_JOINT",
     "FrictionJoint",
     "JointIntegrationError",
     "JointSimulation",
     "JointSimulator",
-    "joint_demand",
     "joint_equations",
+    "joint_rates",
     "joint_simulator",
     "key_force_N",
     "shoulder_force_N",

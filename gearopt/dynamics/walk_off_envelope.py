@@ -39,14 +39,24 @@ JOINT_FRICTION_DATA = {
     "shoulder_stiffness_N_per_m": 5.0e9,
     "shoulder_stiffness_N_per_m_source": "[E] axial contact of the hub face on the shaft shoulder (annulus ~ 40 "
                                          "cm^2 at 200 GPa over a few mm of effective length)",
+    "interface_stiffness_N_per_m": 1.0e9,
+    "interface_stiffness_N_per_m_source": "[E] axial (tangential) stiffness of the fit interface before gross slip: "
+                                          "a few um of elastic micro-slip at the capacity (Mindlin-type tangential "
+                                          "compliance of a 25-30 mm long, 42-65 mm fit); creep is a plastic slip and "
+                                          "does not depend on it in the quasi-static limit",
+    "interface_damping_ratio": 1.0,
+    "interface_damping_ratio_source": "[E] critical damping of the gear's axial oscillation on the stuck interface "
+                                      "(micro-slip hysteresis); carries no force in steady slip",
+    "gear_mass_source": "[E] solid-disc equivalent of the gear's own inertia at its base radius, m = 2 J_gear / "
+                        "r_b^2 (gears.<gear>.inertia_kgm2 or solid_disc_inertia_kgm2): 2.6 kg crank, 5.2 kg cam",
     "slip_speed_m_s": 10.0,
-    "slip_speed_m_s_source": "regularisation (not a material property): slip speed at 100 % overstress. V -> inf is "
-                             "rate-independent Coulomb slip of a massless hub. Measured on the default helical model "
-                             "at 3300 rpm, degraded damper, half the weakest cam fit (copies with different V on one "
-                             "trajectory): slip per cycle 527/669 um at V = 1/10 m/s and 714 um at 100 m/s; axial "
-                             "creep 5.3 um/cycle at V = 10 and 6.7 at 100 (V = 10 about 20 % below the limit). The "
-                             "hub's own inertia, not modelled, would slow the slip in short rattle impacts, so the "
-                             "limit over-states rather than under-states the slip",
+    "slip_speed_m_s_source": "regularisation (not a material property): slip speed at 100 % overstress (V -> inf: "
+                             "rate-independent Coulomb slip). Measured on the default helical model (copies with V = "
+                             "10 and 100 m/s on one trajectory, crank joint, 2 cycles after 1): slip path per cycle "
+                             "within 2 %; creep per cycle at the nominal fit 0.29/0.29 (2500 rpm, nominal damper), "
+                             "0.51/0.71 (2500, seized), 0.22/0.23 um (3300, seized); at the weakest fit 14.5/15.7 um "
+                             "(2500, seized). The gear's axial inertia is modelled; its circumferential slip is "
+                             "massless and bounded by the key",
     "friction_coefficient_min": 0.08,
     "friction_coefficient_max": 0.16,
     "friction_coefficient_range_source": "[V]/[E] DIN 7190-1 sec. 5.2/5.3 adhesion coefficients steel-steel "
@@ -148,8 +158,24 @@ def model_joints(model, joint: str, levels: int = 1, *, thrust_scale: float = 1.
                           thrust_signs(model.train, gear, root_rotation), float(j_g), key_clearance_um=clearance,
                           key_stiffness_N_per_m=f["key_stiffness_N_per_m"],
                           shoulder_stiffness_N_per_m=f["shoulder_stiffness_N_per_m"],
-                          slip_speed_m_s=f["slip_speed_m_s"], thrust_scale=thrust_scale)
+                          slip_speed_m_s=f["slip_speed_m_s"], thrust_scale=thrust_scale,
+                          gear_mass_kg=gear_mass_kg(model, gear),
+                          interface_stiffness_N_per_m=f["interface_stiffness_N_per_m"],
+                          interface_damping_ratio=f["interface_damping_ratio"])
             for i in range(levels)]
+
+
+def gear_mass_kg(model, gear: str) -> float:
+    """Axial mass of ``gear`` [kg]: the solid-disc equivalent ``2 J_gear / r_b^2`` of its own inertia at its base
+    radius (:data:`JOINT_FRICTION_DATA` ``gear_mass_source``)."""
+    from .sweep import _gear_inertia_kgm2
+    j_gear = _gear_inertia_kgm2(model.data, gear)[0]
+    node = model.gear_nodes.get(gear, gear)
+    radii = [m.base_radii_mm[0] if m.gear_1 == node else m.base_radii_mm[1]
+             for m in model.network.meshes.values() if node in (m.gear_1, m.gear_2)]
+    if not radii:
+        raise GearoptInputError(f"gear {gear!r} (node {node!r}) has no mesh in the model")
+    return 2.0 * j_gear / (1e-3 * max(radii)) ** 2
 
 
 def damper_coefficient(data: dict, state) -> float:
@@ -204,7 +230,9 @@ def joint_envelope(model, joints=("cam", "crank"), speeds_rpm=None, damper_state
     ``variants`` {label: (joint, thrust_scale)}: further copies of a joint riding on the same integration (the same
     network trajectory -- which matters where the lash model rattles chaotically), reported as joint ``label``; ``jit``
     (default: if a C compiler is found), ``executor_map`` a ``map``-like callable over the (speed, damper) runs
-    (default the builtin; a studies executor's map at merge).
+    (default the builtin; e.g. :meth:`gearopt.studies.Executor.map` with processes: the worker is a module-level
+    function, forked workers inherit the simulator built here, spawned ones rebuild it from the compile cache). The
+    integrator's step limit is the network's contact limit at the lowest swept speed.
 
     Returns one row per (speed, damper state, joint, capacity level): ``train``, ``speed_rpm``, ``damper_state``,
     ``damper_Nms_per_rad``, ``joint``, ``level``, ``capacity_N``, ``fit_case`` (``weakest``/``nominal``/
@@ -226,42 +254,66 @@ def joint_envelope(model, joints=("cam", "crank"), speeds_rpm=None, damper_state
     for label, (joint, scale) in labels.items():
         elements += model_joints(model, joint, levels + len(BELOW_TOLERANCE_FRACTIONS), thrust_scale=scale,
                                  label=label)
-    sim = joint_simulator(model.network, elements, lash=lash, rtol=rtol, jit=_auto_jit(jit))
-
-    def run(point):
-        speed, state = point
-        p = model.parameters_at(speed)
-        p.update(parameters or {})
-        p[DAMPER_PARAMETER] = damper_coefficient(data, state)
-        caps, case_of = {}, {}
-        for label, (joint, _) in labels.items():
-            cases = fit_cases(data, joint, speed)
-            grid = capacity_levels_N(data, joint, speed, levels)
-            below = len(BELOW_TOLERANCE_FRACTIONS)
-            if levels >= 3:
-                mid = 1 + int(np.argmin(np.abs(np.log(grid[1:-1] / cases["nominal"]))))
-                grid[mid] = cases["nominal"]
-                case_of[label] = {below: "weakest", below + mid: "nominal", below + levels - 1: "strongest"}
-            else:
-                case_of[label] = {below: "nominal"} if levels == 1 else {below: "weakest", below + 1: "strongest"}
-            case_of[label].update({i: f"{f:g}x_weakest" for i, f in enumerate(BELOW_TOLERANCE_FRACTIONS)})
-            grid = np.concatenate([np.array(BELOW_TOLERANCE_FRACTIONS) * max(cases["weakest"], 1.0), grid])
-            for i, c in enumerate(grid):
-                caps[f"{label}#{i}.capacity_N"] = float(c)
-        p.update(caps)
-        res = sim.run(speed, cycles, parameters=p, run_in_cycles=run_in_cycles)
-        rows = []
-        for name, r in res.summary.iterrows():
-            joint, level = name.split("#")
-            rows.append({"train": model.kind, "speed_rpm": speed, "damper_state": state,
-                         "damper_Nms_per_rad": p[DAMPER_PARAMETER], "joint": joint, "level": int(level),
-                         "capacity_N": caps[f"{name}.capacity_N"],
-                         "fit_case": case_of.get(joint, {}).get(int(level), ""), **r.to_dict(),
-                         "run_time_s": res.stats["integration_time_s"]})
-        return rows
-
+    spec = {"kind": model.kind, "labels": labels, "levels": int(levels), "cycles": int(cycles),
+            "run_in_cycles": int(run_in_cycles), "lash": bool(lash), "rtol": float(rtol), "jit": _auto_jit(jit),
+            "parameters": dict(parameters or {}), "min_speed_rpm": min(speeds)}
+    key = repr((id(model), sorted((k, repr(v)) for k, v in spec.items())))
+    sim = joint_simulator(model.network, elements, lash=lash, rtol=rtol, jit=spec["jit"],
+                          min_speed_rpm=spec["min_speed_rpm"])
+    _REGISTRY[key] = (model, sim)  # forked workers inherit it; spawned ones rebuild from the spec
     points = [(s, st) for s in speeds for st in states]
-    return pd.DataFrame([row for rows in executor_map(run, points) for row in rows])
+    rows = executor_map(_envelope_point, [(key, spec, data, pt) for pt in points])
+    return pd.DataFrame([row for r in rows for row in r])
+
+
+#: Built (model, simulator) pairs of :func:`joint_envelope` by key, for the worker function (module level so that
+#: an executor's processes can run it).
+_REGISTRY: dict = {}
+
+
+def _envelope_point(task) -> list[dict]:
+    """Rows of one (speed, damper state) point of :func:`joint_envelope`: ``task = (key, spec, data, point)``."""
+    key, spec, data, (speed, state) = task
+    if key not in _REGISTRY:  # a spawned worker: rebuild the model and simulator from the spec
+        from .default_model import default_timing_model
+        model = default_timing_model(spec["kind"], data=data)
+        elements = []
+        for label, (joint, scale) in spec["labels"].items():
+            elements += model_joints(model, joint, spec["levels"] + len(BELOW_TOLERANCE_FRACTIONS),
+                                     thrust_scale=scale, label=label)
+        _REGISTRY[key] = (model, joint_simulator(model.network, elements, lash=spec["lash"], rtol=spec["rtol"],
+                                                 jit=spec["jit"], min_speed_rpm=spec["min_speed_rpm"]))
+    model, sim = _REGISTRY[key]
+    levels = spec["levels"]
+    p = model.parameters_at(speed)
+    p.update(spec["parameters"])
+    p[DAMPER_PARAMETER] = damper_coefficient(data, state)
+    caps, case_of = {}, {}
+    for label, (joint, _) in spec["labels"].items():
+        cases = fit_cases(data, joint, speed)
+        grid = capacity_levels_N(data, joint, speed, levels)
+        below = len(BELOW_TOLERANCE_FRACTIONS)
+        if levels >= 3:
+            mid = 1 + int(np.argmin(np.abs(np.log(grid[1:-1] / cases["nominal"]))))
+            grid[mid] = cases["nominal"]
+            case_of[label] = {below: "weakest", below + mid: "nominal", below + levels - 1: "strongest"}
+        else:
+            case_of[label] = {below: "nominal"} if levels == 1 else {below: "weakest", below + 1: "strongest"}
+        case_of[label].update({i: f"{f:g}x_weakest" for i, f in enumerate(BELOW_TOLERANCE_FRACTIONS)})
+        grid = np.concatenate([np.array(BELOW_TOLERANCE_FRACTIONS) * max(cases["weakest"], 1.0), grid])
+        for i, c in enumerate(grid):
+            caps[f"{label}#{i}.capacity_N"] = float(c)
+    p.update(caps)
+    res = sim.run(speed, spec["cycles"], parameters=p, run_in_cycles=spec["run_in_cycles"])
+    rows = []
+    for name, r in res.summary.iterrows():
+        joint, level = name.split("#")
+        rows.append({"train": model.kind, "speed_rpm": speed, "damper_state": state,
+                     "damper_Nms_per_rad": p[DAMPER_PARAMETER], "joint": joint, "level": int(level),
+                     "capacity_N": caps[f"{name}.capacity_N"],
+                     "fit_case": case_of.get(joint, {}).get(int(level), ""), **r.to_dict(),
+                     "run_time_s": res.stats["integration_time_s"]})
+    return rows
 
 
 __all__ = [
@@ -275,6 +327,7 @@ __all__ = [
     "envelope_speeds_rpm",
     "fit_capacity_N",
     "fit_cases",
+    "gear_mass_kg",
     "joint_envelope",
     "model_joints",
     "thrust_signs",

@@ -106,6 +106,22 @@ def sample_inputs(data: dict, joint: str, samples: int, seed: int = 0, *, speeds
     return out
 
 
+def sampled_capacity_N(data: dict, joint: str, speed_rpm: float, interference_um, smoothing_loss_um,
+                       friction_coefficient) -> np.ndarray:
+    """Vectorised fit capacity [N] of the Monte Carlo samples: linear in mu and in the effective interference above
+    the centrifugal loss (the elastic Lame solution of :func:`~gearopt.dynamics.walk_off_envelope.fit_capacity_N`,
+    fitted through two of its evaluations at ``speed_rpm``; tested against it)."""
+    from ..dynamics.walk_off_envelope import fit_capacity_N
+    mu0 = 0.5
+    c_hi = fit_capacity_N(data, joint, interference_um=200.0, friction_coefficient=mu0, speed_rpm=speed_rpm)
+    c_lo = fit_capacity_N(data, joint, interference_um=100.0, friction_coefficient=mu0, speed_rpm=speed_rpm)
+    slope = (c_hi - c_lo) / 100.0
+    loss = 200.0 - c_hi / slope
+    eff = np.maximum(np.asarray(interference_um, dtype=float) - np.asarray(smoothing_loss_um, dtype=float) - loss,
+                     0.0)
+    return np.maximum(slope * eff * np.asarray(friction_coefficient, dtype=float) / mu0, 1e-3)
+
+
 def walk_off_probability(envelope: pd.DataFrame, data: dict, joint: str = "cam", *, samples: int = 20000,
                          seed: int = 0, distance_mm: float = WALK_OFF_DISTANCE_MM,
                          damper_probabilities: dict | None = None, exposure_hours: dict | None = None,
@@ -119,7 +135,7 @@ def walk_off_probability(envelope: pd.DataFrame, data: dict, joint: str = "cam",
     ``seed``, ``field_rate`` and the ``assumptions`` (distance, period, exposure, damper probabilities, sources).
     """
     from ..dynamics.joint_friction import walked_distance_mm
-    from ..dynamics.walk_off_envelope import envelope_speeds_rpm, fit_capacity_N
+    from ..dynamics.walk_off_envelope import envelope_speeds_rpm
     check_range("distance_mm", distance_mm, 0.0, None, low_inclusive=False, unit="mm")
     speeds = set(envelope["speed_rpm"].astype(float))
     bands = {b: v for b, v in envelope_speeds_rpm(data).items() if v[0] in speeds}
@@ -129,16 +145,10 @@ def walk_off_probability(envelope: pd.DataFrame, data: dict, joint: str = "cam",
     inputs = sample_inputs(data, joint, samples, seed, speeds_rpm=bands, damper_probabilities=damper_probabilities,
                            exposure_hours=exposure_hours, interference_shift_um=interference_shift_um)
     table = _creep_interpolator(envelope, joint)
-    mu0 = 0.5
     distance = np.zeros(samples)
     for band, (speed, _) in bands.items():
-        # capacity linear in mu and in the effective interference above the centrifugal loss (Lame, elastic)
-        c_hi = fit_capacity_N(data, joint, interference_um=200.0, friction_coefficient=mu0, speed_rpm=speed)
-        c_lo = fit_capacity_N(data, joint, interference_um=100.0, friction_coefficient=mu0, speed_rpm=speed)
-        slope = (c_hi - c_lo) / 100.0
-        loss = 200.0 - c_hi / slope
-        eff = np.maximum(inputs["interference_um"] - inputs["smoothing_loss_um"] - loss, 0.0)
-        cap = np.maximum(slope * eff * inputs["friction_coefficient"] / mu0, 1e-3)
+        cap = sampled_capacity_N(data, joint, speed, inputs["interference_um"].to_numpy(),
+                                 inputs["smoothing_loss_um"].to_numpy(), inputs["friction_coefficient"].to_numpy())
         creep = np.zeros(samples)
         for state in inputs["damper_state"].unique():
             key = (float(speed), str(state))
@@ -206,13 +216,15 @@ HELICAL_ALTERNATIVES = {
 
 
 def failure_reproduction(data: dict, *, quick: bool = False, joints=("cam", "crank"), samples: int = 20000,
-                         seed: int = 0, distance_mm: float = WALK_OFF_DISTANCE_MM, executor_map=map,
+                         seed: int = 0, distance_mm: float = WALK_OFF_DISTANCE_MM, executor="serial",
+                         workers: int | None = None,
                          alternatives: dict | None = None) -> dict:
     """Envelope (:func:`~gearopt.dynamics.walk_off_envelope.joint_envelope`) and Monte Carlo
     (:func:`walk_off_probability`) of the helical and the spur train and the helical alternatives
-    (:data:`HELICAL_ALTERNATIVES`). ``quick``: 3300 rpm, nominal and degraded damper (probabilities renormalised),
-    one cycle from the static state (about 10 s); else all speeds and damper states, 3 cycles after 1 (about
-    a minute on two cores).
+    (:data:`HELICAL_ALTERNATIVES`). ``quick`` (smoke test, not a result): 3300 rpm, degraded damper only (probabilities conditional on it),
+    three fit levels, one cycle from the static state (start-up transient included); else all speeds and damper states, recorded cycles after one run-in cycle.
+    ``executor`` (``"serial"``, ``"processes"``, an :class:`~gearopt.studies.executor.Executor` ...; ``workers``)
+    runs the envelope's (speed, damper state) points.
 
     Returns ``{"envelopes": {train: DataFrame}, "probabilities": {train: {joint: dict}}, "summary": {train:
     {joint: {"max_slip_utilisation", "max_axial_creep_um_per_cycle", "walk_off_probability", ...}}},
@@ -230,10 +242,10 @@ def failure_reproduction(data: dict, *, quick: bool = False, joints=("cam", "cra
     check_range("distance_mm", distance_mm, 0.0, None, low_inclusive=False, unit="mm")
     bands = envelope_speeds_rpm(data)
     speeds = [bands["motoring_overspeed"][0]] if quick else [v for v, _ in bands.values()]
-    states = ("nominal", "degraded") if quick else tuple(DAMPER_STATES)
+    states = ("degraded",) if quick else tuple(DAMPER_STATES)
     total = sum(DAMPER_STATE_PROBABILITIES[s] for s in states)
     damper_probabilities = {s: DAMPER_STATE_PROBABILITIES[s] / total for s in states}
-    run = {"cycles": 1, "run_in_cycles": 0, "levels": 3} if quick else {"cycles": 3, "run_in_cycles": 1,
+    run = {"cycles": 1, "run_in_cycles": 0, "levels": 3} if quick else {"cycles": 2, "run_in_cycles": 1,
                                                                        "levels": 4}
     run["damper_states"] = states
     alternatives = HELICAL_ALTERNATIVES if alternatives is None else alternatives
@@ -244,9 +256,16 @@ def failure_reproduction(data: dict, *, quick: bool = False, joints=("cam", "cra
                         float(alt["interference_shift_um"]))
         if float(alt["thrust_scale"]) != 1.0:
             helical_variants.update({f"{name}:{j}": (j, float(alt["thrust_scale"])) for j in joints})
-    runs = {kind: joint_envelope(default_timing_model(kind, data=data), joints, speeds_rpm=speeds,
-                                 executor_map=executor_map, variants=helical_variants if kind == "helical" else None,
-                                 **run) for kind in ("helical", "spur")}
+    from .executor import using_executor
+    models = {kind: default_timing_model(kind, data=data) for kind in ("helical", "spur")}
+    def envelope(kind, executor_map):
+        return joint_envelope(models[kind], joints, speeds_rpm=speeds, executor_map=executor_map,
+                              variants=helical_variants if kind == "helical" else None, **run)
+
+    for kind in models:  # build both simulators first (no runs), so that forked workers inherit both
+        envelope(kind, lambda fn, items: [])
+    with using_executor(executor, workers=workers) as ex:
+        runs = {kind: envelope(kind, ex.map) for kind in models}
     envelopes, probabilities, summary = {}, {}, {}
     for name, (kind, prefix, shift) in trains.items():
         env = runs[kind]
@@ -270,6 +289,10 @@ def failure_reproduction(data: dict, *, quick: bool = False, joints=("cam", "cra
                 "max_axial_creep_um_per_cycle_nominal_fit": _creep_summary(nominal, distance_mm)[
                     "max_axial_creep_um_per_cycle"],
                 "max_off_nose_thrust_N": float(rows["max_off_nose_thrust_N"].max()),
+                "max_key_force_N": float(rows["max_key_force_N"].max()),
+                "capacity_N_weakest_fit": float(rows.loc[rows["fit_case"] == "weakest", "capacity_N"].min())
+                if (rows["fit_case"] == "weakest").any() else float("nan"),
+                "capacity_N_nominal_fit": float(nominal["capacity_N"].min()) if not nominal.empty else float("nan"),
                 "below_tolerance": {f"{f:g}x_weakest_fit": {
                     "max_slip_utilisation": float(g["max_rigid_utilisation"].max()), **_creep_summary(g, distance_mm)}
                     for f, (_, g) in zip(BELOW_TOLERANCE_FRACTIONS, below.groupby("level"))},
@@ -298,4 +321,4 @@ def failure_reproduction(data: dict, *, quick: bool = False, joints=("cam", "cra
 
 
 __all__ = ["DAMPER_STATE_PROBABILITIES", "EXPOSURE_HOURS", "FIELD_RATE", "HELICAL_ALTERNATIVES", "WALK_OFF_DISTANCE_MM",
-           "WARRANTY_MONTHS", "failure_reproduction", "sample_inputs", "walk_off_probability"]
+           "WARRANTY_MONTHS", "failure_reproduction", "sample_inputs", "sampled_capacity_N", "walk_off_probability"]

@@ -9,6 +9,7 @@ import pytest
 from gearopt import numerics as nm
 from gearopt.dynamics import TorsionalNetwork
 from gearopt.dynamics.joint_friction import (
+    SLIP_UNIT_M,
     FrictionJoint,
     JointIntegrationError,
     JointSimulator,
@@ -47,9 +48,10 @@ def run(net, j, cycles=1, run_in=0, **kw):
 
 def test_steady_sliding_under_constant_force_matches_closed_form():
     # constant demand D = (T/r, F_a) outside the capacity circle: v = V (|D|/C - 1) along D/|D| (closed form of
-    # the viscoplastic law), hence u_a / u_t = F_a r / T -- the rigid-plastic Coulomb slip direction
+    # the viscoplastic law), hence u_a / u_t = F_a r / T -- the rigid-plastic Coulomb slip direction. One run-in
+    # cycle: the gear's axial mass starts from rest and lags the interface's slip for a few m/sqrt(k_c m) at first
     T, beta = 300.0, 20.0
-    res = run(gear_on_shaft(beta, T), joint())
+    res = run(gear_on_shaft(beta, T), joint(), run_in=1)
     d_t, d_a = T / R_FIT, T / RB2 * math.tan(math.radians(beta))
     mag = math.hypot(d_t, d_a)
     v = 1.0 * (mag / 10000.0 - 1.0)
@@ -84,7 +86,7 @@ def test_no_creep_below_capacity_under_oscillating_load():
 def test_ratchet_creep_direction_follows_thrust_sign(sign):
     # torque swings beyond capacity with the key engaged: off-nose thrust (+1) walks the gear off every cycle;
     # thrust towards the shoulder (-1) cannot move it (one-sided stop): it stays within the shoulder's compliance
-    res = run(gear_on_shaft(20.0, 100.0, 250.0), joint(sign, key=10.0), cycles=3, run_in=1)
+    res = run(gear_on_shaft(20.0, 100.0, 250.0), joint(sign, key=10.0), cycles=3 if sign > 0 else 8, run_in=1)
     s = res.summary.loc["j"]
     assert s["slip_um_per_cycle"] > 5.0
     if sign > 0:
@@ -95,13 +97,18 @@ def test_ratchet_creep_direction_follows_thrust_sign(sign):
     else:
         k_sh = joint().shoulder_stiffness_N_per_m
         assert s["axial_position_um"] >= -1.01 * res.frames["thrust_N"]["j"].abs().max() / k_sh * 1e6
-        assert abs(s["axial_creep_um_per_cycle"]) < 0.02
+        # the load ripple reverses the thrust briefly (off the nose): the gear lifts off the shoulder elastically
+        # (F/k_c) and the slip settles in a few cycles (shakedown: geometrically decaying steps), no ratchet
+        z = res.frames["axial_slip_um"]["j"].to_numpy().reshape(8, -1)
+        steps = np.diff(z.max(axis=1))
+        assert abs(steps[-1]) < 0.1 * abs(steps[0]) and abs(steps[-1]) < 0.01
+        assert z.max() < 2.0 * res.frames["thrust_N"]["j"].max() / joint().interface_stiffness_N_per_m * 1e6
 
 
 def test_thrust_towards_the_shoulder_pulls_a_loose_gear_back():
     net = gear_on_shaft(20.0, 100.0, 250.0)
     sim = JointSimulator(net, [joint(-1.0, key=10.0)], lash=False)
-    x0 = np.concatenate([sim.base.static_state(SPEED), [0.0, 50.0]])  # gear 50 um off the shoulder
+    x0 = np.concatenate([sim.base.static_state(SPEED), np.array([0.0, 50.0, 50.0, 0.0]) * 1e-6 / SLIP_UNIT_M])  # gear 50 um off the shoulder
     res = sim.run(SPEED, 2, run_in_cycles=0, x0=x0)
     assert res.summary.loc["j", "axial_creep_um_per_cycle"] < -0.5  # mirror of the +1 ratchet
 
@@ -131,13 +138,17 @@ def test_key_stop_closed_form():
     # then the key takes the torque beyond the circle: D_t falls to sqrt(C^2 - F_a^2) while du_a/du_t = F_a/D_t:
     # u_t = c + (T/r - sqrt(C^2 - F_a^2))/k,  u_a = c F_a r/T + (F_a/k) ln((T/r)/sqrt(C^2 - F_a^2))
     T, beta, C, c, k = 300.0, 20.0, 10000.0, 10e-6, 1e9
-    res = run(gear_on_shaft(beta, T), joint(1.0, capacity=C, key=c * 1e6, slip_speed=100.0))
+    # V small enough that the slip (ms) is slower than the gear's axial response on the interface (sqrt(m/k_c) =
+    # 45 us): the thrust is then carried by the interface all along the path; the path itself is rate-independent
+    # (the slip direction is D/|D| whatever the overstress), so the closed form holds at any V that slow
+    res = run(gear_on_shaft(beta, T), joint(1.0, capacity=C, key=c * 1e6, slip_speed=0.02))
     d_t, f_a = T / R_FIT, T / RB2 * math.tan(math.radians(beta))
     held = math.sqrt(C ** 2 - f_a ** 2)
     u_t = c + (d_t - held) / k
     u_a = c * f_a / d_t + f_a / k * math.log(d_t / held)
     assert abs(res.frames["slip_um"]["j"].iloc[-1]) == pytest.approx(u_t * 1e6, rel=2e-3)
-    assert res.frames["axial_position_um"]["j"].iloc[-1] == pytest.approx(u_a * 1e6, rel=2e-3)
+    # the plastic axial slip z (the gear itself sits a further F_a/k_c off it, elastically)
+    assert res.frames["axial_slip_um"]["j"].iloc[-1] == pytest.approx(u_a * 1e6, rel=2e-3)
     assert abs(res.frames["key_force_N"]["j"].iloc[-1]) == pytest.approx(d_t - held, rel=2e-3)
 
 
@@ -165,6 +176,10 @@ def test_bad_input_names_the_parameter():
         joint(capacity=-1.0)
     with pytest.raises(GearoptInputError, match="slip_speed_m_s"):
         joint(slip_speed=0.0)
+    with pytest.raises(GearoptInputError, match="gear_mass_kg"):
+        joint(gear_mass_kg=0.0)
+    with pytest.raises(GearoptInputError, match="interface_stiffness_N_per_m"):
+        joint(interface_stiffness_N_per_m=-1.0)
     with pytest.raises(GearoptInputError, match="thrust sign"):
         FrictionJoint("j", "gear", 40.0, 1e4, (("drive-gear", 0.5),), JG)
     sim = JointSimulator(gear_on_shaft(), [joint()], lash=False)
@@ -177,3 +192,40 @@ def test_bad_input_names_the_parameter():
 def test_walked_distance_counts_four_stroke_cycles():
     # 1 um per cycle for 1 h at 3000 rpm: 1500 cycles/min x 60 = 90 000 cycles = 90 mm
     assert walked_distance_mm(1.0, 3000.0, 1.0) == pytest.approx(90.0)
+
+
+def test_thrust_above_capacity_slides_the_gear_by_newton_with_coulomb_friction():
+    # key without clearance holds the torque, thrust F above the capacity C: the gear (mass m) slides off with
+    # m dw/dt = F - C (1 + w/V) -> w = V (F/C - 1)(1 - exp(-t/tau)), tau = m V / C; for t << tau this is Coulomb
+    # friction with inertia, x = (F - C) t^2 / (2 m) (closed form of the element; Meriam & Kraige, dry friction)
+    T, beta, C, m, V = 300.0, 20.0, 1500.0, 1.0, 30.0
+    F = T / RB2 * math.tan(math.radians(beta))
+    j = joint(1.0, capacity=C, key=0.0, slip_speed=V, gear_mass_kg=m)
+    sim = JointSimulator(gear_on_shaft(beta, T), [j], lash=False, rtol=1e-8)
+    # start with the key already holding the torque (u_t = T/(r k)) and the interface at its capacity (u_a = C/k_c)
+    x0 = np.concatenate([sim.base.static_state(SPEED),
+                         np.array([-T / R_FIT / j.key_stiffness_N_per_m, 0.0, C / j.interface_stiffness_N_per_m,
+                                   0.0]) / SLIP_UNIT_M])
+    res = sim.run(SPEED, 1, run_in_cycles=0, x0=x0)
+    t = np.radians(res.crank_angle_deg) / (2 * math.pi) * CYCLE_S
+    tau = m * V / C
+    x = V * (F / C - 1.0) * (t - tau * (1.0 - np.exp(-t / tau)))
+    z = res.frames["axial_slip_um"]["j"].to_numpy() * 1e-6
+    late = t > 0.2 * CYCLE_S
+    assert z[late] == pytest.approx(x[late], rel=2e-3)
+    early = (t > 0.02 * tau) & (t < 0.05 * tau)
+    assert z[early] == pytest.approx((F - C) * t[early] ** 2 / (2 * m), rel=0.03)
+    assert res.frames["slip_um"]["j"].abs().max() < 1.01 * T / R_FIT / 1e9 * 1e6  # the key holds the torque
+
+
+def test_ratchet_creep_bounded_by_the_coulomb_flow_rule():
+    # while the hub slips round, du_a/|du_t| = D_a/|D_t| <= F_max / sqrt(C^2 - F_max^2) (|D| >= C, D_a <= F_max):
+    # creep per cycle is bounded by the slip path times that ratio -- nothing accumulates without circumferential
+    # slip, and the spur limit (F = 0) has no creep at all
+    C = 10000.0
+    res = run(gear_on_shaft(20.0, 100.0, 250.0), joint(1.0, capacity=C, key=10.0), cycles=3, run_in=1)
+    s = res.summary.loc["j"]
+    f_max = res.frames["thrust_N"]["j"].max()
+    bound = s["slip_um_per_cycle"] * f_max / math.sqrt(C ** 2 - f_max ** 2)
+    assert 0.0 < s["axial_creep_um_per_cycle"] <= bound
+    assert s["max_cycle_axial_creep_um"] <= 1.01 * bound

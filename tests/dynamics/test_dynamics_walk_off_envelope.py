@@ -98,3 +98,53 @@ def test_joint_demand_on_the_default_model_matches_walk_off_and_the_shaft_torque
     shaft = sim.shaft_torque_Nm["cam-cam_station_1"].to_numpy()  # cam turns against the crank: own sense = -abs
     joint_torque = res.frames["joint_torque_Nm"]["cam#0"].to_numpy()
     assert np.max(np.abs(-joint_torque - shaft)) < 1e-3 * np.max(np.abs(shaft))
+
+
+def test_regularisation_converges_at_the_envelopes_overstress():
+    # the default helical train at 3300 rpm with a seized damper, crank joint at its weakest fit (utilisation ~40:
+    # the highest overstress of the envelope, thrust above the capacity) and its nominal fit, V = 10 (the data's)
+    # and 100 m/s on one trajectory: the slip path and the gear's axial travel change little with V
+    import dataclasses
+
+    from gearopt.dynamics import default_timing_model
+    from gearopt.dynamics.joint_friction import joint_simulator
+    from gearopt.dynamics.walk_off_envelope import (
+        DAMPER_PARAMETER,
+        gear_mass_kg,
+        model_joints,
+    )
+
+    model = default_timing_model("helical", data=DATA)
+    base = model_joints(model, "crank", 2)
+    assert 2.0 < base[0].gear_mass_kg == gear_mass_kg(model, "crank") < 3.0
+    joints = base + [dataclasses.replace(j, name=f"fast#{i}", slip_speed_m_s=100.0) for i, j in enumerate(base)]
+    sim = joint_simulator(model.network, joints, jit=True, min_speed_rpm=3300.0)
+    cases = fit_cases(DATA, "crank", 3300.0)
+    p = model.parameters_at(3300.0)
+    p[DAMPER_PARAMETER] = damper_coefficient(DATA, "seized")
+    for name in ("crank", "fast"):
+        p[f"{name}#0.capacity_N"], p[f"{name}#1.capacity_N"] = cases["weakest"], cases["nominal"]
+    s = sim.run(3300.0, 2, parameters=p, run_in_cycles=1).summary
+    for i in (0, 1):
+        slow, fast = s.loc[f"crank#{i}"], s.loc[f"fast#{i}"]
+        assert slow["slip_um_per_cycle"] == pytest.approx(fast["slip_um_per_cycle"], rel=0.03)
+        assert abs(slow["axial_creep_um_per_cycle"] - fast["axial_creep_um_per_cycle"]) <= \
+            0.35 * max(abs(fast["axial_creep_um_per_cycle"]), 1.0)
+    # creep is bounded by what the thrust can do against the capacity and the gear's inertia in one cycle
+    cycle_s = 120.0 / 3300.0
+    f_max = s.loc["crank#0", "max_off_nose_thrust_N"]
+    bound_um = 0.5 * (f_max - cases["weakest"]) / base[0].gear_mass_kg * cycle_s ** 2 * 1e6
+    assert abs(s.loc["crank#0", "max_cycle_axial_creep_um"]) < bound_um
+
+
+@pytest.mark.parametrize("joint", ["cam", "crank"])
+def test_monte_carlo_capacity_surrogate_matches_the_press_fit_model(joint):
+    # the vectorised capacity of the Monte Carlo samples against the press-fit (Lame, DIN 7190) calculation
+    from gearopt.studies.failure import sampled_capacity_N
+    rng = np.random.default_rng(3)
+    delta, smooth, mu = rng.uniform(40.0, 120.0, 8), rng.uniform(4.0, 9.0, 8), rng.uniform(0.08, 0.16, 8)
+    for speed in (2500.0, 3300.0):
+        fast = sampled_capacity_N(DATA, joint, speed, delta, smooth, mu)
+        exact = [fit_capacity_N(DATA, joint, interference_um=d, friction_coefficient=m, smoothing_loss_um=s,
+                                speed_rpm=speed) for d, s, m in zip(delta, smooth, mu)]
+        assert fast == pytest.approx(exact, rel=1e-6)
