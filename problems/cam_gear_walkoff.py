@@ -213,7 +213,7 @@ so peaks are taken over these cycles and their cycle-to-cycle spread is reported
 LASH_RTOL = 1e-3
 """CVODES tolerance of the backlash runs: the rattling response is chaotic, only its statistics converge, and at
 this tolerance the per-cycle RMS and peak crank-cam force agree with a tight reference within their spread
-(``benchmarks/results/dynamics_speed.json``) at a quarter of the default's steps."""
+(``benchmarks/results/dynamics_speed.json``) at under half the default's steps."""
 
 
 def dynamics_stage(data: dict, quick: bool = False) -> dict:
