@@ -401,7 +401,7 @@ def contact_stage(data: dict, trains: dict, quick: bool = False) -> dict:
                    max_flash_temperature_C=limits["max_contact_temperature_C"],
                    min_loaded_contact_ratio=limits["min_loaded_contact_ratio"])
     if quick:
-        options.update(positions=80, nlp_positions=20, harris_points=4, helical_slices=5)
+        options.update(positions=80, nlp_positions=20, harris_points=4, helical_slices=5, starts=1, max_refinements=1)
     return {mesh: mesh_contact_study(trains, mesh, loads[key], **options) for mesh, key in CONTACT_MESHES.items()}
 
 
