@@ -148,3 +148,20 @@ def test_monte_carlo_capacity_surrogate_matches_the_press_fit_model(joint):
         exact = [fit_capacity_N(DATA, joint, interference_um=d, friction_coefficient=m, smoothing_loss_um=s,
                                 speed_rpm=speed) for d, s, m in zip(delta, smooth, mu)]
         assert fast == pytest.approx(exact, rel=1e-6)
+
+
+def test_envelope_rows_per_level_and_no_simulator_left_behind():
+    """One (speed, damper) point of the cam joint: a row per capacity level (the below-tolerance fractions first,
+    then the toleranced levels, weakest to strongest, capacities rising), fit cases named; the envelope's simulator
+    is dropped from the worker registry when it returns (repeated calls do not accumulate simulators)."""
+    from gearopt.dynamics import default_timing_model
+    from gearopt.dynamics import walk_off_envelope as env
+
+    model = default_timing_model("spur", data=DATA)
+    rows = env.joint_envelope(model, joints=("cam",), speeds_rpm=[2500.0], damper_states=["nominal"], levels=3,
+                              cycles=1, run_in_cycles=0)
+    assert len(rows) == 3 + len(env.BELOW_TOLERANCE_FRACTIONS) and set(rows["joint"]) == {"cam"}
+    assert (np.diff(rows.sort_values("level")["capacity_N"].to_numpy()) > 0).all()
+    assert {"weakest", "nominal", "strongest"} <= set(rows["fit_case"])
+    assert (rows["axial_creep_um_per_cycle"].abs() < 1e-9).all()          # spur: no thrust, no creep
+    assert env._REGISTRY == {}
