@@ -263,7 +263,7 @@ def joint_envelope(model, joints=("cam", "crank"), speeds_rpm=None, damper_state
     _REGISTRY[key] = (model, sim)  # forked workers inherit it; spawned ones rebuild from the spec
     points = [(s, st) for s in speeds for st in states]
     try:
-        rows = executor_map(_envelope_point, [(key, spec, data, pt) for pt in points])
+        rows = list(executor_map(_envelope_point, [(key, spec, data, pt) for pt in points]))
     finally:
         _REGISTRY.pop(key, None)  # the simulator lives as long as its envelope (no growth over repeated calls)
     return pd.DataFrame([row for r in rows for row in r])
