@@ -50,11 +50,11 @@ import pandas as pd
 
 from ..errors import SolveError
 
-RESOLVE_BUDGET_FACTOR, RESOLVE_BUDGET_MIN_S = 4.0, 5.0
+RESOLVE_BUDGET_FACTOR, RESOLVE_BUDGET_MIN_S = 8.0, 10.0
 """Wall-time budget of a re-solve: this many times the first solve's Ipopt time, at least the minimum [s]. A warm
-re-solve on a few more positions normally takes 1-3 first-solve times; one that runs longer is in Ipopt's
-restoration phase heading for "infeasible" (seen: 65 s on the timing train's co-design), and the refinement keeps
-its best admissible design instead."""
+re-solve on more positions (and, for a helical mesh, more face slices) normally takes 1-4 first-solve times; one
+that runs much longer is usually in Ipopt's restoration phase heading for "infeasible" (seen on the timing train's
+co-design: a minute where the first solve took 5 s), and the refinement keeps its best admissible design instead."""
 
 REUSED_MODELS = ("data:", "dynamics:", "simulation:")
 """Models a re-solve takes over from the previous build (they do not depend on the positions)."""
