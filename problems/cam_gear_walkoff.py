@@ -613,26 +613,36 @@ def write_failure(out: Path, failure: dict) -> tuple[list[str], dict]:
 
 
 def plot_failure_map(out: Path, envelope: pd.DataFrame) -> Path:
-    """Cam and crank joints: axial creep per cycle against the fit's capacity, one line per speed and damper
-    state, helical (solid) and spur (dashed); the weakest..strongest toleranced range shaded."""
+    """Cam and crank joints: axial creep per cycle against the fit's capacity for the helical train, colour by
+    speed, line style by damper state; the weakest..strongest toleranced range shaded. The spur train's creep is
+    drawn only where it is not zero (it has no thrust), and the panel title says so."""
     import matplotlib.pyplot as plt
-    fig, axes = plt.subplots(1, 2, figsize=(11, 4), layout="constrained")
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4.2), layout="constrained")
+    styles = {"nominal": "-", "degraded": "--", "seized": ":"}
     for ax, joint in zip(axes, ("cam", "crank")):
         rows = envelope[(envelope["joint"] == joint) & envelope["train"].isin(["helical", "spur"])]
         if rows.empty:
             continue
         tol = rows[rows["fit_case"].isin(["weakest", "strongest"])]["capacity_N"]
-        ax.axvspan(tol.min() * 1e-3, tol.max() * 1e-3, color="0.9", label="toleranced fits")
+        ax.axvspan(tol.min() * 1e-3, tol.max() * 1e-3, color="0.92", label="toleranced fits")
+        speeds = sorted(rows["speed_rpm"].unique())
+        colours = dict(zip(speeds, plt.cm.viridis(np.linspace(0.0, 0.85, len(speeds)))))
+        spur_zero = bool((rows[rows["train"] == "spur"]["axial_creep_um_per_cycle"].abs() < 1e-9).all())
         for (train, speed, state), g in rows.groupby(["train", "speed_rpm", "damper_state"]):
+            if train == "spur" and spur_zero:
+                continue
             g = g.sort_values("capacity_N")
             ax.plot(g["capacity_N"] * 1e-3, g["axial_creep_um_per_cycle"].clip(lower=0.0),
-                    "-" if train == "helical" else "--", marker=".",
-                    label=f"{train} {speed:g} rpm {state}")
+                    styles.get(state, "-."), marker="." if train == "helical" else "x",
+                    color=colours[speed] if train == "helical" else "0.5", lw=1.2,
+                    label=f"{train} {speed:g} rpm, damper {state}")
         ax.set_xscale("log")
-        ax.set_yscale("symlog", linthresh=0.01)  # creep spans 0.01 um (cam, edge of slip) to mm (sub-tolerance crank)
+        ax.set_yscale("symlog", linthresh=1e-2)
+        ax.set_ylim(bottom=0.0)
         ax.set_xlabel("friction capacity C [kN]")
         ax.set_ylabel("axial creep off the nose [um per engine cycle]")
-        ax.set_title(f"{joint} gear")
+        ax.set_title(f"{joint} gear" + (" (spur: zero creep everywhere)" if spur_zero else ""))
+        ax.grid(alpha=0.3, which="both")
     axes[0].legend(fontsize=6, ncol=2)
     return figs.save(fig, out / "figures" / "failure_reproduction_creep_map.png")
 
