@@ -896,6 +896,9 @@ def main(argv: list[str] | None = None) -> int:
     timings["figure_files_wait"] = time.perf_counter() - t0
     result = json.loads((args.out / "result.json").read_text())
     result["stage_time_s"] = dict(timings)                          # every stage, the ones after write_outputs too
+    from gearopt.compile_cache import cache_stats
+
+    result["compile_cache"] = cache_stats()       # this process's kernels: compiled now, loaded, or interpreted
     (args.out / "result.json").write_text(json.dumps(result, indent=2, default=float) + "\n")
 
     spur = macro["tables"]["table_3_3_profile_shift"]
