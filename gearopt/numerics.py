@@ -44,6 +44,14 @@ def is_symbolic(*xs) -> bool:
     return False
 
 
+def depends_on(expr, symbols) -> bool:
+    """True if the CasADi expression ``expr`` depends on any of ``symbols`` (e.g. an NLP's decision variables;
+    a number depends on nothing)."""
+    if not is_casadi(expr):
+        return False
+    return bool(ca.depends_on(ca.vec(expr), ca.vec(symbols)))
+
+
 def is_numeric(*xs) -> bool:
     """True if every argument can be evaluated to a number now (floats, arrays, ``DM``, constant expressions)."""
     return not is_symbolic(*xs)
@@ -402,7 +410,7 @@ def repeat_rows(x_row, n: int):
 
 
 __all__ = [
-    "is_casadi", "is_symbolic", "is_numeric", "to_float", "value", "sin", "cos", "tan", "asin", "acos", "atan",
+    "is_casadi", "depends_on", "is_symbolic", "is_numeric", "to_float", "value", "sin", "cos", "tan", "asin", "acos", "atan",
     "atan2", "tanh", "exp", "log", "log1p", "sqrt", "fabs", "sign", "floor", "fmax", "fmin", "clip", "where", "vertcat",
     "sum1", "softplus", "sigmoid", "smooth_max", "smooth_min", "smooth_abs", "sqrt_safe", "acos_safe", "involute",
     "inverse_involute", "INVOLUTE_MAX", "column", "reshape", "symbol", "function", "implicit_scalar_root", "column_max", "column_sum", "matrix", "hcat", "vcat", "matmul", "row", "repeat_rows",

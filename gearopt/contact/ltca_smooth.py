@@ -133,6 +133,7 @@ class LTCAModel:
                                   stiffness=stiffness, E_MPa=E_MPa, poisson=poisson)
         self.smoothing_um = float(smoothing_um)
         self.count_width_um = float(count_width_um)
+        self.E_MPa = float(E_MPa)
         lay = self.layout
         P, N = lay.positions, lay.springs_per_position
         self._springs = lay.spring_N_per_um.reshape(P, N).T            # (N, P)
@@ -184,6 +185,11 @@ class LTCAModel:
         self._maps: dict[int, Any] = {}
         self.builds = {"approach_kernel": 1, "maps": 0}
 
+    @property
+    def thermal_contact_coefficients(self) -> tuple[float, float] | None:
+        """B_M of both gears [N/(mm s^0.5 K)] used by the flash temperature (None without ``speed_rpm``)."""
+        return None if self._thermal is None else tuple(float(b) for b in self._thermal["B"])
+
     def _approach_map(self, n: int):
         if n not in self._maps:
             self._maps[n] = self.approach_kernel.map(n)
@@ -199,9 +205,30 @@ class LTCAModel:
             return nm.reshape(g, N, P)
         return np.asarray(g, dtype=float).reshape(P, N).T
 
-    def evaluate(self, microgeometry: Microgeometry | None = None, torque_Nm: Any = 0.0) -> SmoothLTCAResult:
+    def evaluate(self, microgeometry: Microgeometry | None = None, torque_Nm: Any = 0.0, *,
+                 stiffness_factor: Any = 1.0, E_MPa: Any = None, speed_rpm: Any = None,
+                 thermal_contact_coefficients: Any = None) -> SmoothLTCAResult:
         """Smooth LTCA at ``torque_Nm`` (a scalar, or a 1-D sequence of L load cases: the outputs then hold the
-        load cases side by side, position-major within each case)."""
+        load cases side by side, position-major within each case).
+
+        Data the model was built with may be given again here, numeric or CasADi-symbolic (a parameter of an NLP,
+        for parametric sensitivities); each enters exactly as it does at build time, without rebuilding:
+
+        - ``stiffness_factor``: multiplies every spring (the single-pair stiffness c' scaled, shape kept);
+        - ``E_MPa``: Young's modulus of the Hertz contact stress (sigma_H^2 proportional to E) and of the Hertz
+          half-width of the flash temperature; the springs keep the build's stiffness (with ``stiffness="iso6336"``
+          they do not depend on E: ISO 6336-1's c' is the steel value);
+        - ``speed_rpm`` of the driving gear (the rolling speeds scale with it); ``thermal_contact_coefficients``
+          (B_M1, B_M2) [N/(mm s^0.5 K)]: both need a model built with ``speed_rpm``.
+        """
+        for name, value in (("stiffness_factor", stiffness_factor), ("E_MPa", E_MPa), ("speed_rpm", speed_rpm)):
+            if value is not None:
+                check_range(name, value, 0.0, None, low_inclusive=False)
+        if (speed_rpm is not None or thermal_contact_coefficients is not None) and not self.speed_rpm:
+            raise GearoptInputError("speed_rpm/thermal_contact_coefficients given to evaluate: build the LTCAModel "
+                                    "with speed_rpm > 0 (the flash temperature)")
+        data = {"stiffness_factor": stiffness_factor, "E_MPa": E_MPa, "speed_rpm": speed_rpm,
+                "B": thermal_contact_coefficients}
         mods = microgeometry or Microgeometry()
         lay = self.layout
         P = lay.positions
@@ -211,7 +238,9 @@ class LTCAModel:
         torques = _load_cases(torque_Nm)
         L = len(torques)
         e = self.gaps_um(mods)
-        symbolic = nm.is_casadi(e) or nm.is_symbolic(*torques)
+        symbolic = (nm.is_casadi(e) or nm.is_symbolic(*torques)
+                    or nm.is_symbolic(*(v for v in (stiffness_factor, E_MPa, speed_rpm) if v is not None))
+                    or (thermal_contact_coefficients is not None and nm.is_symbolic(*thermal_contact_coefficients)))
         if not symbolic:
             for T in torques:
                 check_range("torque_Nm", T, 0.0, None, unit="N*m")
@@ -221,9 +250,9 @@ class LTCAModel:
         x0_base = nm.column_max(masked)
         forces = [T * lay.force_per_torque_N_per_Nm for T in torques]
         E_all = nm.hcat([e] * L) if L > 1 else e
-        S_all = nm.matrix(np.tile(self._springs, (1, L)), like)
+        S_all = nm.matrix(np.tile(self._springs, (1, L)), like) * stiffness_factor
         F_all = nm.hcat([f * np.ones((1, P)) for f in forces])
-        X0 = nm.hcat([nm.row(x0_base) + nm.row(f / self._stiffness_sum) + 1e-3 for f in forces])
+        X0 = nm.hcat([nm.row(x0_base) + nm.row(f / (self._stiffness_sum * stiffness_factor)) + 1e-3 for f in forces])
         try:
             delta = self._approach_map(P * L)(X0, nm.vcat([E_all, S_all, F_all]))
         except RuntimeError as exc:  # numeric inputs only: the Newton root of the approach failed
@@ -236,6 +265,8 @@ class LTCAModel:
         closure = nm.repeat_rows(nm.row(delta), e.shape[0]) - E_all
         load = on_path * S_all * nm.softplus(closure, self.smoothing_um) / lay.slice_width_mm
         stress_sq = load * np.tile(self._stress_factor, (1, L))
+        if E_MPa is not None:
+            stress_sq = stress_sq * (E_MPa / self.E_MPa)
         J, K = lay.slices, lay.shape[1]
         pair_sum = np.kron(np.eye(K), np.ones((1, J))) * lay.slice_width_mm   # (K, N): slice loads -> pair load
         sharing = nm.matmul(pair_sum, load) / nm.repeat_rows(F_all + 1e-12, K)
@@ -250,25 +281,29 @@ class LTCAModel:
             root = tuple(root_stress_at_load_point(lay.pair, g, load, load_roll_length_mm=nm.matrix(
                 np.tile(self._virtual_roll[g - 1], (1, L)), True if symbolic else None)) for g in (1, 2))
         if self._thermal is not None:
-            flash = self._flash_temperature_K(load, L, symbolic)
+            flash = self._flash_temperature_K(load, L, symbolic, data)
         return SmoothLTCAResult(transmission_error_um=te, closure_um=closure, load_intensity_N_per_mm=load,
                                 contact_stress_squared_MPa2=stress_sq, load_sharing=sharing,
                                 loaded_pairs=loaded, layout=lay, torque_Nm=torque_Nm, root_stress_MPa=root,
                                 flash_temperature_rise_K=flash,
                                 bulk_temperature_C=self._thermal["bulk"] if self._thermal else None)
 
-    def _flash_temperature_K(self, load, L: int, symbolic: bool):
+    def _flash_temperature_K(self, load, L: int, symbolic: bool, data: dict):
         """Blok flash temperature of every spring (:func:`gearopt.rating.flash_temperature.flash_temperature_blok_K`,
-        smooth |v1 - v2| of width ``sliding_smoothing_m_s``; Hertz half-width from the smooth load with a floor)."""
+        smooth |v1 - v2| of width ``sliding_smoothing_m_s``; Hertz half-width from the smooth load with a floor);
+        ``data``: the data given to :meth:`evaluate` (speed, E, B_M) in place of the build's."""
         from ..rating.flash_temperature import flash_temperature_blok_K
 
         th = self._thermal
         like = True if symbolic else None
-        v1 = nm.matrix(np.tile(th["v1"], (1, L)), like)
-        v2 = nm.matrix(np.tile(th["v2"], (1, L)), like)
+        speed = 1.0 if data["speed_rpm"] is None else data["speed_rpm"] / self.speed_rpm
+        v1 = nm.matrix(np.tile(th["v1"], (1, L)), like) * speed
+        v2 = nm.matrix(np.tile(th["v2"], (1, L)), like) * speed
         curv = np.tile(th["curvature"], (1, L))
-        b_h = nm.sqrt_safe(2.0 * load / np.pi * th["compliance"] / curv, 1e-12)
-        return flash_temperature_blok_K(load, b_h, v1, v2, th["friction"], th["B"][0], th["B"][1],
+        compliance = th["compliance"] if data["E_MPa"] is None else th["compliance"] * (self.E_MPa / data["E_MPa"])
+        b_h = nm.sqrt_safe(2.0 * load / np.pi * compliance / curv, 1e-12)
+        B1, B2 = th["B"] if data["B"] is None else data["B"]
+        return flash_temperature_blok_K(load, b_h, v1, v2, th["friction"], B1, B2,
                                         sliding_smoothing_m_s=th["sliding"])
 
 

@@ -135,6 +135,14 @@ class Scene:
         return BuiltScene(self, positions=positions, initial=initial, parametric=parametric)
 
 
+JOINT_DATA = {"press_fit": (("friction_coefficient", ""), ("diametral_interference_um", "um"), ("fit_length_mm", "mm"),
+                           ("shaft_diameter_mm", "mm"), ("hub_outer_diameter_mm", "mm")),
+              "taper_nut": (("friction_coefficient", ""), ("nut_torque_Nm", "N*m"), ("nut_factor", ""),
+                            ("taper_length_mm", "mm"))}
+"""Entries of a ``[joints.*]`` record that a parametric build declares as NLP parameters (name, unit): the data a
+joint's capacity depends on most (friction, interference or preload, fit geometry)."""
+
+
 class BuiltScene(ContactModels, TrainModels, QuantityTerms):
     """A built scene: its models (``models``, in build order ``built``), its :class:`Problem` and :meth:`solve`.
 
@@ -330,6 +338,8 @@ class BuiltScene(ContactModels, TrainModels, QuantityTerms):
         def build():
             pair, g = self._pair(mesh), self._driving_gear(mesh)
             torque = self._datum(f"torque_Nm[{mesh}]@{lc.name}", lc.mesh_torque_Nm(mesh), "N*m")
+            if self.parametric:
+                opts["material"] = self._rating_materials(mesh, opts.get("material", "20MnCr5"))
             return {"contact": contact_stress_iso6336(pair, torque, driving_gear=g,
                                                       **{k: v for k, v in opts.items() if k in contact_keys}),
                     "root": root_stress_iso6336(pair, torque, driving_gear=g,
@@ -347,9 +357,27 @@ class BuiltScene(ContactModels, TrainModels, QuantityTerms):
             raise GearoptInputError(f"load case {lc.name!r} needs speed_rpm for the ISO 6336 rating of {mesh!r}")
         allowed = set(inspect.signature(rate_iso6336).parameters) - {"pair", "torque_Nm", "speed_rpm", "driving_gear"}
         opts = {k: v for k, v in self.scene.iso6336_options.items() if k in allowed}
-        return self._model(f"iso6336_rating:{mesh}@{lc.name}", lambda: rate_iso6336(
-            self._pair(mesh), lc.mesh_torque_Nm(mesh), self._driver_speed_rpm(mesh, lc.speed_rpm),
-            driving_gear=self._driving_gear(mesh), **opts), f"ISO 6336 rating (computed factors) at {lc.name}")
+
+        def build():
+            torque = self._datum(f"torque_Nm[{mesh}]@{lc.name}", lc.mesh_torque_Nm(mesh), "N*m")
+            speed = self._datum(f"speed_rpm[{mesh}]@{lc.name}", self._driver_speed_rpm(mesh, lc.speed_rpm), "rpm")
+            if self.parametric:
+                opts["materials"] = self._rating_materials(mesh, opts.get("materials", "20MnCr5"))
+            return rate_iso6336(self._pair(mesh), torque, speed, driving_gear=self._driving_gear(mesh), **opts)
+
+        return self._model(f"iso6336_rating:{mesh}@{lc.name}", build,
+                           f"ISO 6336 rating (computed factors) at {lc.name}")
+
+    def _rating_materials(self, mesh: str, materials):
+        """Both gears' materials with their endurance limits sigma_Hlim, sigma_Flim as data (parametric build)."""
+        from ..rating.materials import material_pair
+
+        out = []
+        for name, m in zip(self._meshes[mesh].names, material_pair(materials)):
+            limits = {key: self._datum(f"{key}[{name}]", getattr(m, key), "MPa")
+                      for key in ("sigma_Hlim_MPa", "sigma_Flim_MPa") if getattr(m, key) is not None}
+            out.append(replace(m, **limits))
+        return tuple(out)
 
     # -- data as parameters, quantity expressions (hooks of gearopt.studies) --------------------------------------
 
@@ -399,6 +427,11 @@ class BuiltScene(ContactModels, TrainModels, QuantityTerms):
         from ..joints import joint_capacity
 
         overrides = {variable_kind(name).key or name: x for name, x in self._free(joint, "joint").items()}
+        if self.parametric:
+            entry = self._data_values()["joints"][joint]
+            for key, unit in JOINT_DATA.get(entry["joint_type"], ()):
+                if key not in overrides and key in entry:
+                    overrides[key] = self._datum(f"{key}[{joint}]", entry[key], unit)
         speed = lc.speed_rpm if (lc is not None and lc.speed_rpm is not None) else 0.0
         return self._model(f"joint:{joint}@{speed:g}rpm",
                            lambda: joint_capacity(self._data(), joint, speed_rpm=speed, overrides=overrides),

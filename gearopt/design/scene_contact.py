@@ -271,8 +271,35 @@ class ContactModels:
                 micro = micro_vector(self._microgeometry(mesh), self._meshes[mesh].geometry())
                 return model.evaluate(macro_vector(self._pair(mesh)), micro, torques)
             return self._model(f"ltca_evaluation:{mesh}", evaluate, detail)
-        return self._model(f"ltca_evaluation:{mesh}", lambda: model.evaluate(self._microgeometry(mesh), torques),
-                           detail)
+        return self._model(f"ltca_evaluation:{mesh}", lambda: model.evaluate(
+            self._microgeometry(mesh), torques, **self._ltca_data(mesh, model)), detail)
+
+    def _ltca_data(self, mesh: str, model: LTCAModel) -> dict[str, Any]:
+        """A parametric build's LTCA data as NLP parameters (:meth:`LTCAModel.evaluate`'s data keywords), each
+        declared only where a quantity of the mesh depends on it: the single-pair stiffness c' (every LTCA
+        quantity; with ``stiffness="iso6336"`` or a number), Young's modulus (contact stress and temperature), the
+        driving gear's speed and both gears' thermal contact coefficients (contact temperature)."""
+        if not self.parametric:
+            return {}
+        used = {q.quantity for q in (*self.scene.objectives, *self.scene.limits) if q.target == mesh}
+        stiffness, data = self._opts["stiffness"], {}
+        if stiffness == "iso6336" or (isinstance(stiffness, (int, float)) and not isinstance(stiffness, bool)):
+            if stiffness == "iso6336":
+                from ..rating.stiffness import iso6336_stiffness
+                c0 = float(iso6336_stiffness(self._pair(mesh))["single_stiffness"])
+            else:
+                c0 = float(stiffness)
+            data["stiffness_factor"] = self._datum(f"single_pair_stiffness_N_per_mm_um[{mesh}]", c0,
+                                                   "N/(mm*um)") / c0
+        if used & {"max_contact_stress_MPa", "max_contact_temperature_C"}:
+            data["E_MPa"] = self._datum(f"youngs_modulus_MPa[{mesh}]", model.E_MPa, "MPa")
+        if model.speed_rpm and "max_contact_temperature_C" in used:
+            data["speed_rpm"] = self._datum(f"speed_rpm[{mesh}]", model.speed_rpm, "rpm")
+            names = self._meshes[mesh].names
+            data["thermal_contact_coefficients"] = tuple(
+                self._datum(f"thermal_contact_coefficient_N_per_mm_sqrt_s_K[{names[i]}]", b, "N/(mm*s^0.5*K)")
+                for i, b in enumerate(model.thermal_contact_coefficients))
+        return data
 
     def _contact_temperature(self, mesh: str, bulk_C, flash_K):
         """Bulk + flash temperature; in a parametric build the oil temperature and the friction coefficient are

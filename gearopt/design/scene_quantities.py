@@ -166,8 +166,8 @@ class QuantityTerms:
             lower, upper, scale, unit = lim.lower, lim.upper, kind.scale, kind.unit
             if kind.squared:
                 upper, scale, unit = upper ** 2, upper ** 2 / 100.0, f"({unit})^2"
-            if nm.is_numeric(expr):
-                _check_constant(label, expr, lower, upper, unit)
+            if nm.is_numeric(expr) or not nm.depends_on(expr, self.problem.opti.x):   # data only (parametric)
+                _check_constant(label, self._initial(expr), lower, upper, unit)
                 continue
             self.problem.subject_to(label, expr, lower=lower, upper=upper, scale=scale, unit=unit)
 

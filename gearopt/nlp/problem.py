@@ -520,7 +520,8 @@ class Problem:
     def _check_solvable(self) -> None:
         nx = sum(v.size for v in self._variables.values())
         np_ = sum(p.size for p in self._parameters.values())
-        if (self._opti.nx, self._opti.np, self._opti.ng) != (nx, np_, self._ng):
+        # Opti counts only the parameters its objective and constraints use: a declared one may be unused
+        if (self._opti.nx, self._opti.ng) != (nx, self._ng) or self._opti.np > np_:
             raise GearoptInputError(
                 f"problem '{self._name}': the Opti stack was modified directly (opti has nx={self._opti.nx}, "
                 f"np={self._opti.np}, ng={self._opti.ng}; declared {nx}, {np_}, {self._ng}); declare variables, "

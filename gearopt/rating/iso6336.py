@@ -257,7 +257,7 @@ def rate_iso6336(pair, torque_Nm, speed_rpm, *, driving_gear=1, application_fact
     # --- transverse load factors ----------------------------------------------------------------------------
     Z_eps_probe = contact_stress_iso6336(pair, torque_Nm, driving_gear=driving_gear, material=mats)["Z_eps"]
     modified = tip_relief_um > c_ay
-    f_alpha = nm.where(modified, f_pb, nm.fmax(f_pb, f_fa)) if nm.is_symbolic(tip_relief_um) else \
+    f_alpha = nm.where(modified, f_pb, nm.fmax(f_pb, f_fa)) if nm.is_symbolic(tip_relief_um, c_ay) else \
         (f_pb if nm.to_float(tip_relief_um) > nm.to_float(c_ay) else nm.fmax(f_pb, f_fa))
     trans = transverse_load_factors(eps_a, eps_g, Z_eps_probe, c_ga, f_alpha - y_a, f_m_b * k_hb)
     k_ha = trans["K_Halpha"] if K_Halpha is None else K_Halpha

@@ -119,7 +119,8 @@ def scene_evaluator(result) -> SceneEvaluator:
         lo, hi = rec["lower"], rec["upper"]
         quantities[rec["label"]] = (row, row + n, kind.shape, kind.squared, lo, hi, kind.unit)
         row += n
-    fn = ca.Function("scene_quantities", [opti.x, opti.p], [ca.vertcat(*exprs)])
+    params = ca.vertcat(*[pb.data_parameters[n]["symbol"] for n in problem.parameter_names])  # all declared
+    fn = ca.Function("scene_quantities", [opti.x, params], [ca.vertcat(*exprs)])
     p0 = np.array([pb.data_parameters[n]["value"] for n in problem.parameter_names], dtype=float)
     return SceneEvaluator(fn, np.asarray(x0, dtype=float), p0, inputs, quantities)
 

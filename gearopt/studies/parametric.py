@@ -38,33 +38,41 @@ class KKTSensitivity:
     p: np.ndarray
     active: np.ndarray
     residual: float
+    parameters: ca.MX | None = None
+    """The parameter symbols differentiated with respect to (None: ``opti.p``)."""
 
     def expression_derivative(self, opti: ca.Opti, expr) -> np.ndarray:
         """``d expr(x*(p), p)/dp`` (rows: the elements of ``expr``)."""
+        params = opti.p if self.parameters is None else self.parameters
         mx = ca.vec(ca.MX(expr))
-        fn = ca.Function("dexpr", [opti.x, opti.p], [ca.jacobian(mx, opti.x), ca.jacobian(mx, opti.p)])
+        fn = ca.Function("dexpr", [opti.x, params], [ca.jacobian(mx, opti.x), ca.jacobian(mx, params)])
         jx, jp = (np.asarray(a.full(), dtype=float) for a in fn(self.x, self.p))
         return jx @ self.dx_dp + jp
 
 
-def kkt_sensitivity(opti: ca.Opti, *, active_tol: float = 1e-9) -> KKTSensitivity:
+def kkt_sensitivity(opti: ca.Opti, *, active_tol: float = 1e-9, parameters=None) -> KKTSensitivity:
     """KKT sensitivities of the last successful solve of ``opti`` (see the module docstring).
 
     Args:
         opti: a solved :class:`casadi.Opti` (``Problem.opti`` after ``Problem.solve``) with parameters.
         active_tol: a row is active when its multiplier's magnitude exceeds this (the solver's scaled units).
+        parameters: the parameter symbols (a list, in the order of the result's columns); default ``opti.p``,
+            which holds only the parameters the NLP uses. A declared parameter no objective or constraint uses
+            (a datum of a quantity only reported) gets zero optimal-value and design derivatives, and its
+            column in :meth:`KKTSensitivity.expression_derivative` is the quantity's partial derivative.
     """
-    if opti.np == 0:
+    params = opti.p if parameters is None else ca.vertcat(*parameters)
+    if params.numel() == 0:
         raise GearoptInputError("the NLP has no parameters: nothing to differentiate with respect to")
     x = _column(opti.debug.value(opti.x))
-    p = _column(opti.debug.value(opti.p))
+    p = _column(opti.debug.value(params))
     lam = _column(opti.debug.value(opti.lam_g)) if opti.ng else np.zeros(0)
     lam_sym = ca.MX.sym("lam", opti.ng)
     lag = opti.f + ca.dot(lam_sym, opti.g)
     grad_x = ca.gradient(lag, opti.x)
-    fn = ca.Function("kkt", [opti.x, opti.p, lam_sym],
-                     [ca.jacobian(grad_x, opti.x), ca.jacobian(grad_x, opti.p), ca.jacobian(opti.g, opti.x),
-                      ca.jacobian(opti.g, opti.p), ca.gradient(lag, opti.p)])
+    fn = ca.Function("kkt", [opti.x, params, lam_sym],
+                     [ca.jacobian(grad_x, opti.x), ca.jacobian(grad_x, params), ca.jacobian(opti.g, opti.x),
+                      ca.jacobian(opti.g, params), ca.gradient(lag, params)])
     hxx, hxp, jx, jp, dl_dp = (np.asarray(a.full(), dtype=float) for a in fn(x, p, lam))
     active = np.flatnonzero(np.abs(lam) > active_tol)
     nx, na = x.size, active.size
@@ -75,7 +83,8 @@ def kkt_sensitivity(opti: ca.Opti, *, active_tol: float = 1e-9) -> KKTSensitivit
     rhs = -np.vstack([hxp, jp[active]])
     sol, *_ = np.linalg.lstsq(kkt, rhs, rcond=None)
     residual = float(np.linalg.norm(kkt @ sol - rhs) / max(np.linalg.norm(rhs), 1e-300))
-    return KKTSensitivity(df_dp=dl_dp.ravel(), dx_dp=sol[:nx], x=x, p=p, active=active, residual=residual)
+    return KKTSensitivity(df_dp=dl_dp.ravel(), dx_dp=sol[:nx], x=x, p=p, active=active, residual=residual,
+                          parameters=None if parameters is None else params)
 
 
 def _column(v) -> np.ndarray:

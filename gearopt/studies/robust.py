@@ -51,6 +51,7 @@ def robust_design(scene: Scene, tolerances: Sequence[Tolerance] | None = None, *
     problem = built.problem
     opti = problem.opti
     names_x, names_p = list(problem.variable_names), list(problem.parameter_names)
+    params = ca.vertcat(*[built.data_parameters[n]["symbol"] for n in names_p])   # all declared, in order
     design = [f"{v.target}.{v.name}" for v in scene.variables]
     if tolerances is None:
         tols = default_tolerances(design, names_p)
@@ -60,7 +61,7 @@ def robust_design(scene: Scene, tolerances: Sequence[Tolerance] | None = None, *
         raise GearoptInputError(f"robust_design: no tolerance applies to the scene's inputs ({design + names_p})")
     deltas = _deltas(tols, samples, seed)
     dx = np.zeros((len(deltas), opti.nx))
-    dp = np.zeros((len(deltas), opti.np))
+    dp = np.zeros((len(deltas), len(names_p)))
     vscale = {f"{v.target}.{v.name}": v.scale or variable_kind(v.name).scale for v in scene.variables}
     for k, t in enumerate(tols):
         if t.name in design:
@@ -77,9 +78,9 @@ def robust_design(scene: Scene, tolerances: Sequence[Tolerance] | None = None, *
         lower, upper, scale, unit = rec["lower"], rec["upper"], kind.scale, kind.unit
         if kind.squared:
             upper, scale, unit = upper ** 2, upper ** 2 / 100.0, f"({unit})^2"
-        fn = ca.Function("limit", [opti.x, opti.p], [ca.vec(ca.MX(expr))])
+        fn = ca.Function("limit", [opti.x, params], [ca.vec(ca.MX(expr))])
         for c in range(len(deltas)):
-            shifted = fn(opti.x + ca.DM(dx[c]), opti.p + ca.DM(dp[c]))
+            shifted = fn(opti.x + ca.DM(dx[c]), params + ca.DM(dp[c]))
             problem.subject_to(f"robust[{c}].{rec['label']}", shifted, lower=lower, upper=upper, scale=scale,
                                unit=unit)
     if start is not None:

@@ -4,18 +4,31 @@ For the objective at the optimum, :func:`sensitivity_report` tables
 
 - every limit of the scene and every bound of a design variable (``kind="limit"``): ``sensitivity`` = d objective /
   d bound from the solve's multipliers (zero for an inactive one), in objective units per unit of the bound;
-- every datum the scene's quantities use (``kind="parameter"``): load-case torques, joint demands, the oil
-  temperature and the friction coefficient of contact temperatures -- the scene is rebuilt with them as NLP parameters
+- every datum the scene's quantities use (``kind="parameter"``) -- the scene is rebuilt with them as NLP parameters
   (``Scene.build(parametric=True)``), re-solved from the optimum, and differentiated through its KKT system
-  (:mod:`gearopt.studies.parametric`);
+  (:mod:`gearopt.studies.parametric`):
+
+  - load cases: ``torque_Nm[mesh]@case``, joint demands ``joint_torque_Nm[joint]@case`` and
+    ``joint_axial_force_N[joint]@case``, the driving gear's speed of a rating ``speed_rpm[mesh]@case`` and of an
+    LTCA contact temperature ``speed_rpm[mesh]``;
+  - materials and lubrication: ``sigma_Hlim_MPa[gear]``, ``sigma_Flim_MPa[gear]`` (ISO 6336 ratings),
+    ``youngs_modulus_MPa[mesh]`` (LTCA contact stress and temperature), ``thermal_contact_coefficient_N_per_mm_sqrt_s_K
+    [gear]``, ``oil_temperature_C[mesh]``, ``friction_coefficient[mesh]`` (flash temperature);
+  - stiffness: ``single_pair_stiffness_N_per_mm_um[mesh]`` (c' of the LTCA, its profile along the path kept);
+  - joints: ``friction_coefficient[joint]``, the nominal ``diametral_interference_um[joint]``,
+    ``fit_length_mm[joint]``, ``shaft_diameter_mm[joint]``, ``hub_outer_diameter_mm[joint]`` (press fits) or
+    ``nut_torque_Nm``, ``nut_factor``, ``taper_length_mm`` (taper joints) -- unless a design variable frees them;
 
 each also as a logarithmic sensitivity, ``d ln objective / d ln value`` -- the % change of the objective per % change
 of the datum, as GPkit reports them (Burnell et al. 2020, "GPkit: a human-centered approach to convex optimization
 in engineering design", CHI '20) -- sorted by its magnitude. ``quantity_table`` gives the same derivatives of every
 reported quantity of the scene (a margin, a stress) with respect to every datum.
 
-Data the models take as built numbers (materials, fixed geometry, speeds, the friction of anything but the flash
-temperature) are not parameters yet and do not appear; the table says which data it covers by its rows.
+A datum appears only where a quantity of the scene depends on it. Not covered (built numbers of the models): the
+gear geometry held fixed (face widths, tip diameters, centre distances -- free them as design variables to see
+their multipliers), the data of a mesh whose macro geometry is free (its macro-symbolic LTCA), and ISO 6336 factors
+other than the endurance limits. A datum no objective or constraint uses (of a quantity only reported, or of a limit
+no design variable moves) has zero objective sensitivity; its quantity sensitivities are the partial derivatives.
 """
 
 from __future__ import annotations
@@ -97,9 +110,10 @@ def sensitivity_report(result: SceneResult, *, active_tol: float = 1e-9, **ipopt
     pb = built.parametric_twin()
     if pb.data_parameters:
         solved, note = _resolve_at(pb, result, **ipopt)
-        sens = kkt_sensitivity(pb.problem.opti, active_tol=active_tol)
-        residual = sens.residual
         names = list(pb.problem.parameter_names)
+        sens = kkt_sensitivity(pb.problem.opti, active_tol=active_tol,
+                               parameters=[pb.data_parameters[n]["symbol"] for n in names])
+        residual = sens.residual
         for i, pname in enumerate(names):
             entry = pb.data_parameters[pname]
             s = float(sens.df_dp[i]) * factor

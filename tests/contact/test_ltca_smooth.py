@@ -168,3 +168,28 @@ def test_smooth_root_stress_and_flash_temperature_converge_to_exact_and_are_diff
     assert np.max(np.abs(jac - fd)) < 1e-4 * max(1.0, np.max(np.abs(fd)))
     with pytest.raises(GearoptInputError, match="root_stress=True"):
         LTCAModel(crank_cam).evaluate(MODS, 300.0).max_root_stress_MPa
+
+
+def test_data_given_to_evaluate_equal_a_model_built_with_them(spur, crank_cam):
+    # the data keywords of evaluate (for parametric sensitivities) must reproduce a model built with that datum
+    a = LTCAModel(crank_cam, positions=16, speed_rpm=2500.0)
+    b = LTCAModel(crank_cam, positions=16, speed_rpm=2000.0, E_MPa=180000.0, materials="42CrMo4")
+    ra = a.evaluate(MODS, 300.0, speed_rpm=2000.0, E_MPa=180000.0,
+                    thermal_contact_coefficients=b.thermal_contact_coefficients)
+    rb = b.evaluate(MODS, 300.0)
+    np.testing.assert_allclose(ra.transmission_error_um, rb.transmission_error_um, rtol=1e-12)
+    np.testing.assert_allclose(ra.contact_stress_squared_MPa2, rb.contact_stress_squared_MPa2, rtol=1e-12)
+    np.testing.assert_allclose(ra.flash_temperature_rise_K, rb.flash_temperature_rise_K, rtol=1e-10, atol=1e-12)
+    # a constant stiffness scaled at evaluation equals a model built with the scaled stiffness
+    c = LTCAModel(spur, positions=16, stiffness=C_PRIME).evaluate(MODS, 200.0, stiffness_factor=1.3)
+    d = LTCAModel(spur, positions=16, stiffness=1.3 * C_PRIME).evaluate(MODS, 200.0)
+    np.testing.assert_allclose(c.transmission_error_um, d.transmission_error_um, rtol=1e-9)
+    np.testing.assert_allclose(c.load_sharing, d.load_sharing, rtol=1e-9, atol=1e-12)
+
+
+def test_data_keywords_are_checked(crank_cam):
+    model = LTCAModel(crank_cam, positions=8)
+    with pytest.raises(GearoptInputError, match="E_MPa"):
+        model.evaluate(None, 100.0, E_MPa=-1.0)
+    with pytest.raises(GearoptInputError, match="speed_rpm"):
+        model.evaluate(None, 100.0, speed_rpm=2000.0)        # built without a speed: no flash temperature

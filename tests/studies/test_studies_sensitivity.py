@@ -138,3 +138,114 @@ def test_contact_temperature_sensitivities_to_oil_temperature_and_friction():
     theta = q["value"].iloc[0]
     assert q.loc[f"oil_temperature_C[{MESH}]", "sensitivity"] == pytest.approx(1.0, abs=1e-9)
     assert q.loc[f"friction_coefficient[{MESH}]", "sensitivity"] == pytest.approx((theta - 100.0) / 0.06, rel=1e-9)
+
+
+def hot_scene(speed_rpm: float = 2500.0, limit_C: float = 400.0) -> Scene:
+    return Scene("hot", train=go.load_default_train("spur"),
+                 load_cases=[LoadCase("design", 300.0, speed_rpm=speed_rpm)],
+                 variables=[DesignVariable(v, MESH) for v in ("tip_relief_1_um", "tip_relief_2_um")],
+                 objectives=[Objective("ppte_um", MESH)],
+                 limits=[Limit("max_contact_temperature_C", MESH, upper=limit_C)], ltca_options={"positions": 24})
+
+
+def test_speed_and_material_sensitivities_match_re_solves_with_the_datum_moved():
+    # the LTCA's data as parameters: speed, Young's modulus, thermal contact coefficients and c'. The speed is
+    # checked against scenes rebuilt at another crank speed (the LTCA model rebuilt, not re-parametrised); c' and
+    # E against re-solves of the parametric NLP with the parameter moved
+    result = hot_scene().build().solve(check=False, tol=1e-11)
+    report = sensitivity_report(result)
+    names = set(report.table["name"])
+    speed = f"speed_rpm[{MESH}]"
+    stiffness = f"single_pair_stiffness_N_per_mm_um[{MESH}]"
+    assert {speed, stiffness, f"youngs_modulus_MPa[{MESH}]",
+            "thermal_contact_coefficient_N_per_mm_sqrt_s_K[crank]"} <= names
+    q = report.quantity_table.set_index(["quantity", "parameter"])
+    temp = f"max_contact_temperature_C[{MESH}]@design"
+
+    def theta(crank_rpm):
+        s = hot_scene(speed_rpm=crank_rpm).build().solve(check=False, tol=1e-11).quantities
+        return s[s["quantity"] == "max_contact_temperature_C"]["value"].item()
+
+    h = 5.0                                 # crank rpm; the crank drives this mesh: its speed is the datum's
+    by_speed = (theta(2500.0 + h) - theta(2500.0 - h)) / (2 * h)
+    assert q.loc[(temp, speed), "sensitivity"] == pytest.approx(by_speed, rel=1e-3)
+    # Blok: theta_fl ~ w^(3/4) v^(1/2) / sqrt(b_H) with b_H ~ E^(-1/2): d ln theta_fl / d ln v = 1/2 at the
+    # hottest point when its load does not move with the speed (the limit is inactive, the design stays)
+    flash = q.loc[(temp, speed), "value"] - 100.0
+    assert q.loc[(temp, speed), "sensitivity"] * 2500.0 / flash == pytest.approx(0.5, rel=1e-6)
+    assert q.loc[(temp, f"youngs_modulus_MPa[{MESH}]"), "sensitivity"] * 206000.0 / flash == pytest.approx(
+        0.25, rel=1e-6)
+
+    pb = result.source.parametric_twin()
+    t = report.table.set_index("name")
+    c0 = t.loc[stiffness, "value"]
+    moved = []
+    for sign in (-1, 1):
+        pb.problem.set_parameter(stiffness, c0 * (1 + sign * 1e-3))
+        moved.append(float(pb.problem.solve(tol=1e-11).objective) * 5.0)      # ppte_um's NLP scale is 5 um
+    assert t.loc[stiffness, "sensitivity"] == pytest.approx((moved[1] - moved[0]) / (2e-3 * c0), rel=1e-3)
+    # a stiffer mesh deflects less: the PPTE of this relieved pair falls with c'
+    assert t.loc[stiffness, "log_sensitivity"] < -0.1
+
+
+def test_joint_data_sensitivities_match_re_solves_with_the_data_file_changed():
+    # the least interference that holds the torque margin gives the safest hub: the interference needed goes as
+    # 1/mu (Lame + Coulomb: capacity ~ mu p, p ~ interference), so the hub's yield safety goes nearly as mu
+    # (not exactly: the capacity at speed loses the centrifugal relief, which does not scale with mu)
+    from gearopt.data import load_default_data, values
+
+    def scene(mu: float | None = None) -> Scene:
+        data = values(load_default_data())
+        if mu is not None:
+            data["joints"]["cam"]["friction_coefficient"] = mu
+        return Scene("joint", train=go.load_default_train("spur"), data=data,
+                     load_cases=[LoadCase("design", speed_rpm=2500.0, joint_torque_Nm={"cam": 400.0})],
+                     variables=[DesignVariable("interference_um", "cam", 10.0, 150.0)],
+                     objectives=[Objective("hub_yield_safety", "cam", sense="max")],
+                     limits=[Limit("torque_margin", "cam", lower=2.0)])
+
+    def safety(mu):
+        return scene(mu).build().solve(check=False).quantities.query("role == 'objective'")["value"].item()
+
+    t = sensitivity_report(scene().build().solve(check=False)).table.set_index("name")
+    assert {"fit_length_mm[cam]", "shaft_diameter_mm[cam]", "hub_outer_diameter_mm[cam]"} <= set(t.index)
+    assert "diametral_interference_um[cam]" not in t.index        # a design variable here, not a datum
+    by_data_file = (safety(0.121) - safety(0.119)) / 0.002
+    assert t.loc["friction_coefficient[cam]", "sensitivity"] == pytest.approx(by_data_file, rel=1e-4)
+    assert t.loc["friction_coefficient[cam]", "log_sensitivity"] == pytest.approx(1.0, abs=0.1)
+
+
+def test_rating_data_sensitivities_match_re_solves_with_the_data_changed():
+    # ISO 6336 safety factors of a scene as quantities: their sensitivities to the material's endurance limits and
+    # to the speed (through K_v and Z_v), each against a scene re-solved with the datum changed in its input
+    from gearopt.rating.materials import material_pair
+
+    steel = material_pair("20MnCr5")[0]
+
+    def scene(speed_rpm: float = 2500.0, sigma_Hlim: float | None = None) -> Scene:
+        m = steel if sigma_Hlim is None else replace(steel, sigma_Hlim_MPa=sigma_Hlim)
+        return Scene("rated", train=go.load_default_train("spur"),
+                     load_cases=[LoadCase("design", 300.0, speed_rpm=speed_rpm)],
+                     variables=[DesignVariable(v, MESH) for v in ("tip_relief_1_um", "tip_relief_2_um")],
+                     objectives=[Objective("ppte_um", MESH)],
+                     limits=[Limit("contact_safety_factor", MESH, lower=1.0),
+                             Limit("root_safety_factor", MESH, lower=1.0)],
+                     iso6336_options={"materials": m}, ltca_options={"positions": 24})
+
+    def value(quantity, **kw):
+        q = scene(**kw).build().solve(check=False, tol=1e-11).quantities
+        return q[q["quantity"] == quantity]["value"].item()
+
+    report = sensitivity_report(scene().build().solve(check=False, tol=1e-11))
+    q = report.quantity_table.set_index(["quantity", "parameter"])
+    s_h = f"contact_safety_factor[{MESH}]@design"
+    h = 1.0
+    by_limit = (value("contact_safety_factor", sigma_Hlim=1501.0) - value("contact_safety_factor", sigma_Hlim=1499.0))
+    kkt = q.loc[(s_h, "sigma_Hlim_MPa[crank]"), "sensitivity"] + q.loc[(s_h, "sigma_Hlim_MPa[cam]"), "sensitivity"]
+    assert kkt == pytest.approx(by_limit / (2 * h), rel=1e-4)
+    # S_H = sigma_HP / sigma_H with sigma_HP proportional to sigma_Hlim, up to the running-in allowances
+    assert 0.9 < kkt * 1500.0 / q.loc[(s_h, "sigma_Hlim_MPa[crank]"), "value"] <= 1.0 + 1e-9
+    h = 10.0                                  # crank rpm: the crank drives the crank-cam mesh
+    by_speed = (value("contact_safety_factor", speed_rpm=2500.0 + h)
+                - value("contact_safety_factor", speed_rpm=2500.0 - h)) / (2 * h)
+    assert q.loc[(s_h, f"speed_rpm[{MESH}]@design"), "sensitivity"] == pytest.approx(by_speed, rel=1e-3)
