@@ -44,7 +44,7 @@ from gearopt.design.shift_distribution import optimise_shift_split
 from gearopt.data import values as data_values
 from gearopt.report import contact_headlines as headlines
 from gearopt.report import ltca_figures as figs
-from gearopt.report.figure_writer import background_figures
+from gearopt.report.figure_writer import background_figures, plot_later
 from gearopt.report import to_markdown, write_table
 from gearopt.report.joint_tables import blank_table, joint_table, web_table
 from gearopt.report.rating_tables import rating_table
@@ -427,26 +427,25 @@ def write_contact(out: Path, studies: dict) -> tuple[list[str], dict]:
         opt = st.optimisation
         margins = opt.solve.constraints
         write_table(opt.table, out, f"microgeometry_{tag}_exact_ltca")
-        fig_te = figs.save(figs.plot_transmission_error(
-            {d: st.ltca[d] for d in DESIGNS}, title=f"{mesh}: static TE at {st.torque_Nm:g} N m"),
-            out / "figures" / f"te_{tag}.png")
-        fig_tt = figs.save(figs.plot_transmission_error(
-            {f"{t:g} N m": r for t, r in sorted(opt.exact["optimised"].items())},
-            title=f"{mesh}: optimised spur, static TE at the load cases"), out / "figures" / f"te_torques_{tag}.png")
-        fig_h = figs.save(figs.plot_harris_map(st.harris, title=f"{mesh}: Harris map",
-                                               design_range_Nm=(min(opt.torques_Nm), max(opt.torques_Nm)),
-                                               design_torque_Nm=st.torque_Nm), out / "figures" / f"harris_{tag}.png")
-        fig_maps = figs.save(figs.plot_flank_grid({d: st.ltca[d] for d in DESIGNS},
-                                                  title=f"{mesh}: load intensity, contact stress, contact "
-                                                        f"temperature, root stress of gear 1 over its flank"),
-                             out / "figures" / f"flank_maps_{tag}.png")
+        # built and rendered by the figure writer's worker (plot_later) while this process goes on
+        fig_te = plot_later(figs.plot_transmission_error, out / "figures" / f"te_{tag}.png",
+                            {d: st.ltca[d] for d in DESIGNS}, title=f"{mesh}: static TE at {st.torque_Nm:g} N m")
+        fig_tt = plot_later(figs.plot_transmission_error, out / "figures" / f"te_torques_{tag}.png",
+                            {f"{t:g} N m": r for t, r in sorted(opt.exact["optimised"].items())},
+                            title=f"{mesh}: optimised spur, static TE at the load cases")
+        fig_h = plot_later(figs.plot_harris_map, out / "figures" / f"harris_{tag}.png", st.harris,
+                           title=f"{mesh}: Harris map", design_range_Nm=(min(opt.torques_Nm), max(opt.torques_Nm)),
+                           design_torque_Nm=st.torque_Nm)
+        fig_maps = plot_later(figs.plot_flank_grid, out / "figures" / f"flank_maps_{tag}.png",
+                              {d: st.ltca[d] for d in DESIGNS},
+                              title=f"{mesh}: load intensity, contact stress, contact temperature, root stress of "
+                                    f"gear 1 over its flank")
         change = st.summary.set_index("design").drop(columns=["loaded_contact_ratio"])
-        fig_c = figs.save(figs.plot_percentage_change(change, "helical", title=f"{mesh}: change against helical"),
-                          out / "figures" / f"change_{tag}.png")
-        fig_cl = figs.save(figs.plot_percentage_change(
-            opt.table.set_index("design"), "unmodified", by="torque_Nm",
-            title=f"{mesh}: change against the unmodified spur pair at every load case (exact LTCA)"),
-            out / "figures" / f"change_load_cases_{tag}.png")
+        fig_c = plot_later(figs.plot_percentage_change, out / "figures" / f"change_{tag}.png", change, "helical",
+                           title=f"{mesh}: change against helical")
+        fig_cl = plot_later(figs.plot_percentage_change, out / "figures" / f"change_load_cases_{tag}.png",
+                            opt.table.set_index("design"), "unmodified", by="torque_Nm",
+                            title=f"{mesh}: change against the unmodified spur pair at every load case (exact LTCA)")
         lines += [f"### {mesh} at {st.torque_Nm:g} N m on the driving gear, {st.speed_rpm:g} rpm", "",
                   to_markdown(st.summary), "",
                   "Optimised microgeometry (linear tip relief blended over "

@@ -47,6 +47,25 @@ def save(fig, path: str | Path, dpi: int = 120) -> Path:
     return path
 
 
+def _build_render(builder, args: tuple, kwargs: dict, path: str, dpi: int) -> str:
+    fig = builder(*args, **kwargs)
+    fig.savefig(path, dpi=dpi)
+    plt.close(fig)
+    return path
+
+
+def plot_later(builder, path: str | Path, *args, dpi: int = 120, **kwargs) -> Path:
+    """Write the figure ``builder(*args, **kwargs)`` to ``path``; inside :func:`background_figures` the worker
+    builds it too (then ``builder`` must be a module-level function and its arguments picklable: the caller pays
+    for neither the plotting nor the rendering). Outside the block it is built and written at once."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    if _POOL is None:
+        return save(builder(*args, **kwargs), path, dpi)
+    _PENDING.append(_POOL.submit(_build_render, builder, args, kwargs, str(path), dpi))
+    return path
+
+
 @contextlib.contextmanager
 def background_figures(enabled: bool = True):
     """Render the figures saved inside the block in one worker process (``enabled=False``: at once, in this
@@ -70,4 +89,4 @@ def background_figures(enabled: bool = True):
             pool.shutdown(wait=True)
 
 
-__all__ = ["save", "background_figures"]
+__all__ = ["save", "plot_later", "background_figures"]

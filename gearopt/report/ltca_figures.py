@@ -94,7 +94,7 @@ def plot_flank_map(result, quantity: str = "load_intensity", *, gear: int = 1, t
     ax.set_xlabel(f"roll angle of gear {gear} [deg]")
     ax.set_ylabel("face position [mm]")
     ax.set_title(title)
-    fig.tight_layout()
+    fig.set_layout_engine("tight")      # laid out when drawn, not here
     return fig
 
 
@@ -207,7 +207,7 @@ def _finish_line_plot(fig, ax, xlabel: str, ylabel: str, title: str):
     ax.set_title(title)
     ax.grid(alpha=0.3)
     ax.legend(fontsize=7)
-    fig.tight_layout()
+    fig.set_layout_engine("tight")      # laid out when drawn (in the figure writer's worker), not here
     return fig
 
 
