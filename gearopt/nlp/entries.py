@@ -12,7 +12,7 @@ import warnings
 import inspect
 import os
 from dataclasses import dataclass
-from typing import Union
+from typing import Any, Union
 
 import casadi as ca
 import numpy as np
@@ -202,3 +202,35 @@ def check_ordered(lower: np.ndarray, upper: np.ndarray, *, owner: str, unit: str
         raise GearoptInputError(
             f"{owner}: upper={upper[i]:g}{u} is below lower={lower[i]:g}{u}{where} (inverted bounds)")
 
+
+def check_size(n: int | None, name: str) -> int:
+    """Number of elements of a variable declared with ``n`` (None: a scalar, 1)."""
+    if n is None:
+        return 1
+    if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 1:
+        raise GearoptInputError(f"variable '{name}': n={n!r} is below its limit: must be an integer >= 1")
+    return int(n)
+
+
+
+def as_mx(expr: Any, owner: str, *, allow_constant: bool = False) -> ca.MX:
+    """``expr`` as an MX; numbers only if ``allow_constant``. SX is refused (Opti works on MX)."""
+    if isinstance(expr, ca.MX):
+        return expr
+    if isinstance(expr, ca.SX):
+        raise GearoptInputError(f"{owner}: got an SX expression; build it from the problem's MX symbols or call "
+                                f"an SX kernel through a casadi.Function")
+    try:
+        dm = ca.DM(expr)
+    except (NotImplementedError, TypeError, RuntimeError) as exc:
+        raise GearoptInputError(f"{owner}: {expr!r} is not a CasADi expression or a number") from exc
+    if not allow_constant:
+        raise GearoptInputError(f"{owner}: the expression is the constant {expr!r}; limit: it must depend on "
+                                f"the problem's variables")
+    return ca.MX(dm)
+
+
+def last_line(exc: BaseException | None) -> str:
+    """The informative last line of a (multi-line) CasADi error message."""
+    text = str(exc).strip() if exc is not None else ""
+    return text.splitlines()[-1] if text else "unknown error"

@@ -1,0 +1,166 @@
+"""The table of keys of gearopt's data files: the constants of the layout, the explicit per-key rules (:data:`RULES`:
+meaning, unit, range, choices) and the unit convention of key suffixes (:data:`UNIT_SUFFIXES`), with the look-ups
+that the validation and the documentation share (:func:`rule_for`, :func:`unit_of`, :func:`default_range`).
+
+The keys themselves come from the packaged reference file (:func:`gearopt.data.schema_tree.schema`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+SCHEMA_VERSION = 1
+REQUIRED_SECTIONS = ("schema_version", "rack", "trains", "gears", "meshes")
+#: Tables whose keys are names chosen by the user; every entry follows the same item layout.
+NAMED_TABLES = ("gears", "meshes", "materials", "joints", "trains")
+TRAIN_KINDS = ("spur", "helical")
+#: Keys every entry of these named tables must have (the gear-train builder reads them); the other keys of their
+#: entries are optional. Entries of the other named tables need the keys every default entry has.
+REQUIRED_ITEM_KEYS = {"gears": {"teeth", "face_width_mm"}, "meshes": {"gears", "centre_distance_mm"},
+                      "trains": {"helix_angle_deg", "root_mesh", "root_gear"}}
+MAX_MAGNITUDE = 1e15
+
+#: Unit of a key, from its name's suffix (longest suffix first).
+UNIT_SUFFIXES = {
+    "_N_per_mm_sqrt_s_K": "N/(mm s^0.5 K)", "_Nms_per_rad": "N m s/rad", "_Nm_per_rad": "N m/rad",
+    "_N_per_m": "N/m", "_kg_m3": "kg/m^3", "_W_mK": "W/(m K)", "_J_kgK": "J/(kg K)", "_per_K": "1/K",
+    "_bar_abs": "bar (absolute)", "_Rz_um": "um (Rz)", "_kgm2": "kg m^2", "_mm2": "mm^2", "_percent": "%",
+    "_MPa": "MPa", "_HRC": "HRC", "_rpm": "rpm", "_deg": "deg", "_bar": "bar", "_kW": "kW", "_kJ": "kJ",
+    "_Hz": "Hz", "_Nm": "N m", "_mm": "mm", "_um": "um", "_kg": "kg", "_HV": "HV", "_C": "degC", "_N": "N",
+    "_L": "L", "_K": "K",
+}
+#: Units whose quantities cannot be negative (lengths and micrometres only outside allowances and deviations).
+NON_NEGATIVE_UNITS = {"kg m^2", "kg", "kg/m^3", "Hz", "rpm", "mm^2", "L", "W/(m K)", "J/(kg K)", "N/m", "N m/rad",
+                      "N m s/rad", "kW", "HRC", "HV", "bar", "bar (absolute)", "mm", "um", "um (Rz)", "MPa", "N",
+                      "kJ", "N/(mm s^0.5 K)", "1/K"}
+SIGNED_WORDS = ("allowance", "deviation", "change", "offset", "torque_min", "start_of_combustion")
+
+
+@dataclass(frozen=True)
+class Rule:
+    """Explicit rule of one key (``*`` in a path matches any entry of a named table)."""
+
+    meaning: str
+    low: float | None = None
+    high: float | None = None
+    low_inclusive: bool = True
+    high_inclusive: bool = True
+    kind: str | None = None  # "int", "float", "str", "list[str]" ... (default: the default file's kind)
+    choices: tuple | None = None
+    length: int | None = None
+    required: bool | None = None  # default: required if every default entry has the key
+
+
+RULES: dict[str, Rule] = {
+    "schema_version": Rule("version of the key layout; this gearopt reads version 1", 1, 1, kind="int"),
+    "title": Rule("free text naming the data set", required=False),
+    "rack.module_mm": Rule("normal module m_n of the basic rack", 0.05, 100.0, low_inclusive=True),
+    "rack.pressure_angle_deg": Rule("normal pressure angle alpha_n of the basic rack", 0.0, 45.0,
+                                    low_inclusive=False, high_inclusive=False),
+    "rack.addendum_coefficient": Rule("addendum h_aP* of the basic rack, per m_n", 0.0, 3.0, low_inclusive=False),
+    "rack.dedendum_coefficient": Rule("dedendum h_fP* of the basic rack, per m_n", 0.0, 3.0, low_inclusive=False),
+    "rack.root_radius_coefficient": Rule("root radius rho_fP* of the basic rack, per m_n", 0.0, 1.0),
+    "trains.*.helix_angle_deg": Rule("reference helix angle beta of the train (0: spur)", 0.0, 45.0,
+                                     high_inclusive=False),
+    "trains.*.root_mesh": Rule("the mesh whose shifts are set first ('<driving>-<driven>', a key of meshes)"),
+    "trains.*.root_gear": Rule("the gear of the root mesh whose profile shift or split is given"),
+    "trains.*.root_profile_shift": Rule("profile shift coefficient x of the root gear", -3.0, 3.0, required=False),
+    "trains.*.root_shift_split": Rule("ISO/TR 4467 split lambda of the root mesh's sum of shifts", -0.5, 1.5,
+                                      required=False),
+    "trains.*.root_hand": Rule("helix hand of the root gear ('right'/'left')", choices=("right", "left"),
+                               required=False),
+    "trains.*.shift_distribution_lambda": Rule("ISO/TR 4467 lambda used for the other meshes", -0.5, 1.5,
+                                               required=False),
+    "trains.*.thesis_profile_shifts": Rule("profile shifts of the source study by gear name (comparison only)",
+                                           -3.0, 3.0, kind="map[float]", required=False),
+    "gears.*.teeth": Rule("number of teeth z", 5, 10000, kind="int"),
+    "gears.*.face_width_mm": Rule("face width b", 0.0, 10000.0, low_inclusive=False),
+    "gears.*.tooth_thickness_upper_allowance_um": Rule("upper normal tooth-thickness allowance E_sns", -5000.0,
+                                                       5000.0),
+    "gears.*.tooth_thickness_lower_allowance_um": Rule("lower normal tooth-thickness allowance E_sni", -5000.0,
+                                                       5000.0),
+    "gears.*.tip_diameter_upper_allowance_mm": Rule("upper tip-diameter allowance", -50.0, 50.0),
+    "gears.*.tip_diameter_lower_allowance_mm": Rule("lower tip-diameter allowance", -50.0, 50.0),
+    "gears.*.accuracy_grade_iso1328": Rule("ISO 1328 accuracy grade", 1, 12, kind="int"),
+    "gears.*.material": Rule("material name (a key of materials)"),
+    "gears.*.role": Rule("what the gear drives (free text)"),
+    "gears.*.speed_ratio_to_crank": Rule("speed of the gear / crank speed", 0.0, 100.0, low_inclusive=False),
+    "gears.*.web_pocket_area_fraction": Rule("fraction of the web area removed by pockets", 0.0, 1.0,
+                                             high_inclusive=False),
+    "meshes.*.gears": Rule("the two gears of the mesh, driving first (keys of gears)", kind="list[str]", length=2),
+    "meshes.*.centre_distance_mm": Rule("working centre distance a", 0.0, 1e5, low_inclusive=False),
+    "meshes.*.centre_distance_upper_allowance_mm": Rule("upper centre-distance allowance", -50.0, 50.0),
+    "meshes.*.centre_distance_lower_allowance_mm": Rule("lower centre-distance allowance", -50.0, 50.0),
+    "meshes.*.sum_profile_shift": Rule("sum of profile shifts x1 + x2 (check value)", -6.0, 6.0),
+    "meshes.*.standard_centre_distance_change_percent": Rule("a / a_d - 1 (check value)", -50.0, 50.0),
+    "meshes.*.speed_ratio_error_percent": Rule("speed-ratio error against the target (check value)", -100.0, 100.0),
+    "service.backlash_range_mm": Rule("service backlash range (min, max)", 0.0, 10.0, kind="list[float]", length=2),
+    "materials.*.E_MPa": Rule("Young's modulus", 1e3, 1e6),
+    "materials.*.poisson_ratio": Rule("Poisson's ratio", 0.0, 0.5, low_inclusive=False, high_inclusive=False),
+    "materials.*.thermal_expansion_per_K": Rule("linear thermal expansion coefficient", 0.0, 1e-3),
+    "materials.*.description": Rule("free text"),
+    "materials.*.used_for": Rule("free text"),
+    "joints.*.joint_type": Rule("'press_fit' or 'taper_nut'", choices=("press_fit", "taper_nut")),
+    "joints.*.gear": Rule("the gear held by the joint (a key of gears)"),
+    "joints.*.friction_coefficient": Rule("friction coefficient of the joint surfaces", 0.0, 1.0,
+                                          low_inclusive=False, high_inclusive=False),
+    "joints.*.nut_factor": Rule("nut factor k of T = k F d", 0.0, 1.0, low_inclusive=False, required=False),
+    "joints.*.taper_half_angle_deg": Rule("half angle of the taper", 0.0, 45.0, low_inclusive=False,
+                                          high_inclusive=False, required=False),
+    "engine.cylinders": Rule("number of cylinders", 1, 32, kind="int"),
+    "engine.strokes_per_cycle": Rule("2 or 4", choices=(2, 4), kind="int"),
+    "engine.valves_per_cylinder": Rule("valves per cylinder", 1, 8, kind="int"),
+    "engine.bore_mm": Rule("cylinder bore", 1.0, 2000.0),
+    "engine.stroke_mm": Rule("piston stroke", 1.0, 5000.0),
+    "engine.connecting_rod_length_mm": Rule("connecting-rod centre distance", 1.0, 10000.0),
+    "engine.compression_ratio": Rule("geometric compression ratio", 1.0, 50.0, low_inclusive=False),
+    "engine.firing_order": Rule("cylinders in firing order (a permutation of 1..cylinders)", 1, 32,
+                                kind="list[int]"),
+    "engine.crank_rod_ratio": Rule("crank radius / rod length", 0.0, 1.0, low_inclusive=False,
+                                   high_inclusive=False),
+    "engine.camshaft.stations": Rule("cam stations (lumped inertias) along the camshaft", 1, 100, kind="int"),
+    "engine.fuel_pump.plungers": Rule("pump plungers", 1, 16, kind="int"),
+    "engine.combustion.model": Rule("combustion model", choices=("double_wiebe",)),
+    "engine.combustion.premixed_fraction": Rule("premixed share of the heat release", 0.0, 1.0),
+    "engine.combustion.ratio_of_specific_heats": Rule("gamma of the cylinder charge", 1.0, 2.0,
+                                                      low_inclusive=False),
+    "engine.crankshaft.shaft_loss_factor": Rule("material loss factor of the crankshaft", 0.0, 1.0),
+    "engine.crankshaft.mode_1_damping_ratio": Rule("damping ratio of the first crankshaft mode", 0.0, 1.0),
+    "dynamics.mesh_damping_ratio": Rule("damping ratio of the gear meshes", 0.0, 1.0, high_inclusive=False),
+    "lubrication.mean_friction_coefficient": Rule("mean tooth friction coefficient (Blok)", 0.0, 1.0,
+                                                  high_inclusive=False),
+    "lubrication.oil_temperature_C": Rule("oil (bulk) temperature", -50.0, 300.0),
+    "design_loads.application_factor_K_A": Rule("ISO 6336-1 application factor", 1.0, 10.0),
+    "design_limits.min_loaded_contact_ratio": Rule("smallest admissible loaded contact ratio", 0.0, 5.0),
+    "microgeometry.initial.tip_relief_shape": Rule("tip relief shape", choices=("linear", "parabolic", "arc")),
+}
+
+
+def rule_for(path: str) -> Rule | None:
+    """The explicit rule of a concrete key path (entry names replaced by ``*``)."""
+    return RULES.get(generic_path(path))
+
+
+def generic_path(path: str) -> str:
+    parts = path.split(".")
+    if parts and parts[0] in NAMED_TABLES and len(parts) > 1:
+        parts[1] = "*"
+    return ".".join(parts)
+
+
+def unit_of(key: str) -> str:
+    """The unit of a key from its name's suffix ('' for dimensionless keys)."""
+    for suffix, unit in UNIT_SUFFIXES.items():
+        if key.endswith(suffix):
+            return unit
+    return ""
+
+
+def default_range(path: str) -> tuple[float | None, float | None]:
+    """Range of a number without an explicit rule: non-negative for units that cannot be negative (lengths outside
+    allowances and deviations, masses, inertias, stiffnesses, speeds, pressures ...), otherwise any finite value."""
+    key = path.rsplit(".", 1)[-1]
+    unit = unit_of(key)
+    if unit in NON_NEGATIVE_UNITS and not any(w in key for w in SIGNED_WORDS):
+        return 0.0, None
+    return None, None

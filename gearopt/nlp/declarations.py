@@ -1,0 +1,272 @@
+"""Declarations of a :class:`~gearopt.nlp.problem.Problem`: variables, parameters, constraints and the objective,
+each checked on input and recorded by name with the source line that declared it (:mod:`gearopt.nlp.entries`).
+
+:class:`Declarations` is a mixin of :class:`~gearopt.nlp.problem.Problem`, which owns the state it works on (the
+``Opti`` instance and the tables of entries, set up in ``Problem.__init__``). A constraint that does not depend on
+the design variables is kept away from Ipopt (:class:`ConstantConstraint`).
+"""
+
+from __future__ import annotations
+
+import time
+from contextlib import contextmanager
+from dataclasses import dataclass
+from typing import Any, Iterator
+
+import casadi as ca
+import numpy as np
+
+from gearopt.nlp.entries import (ArrayLike, ConstraintEntry, ParameterEntry, VariableEntry, as_bound, as_elements,
+                                    as_mx, caller_source, check_name, check_ordered, check_positive, check_size,
+                                    last_line)
+from gearopt.errors import GearoptInputError, InfeasibleProblemError, ViolatedConstraint
+
+
+@dataclass(frozen=True)
+class ConstantConstraint:
+    """A declared constraint that does not depend on the design variables (it holds; not passed to Ipopt)."""
+
+    name: str
+    value: np.ndarray
+    lower: np.ndarray
+    upper: np.ndarray
+    unit: str
+    source: str
+
+
+class Declarations:
+    """The declaring methods of :class:`~gearopt.nlp.problem.Problem` (mixin; the state is the problem's)."""
+
+    _opti: ca.Opti
+    _variables: dict[str, VariableEntry]
+    _parameters: dict[str, ParameterEntry]
+    _constraints: dict[str, ConstraintEntry]
+    _constant_constraints: dict[str, ConstantConstraint]
+    _objective: ca.MX
+    _sense: float
+    _objective_scale: float
+    _ng: int
+    _version: int
+    _solver_dirty: bool
+    _pending_build_s: float
+
+    def variable(self, name: str, init: ArrayLike, *, lower: ArrayLike | None = None,
+                 upper: ArrayLike | None = None, scale: ArrayLike = 1.0, unit: str = "",
+                 n: int | None = None) -> ca.MX:
+        """Declare a design variable and return its expression ``scale * x_s`` (in the variable's units).
+
+        Args:
+            name: unique name (shared namespace with parameters and constraints).
+            init: initial guess, variable units; scalar or one value per element. May lie outside the bounds
+                (flagged by the pre-solve check; Ipopt moves it inside).
+            lower, upper: bounds in variable units (None: unbounded on that side); scalar or per element.
+            scale: positive magnitude of the variable, variable units; Ipopt sees ``x / scale``.
+            unit: unit label for reports.
+            n: number of elements for a vector variable (None: scalar).
+
+        Raises:
+            GearoptInputError: duplicate name, ``upper < lower``, ``scale <= 0``, non-finite numbers, bad ``n``.
+        """
+        with self._building():
+            self._check_new_name(name, "variable")
+            size = check_size(n, name)
+            owner = f"variable '{name}'"
+            lo = as_bound(lower, size, owner=owner, what="lower", unit=unit, missing=-np.inf)
+            hi = as_bound(upper, size, owner=owner, what="upper", unit=unit, missing=np.inf)
+            check_ordered(lo, hi, owner=owner, unit=unit)
+            sc = as_elements(scale, size, owner=owner, what="scale", unit=unit)
+            check_positive(sc, owner=owner, what="scale")
+            x0 = as_elements(init, size, owner=owner, what="init", unit=unit)
+            symbol = self._opti.variable(size)
+            rows = None
+            if np.isfinite(lo).any() or np.isfinite(hi).any():
+                self._opti.subject_to(self._opti.bounded(ca.DM(lo / sc), symbol, ca.DM(hi / sc)))
+                rows = self._take_rows(size)
+            self._opti.set_initial(symbol, x0 / sc)
+            entry = VariableEntry(name, symbol, size, n is not None, x0, lo, hi, sc, unit, caller_source(), rows)
+            self._variables[name] = entry
+            self._touch()
+            return scaled_expression(entry)
+
+    def parameter(self, name: str, value: ArrayLike, *, unit: str = "") -> ca.MX:
+        """Declare a parameter (fixed in a solve, changeable between solves) and return its symbol.
+
+        Args:
+            name: unique name.
+            value: initial value in ``unit``; a scalar gives a scalar parameter, an array a vector parameter.
+            unit: unit label for reports.
+        """
+        with self._building():
+            self._check_new_name(name, "parameter")
+            if isinstance(value, (ca.MX, ca.SX)):
+                raise GearoptInputError(f"parameter '{name}': value={value!r} must be a number or an array")
+            shape = np.shape(value)
+            size = max(int(np.prod(shape)), 1)
+            values = as_elements(value, size, owner=f"parameter '{name}'", what="value", unit=unit)
+            symbol = self._opti.parameter(size)
+            self._opti.set_value(symbol, values)
+            self._parameters[name] = ParameterEntry(name, symbol, size, len(shape) > 0, values, unit,
+                                                    caller_source())
+            self._touch()
+            return symbol
+
+    def set_parameter(self, name: str, value: ArrayLike) -> None:
+        """Change a parameter's value (in its declared unit) for the next solve; the problem is not rebuilt."""
+        entry = self._lookup(self._parameters, name, "parameter")
+        entry.value = as_elements(value, entry.size, owner=f"parameter '{name}'", what="value", unit=entry.unit)
+        self._opti.set_value(entry.symbol, entry.value)
+
+    def set_initial(self, name: str, value: ArrayLike) -> None:
+        """Change a variable's initial guess (variable units) for the next solve without ``warm_start``."""
+        entry = self._lookup(self._variables, name, "variable")
+        entry.init = as_elements(value, entry.size, owner=f"variable '{name}'", what="init", unit=entry.unit)
+
+    def subject_to(self, name: str, expr: Any, *, lower: ArrayLike | None = None, upper: ArrayLike | None = None,
+                   scale: ArrayLike = 1.0, unit: str = "", source: str | None = None) -> None:
+        """Impose ``lower <= expr <= upper`` elementwise (an equality where ``lower == upper``).
+
+        Args:
+            name: unique name; a vector constraint's elements are reported as ``name[i]``.
+            expr: CasADi MX expression of the problem's variables and parameters (any shape, taken column-major).
+            lower, upper: bounds in ``unit`` (None: no bound on that side; at least one is required); scalar or
+                one per element. Numbers only: put parameters into ``expr``.
+            scale: positive magnitude of a meaningful change of ``expr`` in ``unit``; scalar or per element.
+            unit: unit label for reports.
+            source: ``file:line`` shown in reports and failures; default: the caller's line outside
+                ``gearopt.design``.
+
+        Raises:
+            GearoptInputError: duplicate name, no bound, inverted bounds, ``scale <= 0``, a constant expression or
+                one without decision variables.
+        """
+        with self._building():
+            self._check_new_name(name, "constraint")
+            source = caller_source() if source is None else source
+            owner = f"constraint '{name}' [{source}]"
+            if lower is None and upper is None:
+                raise GearoptInputError(f"{owner}: lower=None and upper=None; limit: give at least one bound")
+            mx = as_mx(expr, owner)
+            size = int(mx.numel())
+            if size == 0:
+                raise GearoptInputError(f"{owner}: the expression is empty (0 elements); limit: at least 1")
+            lo = as_bound(lower, size, owner=owner, what="lower", unit=unit, missing=-np.inf)
+            hi = as_bound(upper, size, owner=owner, what="upper", unit=unit, missing=np.inf)
+            check_ordered(lo, hi, owner=owner, unit=unit)
+            sc = as_elements(scale, size, owner=owner, what="scale", unit=unit)
+            check_positive(sc, owner=owner, what="scale")
+            flat = ca.vec(mx)
+            if self._record_if_constant(name, flat, lo, hi, unit, source, owner):
+                return
+            ref = np.where(np.isfinite(lo), lo, hi)
+            scaled = (flat - ca.DM(ref)) / ca.DM(sc)
+            lb = np.where(np.isfinite(lo), 0.0, -np.inf)
+            ub = np.where(np.isfinite(hi), (hi - ref) / sc, np.inf)
+            try:
+                self._opti.subject_to(self._opti.bounded(ca.DM(lb), scaled, ca.DM(ub)))
+            except RuntimeError as exc:
+                raise GearoptInputError(f"{owner}: CasADi rejected the expression: {last_line(exc)}") from exc
+            entry = ConstraintEntry(name, flat, size, mx.shape != (1, 1), lo, hi, sc, unit, source,
+                                    self._take_rows(size))
+            self._constraints[name] = entry
+            self._touch()
+
+    def minimize(self, expr: Any, *, scale: float = 1.0) -> None:
+        """Minimise the scalar ``expr`` (Ipopt sees ``expr / scale``); replaces any previous objective."""
+        self._set_objective(expr, scale, 1.0)
+
+    def maximize(self, expr: Any, *, scale: float = 1.0) -> None:
+        """Maximise the scalar ``expr`` (Ipopt minimises ``-expr / scale``); replaces any previous objective."""
+        self._set_objective(expr, scale, -1.0)
+
+    # ------------------------------------------------------------------ internals: declarations
+
+    @contextmanager
+    def _building(self) -> Iterator[None]:
+        t0 = time.perf_counter()
+        try:
+            yield
+        finally:
+            self._pending_build_s += time.perf_counter() - t0
+
+    @property
+    def constant_constraints(self) -> dict[str, "ConstantConstraint"]:
+        """Constraints that turned out not to depend on the design variables (affine with zero coefficients, e.g. a
+        margin that a model keeps fixed); they hold, so they were not handed to Ipopt."""
+        return dict(self._constant_constraints)
+
+    def _record_if_constant(self, name: str, flat: ca.MX, lo: np.ndarray, hi: np.ndarray, unit: str, source: str,
+                            owner: str) -> bool:
+        """Keep constraints that do not depend on the variables away from Ipopt.
+
+        CasADi's ``detect_simple_bounds`` reads a constraint that is affine in one variable with a zero coefficient
+        as a bound at infinity and Ipopt then reports an invalid problem. A constant constraint that holds is
+        recorded in :attr:`constant_constraints`; one that fails raises :class:`InfeasibleProblemError` now.
+        """
+        if not self._variables:
+            return False
+        x = ca.vertcat(*[v.symbol for v in self._variables.values()])
+        params = [p.symbol for p in self._parameters.values()]
+        if params and ca.depends_on(flat, ca.vertcat(*params)):
+            return False
+        jac = ca.jacobian(flat, x)
+        if ca.depends_on(jac, x):
+            return False
+        jac_value, value = (np.array(v, dtype=float).reshape(-1)
+                            for v in ca.Function("constant_probe", [x], [jac, flat])(ca.DM.zeros(x.numel())))
+        if np.any(jac_value != 0.0):
+            return False
+        below, above = np.maximum(lo - value, 0.0), np.maximum(value - hi, 0.0)
+        if np.any(below + above > 0.0):
+            i = int(np.argmax(below + above))
+            violated = ViolatedConstraint(name, float((below + above)[i]), float(value[i]), float(lo[i]),
+                                          float(hi[i]), source)
+            raise InfeasibleProblemError(f"{owner}: does not depend on the design variables and is violated",
+                                         status="constant constraint violated",
+                                         hint="the model fixes this quantity; change its data, not the variables",
+                                         violated=[violated])
+        self._constant_constraints[name] = ConstantConstraint(name, value, lo, hi, unit, source)
+        return True
+
+    def _touch(self) -> None:
+        """Record that the NLP changed (the solver must be rebuilt, the probe function re-made)."""
+        self._version += 1
+        self._solver_dirty = True
+
+    def _take_rows(self, size: int) -> slice:
+        rows = slice(self._ng, self._ng + size)
+        self._ng += size
+        return rows
+
+    def _check_new_name(self, name: str, kind: str) -> None:
+        check_name(name, kind)
+        for other_kind, table in (("variable", self._variables), ("parameter", self._parameters),
+                                  ("constraint", self._constraints), ("constraint", self._constant_constraints)):
+            if name in table:
+                raise GearoptInputError(f"{kind} name '{name}' is already used by the {other_kind} declared at "
+                                        f"{table[name].source}; limit: names must be unique")
+
+    @staticmethod
+    def _lookup(table: dict, name: str, kind: str) -> Any:
+        if name not in table:
+            known = ", ".join(table) or "none"
+            raise GearoptInputError(f"{kind} '{name}' is not declared; declared {kind}s: {known}")
+        return table[name]
+
+    def _set_objective(self, expr: Any, scale: float, sense: float) -> None:
+        with self._building():
+            owner = "objective"
+            mx = as_mx(expr, owner, allow_constant=True)
+            if mx.shape != (1, 1):
+                raise GearoptInputError(f"objective has shape {mx.shape}; limit: a scalar (1x1)")
+            sc = as_elements(scale, 1, owner=owner, what="scale")
+            check_positive(sc, owner=owner, what="scale")
+            self._objective, self._sense, self._objective_scale = mx, sense, float(sc[0])
+            self._opti.minimize(sense * mx / self._objective_scale)
+            self._touch()
+
+
+def scaled_expression(entry: VariableEntry) -> ca.MX:
+    """The user-facing expression ``scale * x_s`` of a variable."""
+    if np.all(entry.scale == entry.scale[0]):
+        return float(entry.scale[0]) * entry.symbol
+    return ca.DM(entry.scale) * entry.symbol
