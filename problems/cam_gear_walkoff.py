@@ -45,6 +45,7 @@ from gearopt.data import values as data_values
 from gearopt.report import contact_headlines as headlines
 from gearopt.report import ltca_figures as figs
 from gearopt.report.figure_writer import background_figures, plot_later
+from gearopt.studies.background import side_process
 from gearopt.report import to_markdown, write_table
 from gearopt.report.joint_tables import blank_table, joint_table, web_table
 from gearopt.report.rating_tables import rating_table
@@ -678,8 +679,12 @@ def write_outputs(out: Path, macro: dict, split: dict, timings: dict, contact: d
                   ratings: dict | None = None, joints: dict | None = None, dynamics: dict | None = None,
                   design_torques: pd.DataFrame | None = None, teeth: dict | None = None,
                   sizing: dict | None = None, data: dict | None = None,
-                  failure: dict | None = None, codesign=None) -> None:
+                  failure: dict | None = None, codesign=None, sections: dict | None = None) -> None:
+    """report.md and result.json of the whole run (tables and figures of each section too); ``sections``: the
+    sections :func:`write_sections` already wrote (their report lines and result entries)."""
     out.mkdir(parents=True, exist_ok=True)
+    if sections is None:
+        sections = write_sections(out, contact, ratings, joints, dynamics, design_torques)
     failure_lines, failure_result = write_failure(out, failure) if failure else ([], {})
     lines = list(failure_lines)  # the failure the redesign cures comes first, after the summary
     appendix = ["## Appendix: reproductions of the source study's tables", "",
@@ -714,10 +719,10 @@ def write_outputs(out: Path, macro: dict, split: dict, timings: dict, contact: d
     lines += ["## Profile-shift split of crank-cam: Ipopt vs ISO/TR 4467", "", to_markdown(split_df), "",
               f"Objective: {split['objective']}; Ipopt status {split['status']} in {split['iterations']} iterations.",
               ""]
-    contact_lines, contact_result = write_contact(out, contact) if contact else ([], {})
-    rating_lines, rating_result = write_rating(out, ratings) if ratings else ([], {})
-    joint_lines, joint_result = write_joints(out, joints) if joints else ([], {})
-    dyn_lines, dyn_result = write_dynamics(out, dynamics, design_torques) if dynamics else ([], {})
+    contact_lines, contact_result = sections["contact"]
+    rating_lines, rating_result = sections["rating"]
+    joint_lines, joint_result = sections["joints"]
+    dyn_lines, dyn_result = sections["dynamics"]
     sizing_lines = []
     if sizing is not None:
         write_table(sizing["table"], out, "joint_sizing")
@@ -766,6 +771,17 @@ def write_outputs(out: Path, macro: dict, split: dict, timings: dict, contact: d
     (out / "result.json").write_text(json.dumps(result, indent=2) + "\n")
 
 
+def write_sections(out: Path, contact: dict | None, ratings: dict | None, joints: dict | None,
+                   dynamics: dict | None, design_torques: pd.DataFrame | None) -> dict:
+    """Tables and figures of the main process's sections, written as soon as their stages end (the figures go to
+    the figure writer's worker); ``{section: (report lines, result.json entries)}`` for :func:`write_outputs`."""
+    out.mkdir(parents=True, exist_ok=True)
+    return {"contact": write_contact(out, contact) if contact else ([], {}),
+            "rating": write_rating(out, ratings) if ratings else ([], {}),
+            "joints": write_joints(out, joints) if joints else ([], {}),
+            "dynamics": write_dynamics(out, dynamics, design_torques) if dynamics else ([], {})}
+
+
 KEY_FIGURES = ("te_crank_cam", "te_torques_crank_cam", "harris_crank_cam", "dynamics_crank_cam_force", "campbell_spur")
 
 
@@ -811,8 +827,8 @@ def trade_off_stage(data: dict, trains: dict, quick: bool = False):
                        samples=64 if quick else 2000, starts=1 if quick else 4)
 
 
-def write_trade_off(out: Path, study) -> None:
-    """Append the trade-off section to ``report.md`` and its ``trade_off`` key to ``result.json``."""
+def trade_off_outputs(out: Path, study) -> tuple[str, dict]:
+    """Tables and figure of the trade-off study; its report section (Markdown) and ``result.json`` entry."""
     fig = out / "figures" / "trade_off_crank_cam.png"
     fig.parent.mkdir(parents=True, exist_ok=True)
     figs.save(study.front.plot(), fig, dpi=110)
@@ -820,12 +836,56 @@ def write_trade_off(out: Path, study) -> None:
     if study.sensitivity is not None:
         write_table(study.sensitivity.table, out, "sensitivity_crank_cam")
     write_table(study.monte_carlo.summary, out, "robustness_crank_cam")
+    return study.markdown(str(fig.relative_to(out))), json.loads(json.dumps(study.headline(), default=float))
+
+
+def write_trade_off(out: Path, markdown: str, headline: dict) -> None:
+    """Append the trade-off section to ``report.md`` and its ``trade_off`` key to ``result.json``."""
     with open(out / "report.md", "a") as f:
-        f.write("\n## Trade-off, sensitivities and robustness of the crank-cam tip relief\n\n"
-                + study.markdown(str(fig.relative_to(out))) + "\n")
+        f.write("\n## Trade-off, sensitivities and robustness of the crank-cam tip relief\n\n" + markdown + "\n")
     result = json.loads((out / "result.json").read_text())
-    result["trade_off"] = study.headline()
+    result["trade_off"] = headline
     (out / "result.json").write_text(json.dumps(result, indent=2, default=float) + "\n")
+
+
+class CodesignOutputs:
+    """The co-design study's report lines and ``result.json`` entry, as the side process returns them (plain
+    data: a class of this script does not unpickle in the other process)."""
+
+    def __init__(self, lines: list[str], entry: dict):
+        self._lines, self._json = lines, entry
+
+    def report_lines(self) -> list[str]:
+        return self._lines
+
+    def to_json(self) -> dict:
+        return self._json
+
+
+SIDE_STAGES = ("failure_reproduction", "codesign_nlp", "trade_off_study")
+"""Stages that need only the data: they run in the side process beside the others."""
+
+
+def side_stages(data: dict, out: Path, quick: bool = False) -> dict:
+    """The stages of :data:`SIDE_STAGES` (run in the side process, :mod:`gearopt.studies.background`): the failure
+    reproduction, the co-design and the trade-off study (whose tables and figure are written here). Returns what
+    the main process writes: the failure results, the co-design's report lines and JSON, the trade-off's section,
+    the stage times and this process's compile-cache counters."""
+    from gearopt.compile_cache import cache_stats
+
+    timings = StageTimings()
+    t0 = time.perf_counter()
+    failure = failure_reproduction_stage(data, quick=quick)
+    timings["failure_reproduction"] = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    study = codesign_stage(data, quick=quick)
+    codesign = (study.report_lines(), json.loads(json.dumps(study.to_json(), default=float)))
+    timings["codesign_nlp"] = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    trade_off = trade_off_outputs(out, trade_off_stage(data, {"spur": train_from_data(data, "spur")}, quick=quick))
+    timings["trade_off_study"] = time.perf_counter() - t0
+    return {"failure": failure, "codesign": codesign, "trade_off": trade_off, "timings": dict(timings),
+            "compile_cache": cache_stats()}
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -834,70 +894,82 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--out", type=Path, default=DEFAULT_OUT, help=f"output directory (default {DEFAULT_OUT})")
     parser.add_argument("--data", type=Path, default=None, metavar="FILE",
                         help="train data file (TOML in the format of the packaged default data; default: that data)")
+    parser.add_argument("--serial", action="store_true",
+                        help="run every stage in this process (no side process; e.g. to debug a stage)")
     args = parser.parse_args(argv)
 
     if not logging.getLogger().handlers:
         logging.basicConfig(level=logging.INFO, format="%(message)s")
+    wall0 = time.perf_counter()
     timings = StageTimings()
-    t0 = time.perf_counter()
     data, thesis = load_default_data(args.data), load_thesis_tables()
-    macro = macro_design(data, thesis)
-    timings["macro_design"] = time.perf_counter() - t0
+    args.out.mkdir(parents=True, exist_ok=True)
+    # the stages that need only the data run in a side process beside the others; figures render in a third
+    with side_process(enabled=not args.serial) as side, background_figures():
+        side_run = side.submit(side_stages, data, args.out, quick=args.quick)
 
-    t0 = time.perf_counter()
-    teeth = tooth_count_stage(data, macro["trains"]["spur"])
-    timings["tooth_counts"] = time.perf_counter() - t0
+        t0 = time.perf_counter()
+        macro = macro_design(data, thesis)
+        timings["macro_design"] = time.perf_counter() - t0
 
-    t0 = time.perf_counter()
-    split = shift_split_study(macro["trains"]["spur"])
-    timings["shift_split_nlp"] = time.perf_counter() - t0
+        t0 = time.perf_counter()
+        teeth = tooth_count_stage(data, macro["trains"]["spur"])
+        timings["tooth_counts"] = time.perf_counter() - t0
 
-    t0 = time.perf_counter()
-    dynamics = dynamics_stage(data, quick=args.quick)
-    design_torques = dynamic_design_torques(data, dynamics)
-    timings["dynamics"] = time.perf_counter() - t0
+        t0 = time.perf_counter()
+        split = shift_split_study(macro["trains"]["spur"])
+        timings["shift_split_nlp"] = time.perf_counter() - t0
 
-    t0 = time.perf_counter()
-    sizing = joint_sizing_stage(data, macro["trains"], dynamics)
-    timings["joint_sizing_nlp"] = time.perf_counter() - t0
+        t0 = time.perf_counter()
+        dynamics = dynamics_stage(data, quick=args.quick)
+        design_torques = dynamic_design_torques(data, dynamics)
+        timings["dynamics"] = time.perf_counter() - t0
 
-    t0 = time.perf_counter()
-    contact = contact_stage(data, macro["trains"], quick=args.quick)
-    timings["contact_ltca_and_microgeometry_nlp"] = time.perf_counter() - t0
+        t0 = time.perf_counter()
+        sizing = joint_sizing_stage(data, macro["trains"], dynamics)
+        timings["joint_sizing_nlp"] = time.perf_counter() - t0
 
-    t0 = time.perf_counter()
-    ratings = rating_stage(data, macro["trains"])
-    ratings.update(rating_at_dynamic_peaks(data, macro["trains"], design_torques))
-    timings["rating"] = time.perf_counter() - t0
+        t0 = time.perf_counter()
+        contact = contact_stage(data, macro["trains"], quick=args.quick)
+        timings["contact_ltca_and_microgeometry_nlp"] = time.perf_counter() - t0
 
-    t0 = time.perf_counter()
-    joints = joint_stage(data)
-    timings["joints_blanks_webs"] = time.perf_counter() - t0
+        t0 = time.perf_counter()
+        ratings = rating_stage(data, macro["trains"])
+        ratings.update(rating_at_dynamic_peaks(data, macro["trains"], design_torques))
+        timings["rating"] = time.perf_counter() - t0
 
-    t0 = time.perf_counter()
-    failure = failure_reproduction_stage(data, quick=args.quick)
-    timings["failure_reproduction"] = time.perf_counter() - t0
+        t0 = time.perf_counter()
+        joints = joint_stage(data)
+        timings["joints_blanks_webs"] = time.perf_counter() - t0
 
-    t0 = time.perf_counter()
-    codesign = codesign_stage(data, quick=args.quick)
-    timings["codesign_nlp"] = time.perf_counter() - t0
+        t0 = time.perf_counter()
+        sections = write_sections(args.out, contact, ratings, joints, dynamics, design_torques)
+        timings["write_sections"] = time.perf_counter() - t0
 
-    with background_figures():          # PNGs render in a worker while the trade-off study runs
+        t0 = time.perf_counter()
+        side_result = side_run.result()
+        timings["side_process_wait"] = time.perf_counter() - t0
+        for stage, elapsed in side_result["timings"].items():
+            timings[stage] = elapsed
+
         t0 = time.perf_counter()
         write_outputs(args.out, macro, split, timings, contact, ratings, joints, dynamics, design_torques, teeth,
-                      sizing, data=data, failure=failure, codesign=codesign)
+                      sizing, data=data, failure=side_result["failure"], codesign=CodesignOutputs(*side_result["codesign"]),
+                      sections=sections)
+        write_trade_off(args.out, *side_result["trade_off"])
         timings["write_outputs"] = time.perf_counter() - t0
-
-        t0 = time.perf_counter()
-        write_trade_off(args.out, trade_off_stage(data, macro["trains"], quick=args.quick))
-        timings["trade_off_study"] = time.perf_counter() - t0
         t0 = time.perf_counter()
     timings["figure_files_wait"] = time.perf_counter() - t0
     result = json.loads((args.out / "result.json").read_text())
     result["stage_time_s"] = dict(timings)                          # every stage, the ones after write_outputs too
+    result["side_process_stages"] = list(SIDE_STAGES) if side.enabled else []
+    result["wall_time_s"] = time.perf_counter() - wall0            # less than the stages' sum: two chains overlap
     from gearopt.compile_cache import cache_stats
 
-    result["compile_cache"] = cache_stats()       # this process's kernels: compiled now, loaded, or interpreted
+    main_stats = cache_stats()       # this process's kernels: compiled now, loaded, or interpreted
+    side_stats = side_result["compile_cache"] if side.enabled else {}
+    result["compile_cache"] = {k: v + side_stats.get(k, 0) if isinstance(v, (int, float)) else v
+                               for k, v in main_stats.items()}
     (args.out / "result.json").write_text(json.dumps(result, indent=2, default=float) + "\n")
 
     spur = macro["tables"]["table_3_3_profile_shift"]
@@ -931,7 +1003,9 @@ def main(argv: list[str] | None = None) -> int:
         if r["train"] == "spur":
             print(f"  joint {r['joint']:5s} (spur) present margin x{r['present_min_torque_margin']:.2f} over speed; "
                   f"for x{r['target_margin']:g}: {r['result']}{(' -- relax ' + r['must_relax']) if r['must_relax'] else ''}")
-    print("stage times:", ", ".join(f"{k} {v:.2f} s" for k, v in timings.items()))
+    print("stage times:", ", ".join(f"{k} {v:.2f} s" for k, v in timings.items()),
+          f"(wall {result['wall_time_s']:.1f} s; {', '.join(result['side_process_stages']) or 'no stage'} in the "
+          f"side process)")
     summary = json.loads((args.out / "result.json").read_text())["summary"]
     print(f"verdict: {summary['verdict']}" + (f" ({len(summary['failed'])} requirements fail: "
                                               + "; ".join(summary["failed"]) + ")" if summary["failed"] else ""))

@@ -1,0 +1,99 @@
+"""Independent stages of a long script in a second process, beside the main one.
+
+A script whose stages do not depend on each other (the main job: the co-design, the failure reproduction and the
+trade-off study need only the data) runs some of them in a side process while it computes the others: on a machine
+with two cores the run takes about the longer of the two chains instead of their sum. Inside
+:func:`side_process`, :meth:`SideProcess.submit` returns a :class:`concurrent.futures.Future`; leaving the block
+waits for what is still running. Nothing here schedules work: it is one :class:`~concurrent.futures.ProcessPoolExecutor`
+worker, started with ``spawn`` (no fork of a process holding solver or plotting threads).
+
+A function of a script (a file run as ``__main__`` or loaded from its path, not importable by name) is found in the
+worker by loading that file again (its ``if __name__ == "__main__"`` block does not run); a function of an
+importable module is pickled by reference as usual. Arguments and results must pickle. The worker logs at INFO to
+standard error with a ``[side]`` prefix, so each stage's progress still shows as it goes.
+
+``enabled=False`` runs each submitted function at once in this process (same results, no second process).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import importlib
+import importlib.util
+import inspect
+import logging
+import multiprocessing
+from concurrent.futures import Future, ProcessPoolExecutor
+from pathlib import Path
+from typing import Any, Callable, Iterator
+
+__all__ = ["SideProcess", "side_process"]
+
+
+class SideProcess:
+    """Submits functions to the side process (see the module docstring)."""
+
+    def __init__(self, pool: ProcessPoolExecutor | None):
+        self._pool = pool
+
+    @property
+    def enabled(self) -> bool:
+        """True when submitted work runs in the second process."""
+        return self._pool is not None
+
+    def submit(self, fn: Callable, *args: Any, **kwargs: Any) -> Future:
+        """Run ``fn(*args, **kwargs)`` in the side process (at once when disabled); its future."""
+        if self._pool is None:
+            future: Future = Future()
+            try:
+                future.set_result(fn(*args, **kwargs))
+            except Exception as exc:  # noqa: BLE001  (re-raised by future.result(), as from the worker)
+                future.set_exception(exc)
+            return future
+        if _importable(fn):
+            return self._pool.submit(_call, fn, args, kwargs)
+        return self._pool.submit(_call_from_file, inspect.getfile(fn), fn.__qualname__, args, kwargs)
+
+
+@contextlib.contextmanager
+def side_process(enabled: bool = True) -> Iterator[SideProcess]:
+    """A :class:`SideProcess` for the block; leaving it waits for the submitted work (a failure is raised by
+    the future's ``result()``)."""
+    if not enabled:
+        yield SideProcess(None)
+        return
+    pool = ProcessPoolExecutor(max_workers=1, mp_context=multiprocessing.get_context("spawn"),
+                               initializer=_configure_logging)
+    try:
+        yield SideProcess(pool)
+    finally:
+        pool.shutdown(wait=True, cancel_futures=True)
+
+
+def _importable(fn: Callable) -> bool:
+    module = getattr(fn, "__module__", None)
+    if not module or module == "__main__" or "<locals>" in getattr(fn, "__qualname__", ""):
+        return False
+    try:
+        return getattr(importlib.import_module(module), fn.__qualname__.split(".")[0], None) is not None
+    except ImportError:
+        return False
+
+
+def _configure_logging() -> None:
+    if not logging.getLogger().handlers:
+        logging.basicConfig(level=logging.INFO, format="[side] %(message)s")
+
+
+def _call(fn: Callable, args: tuple, kwargs: dict) -> Any:
+    return fn(*args, **kwargs)
+
+
+def _call_from_file(path: str, qualname: str, args: tuple, kwargs: dict) -> Any:
+    spec = importlib.util.spec_from_file_location(f"_side_{Path(path).stem}", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    obj: Any = module
+    for part in qualname.split("."):
+        obj = getattr(obj, part)
+    return obj(*args, **kwargs)

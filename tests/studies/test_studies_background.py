@@ -1,0 +1,54 @@
+"""The side process of a long script: a function of a script file (not importable by name) and one of a module
+run in a second process and give what they give in this one; a failure reaches the caller; disabled, the work
+runs at once here."""
+
+import importlib.util
+import math
+import os
+
+import pytest
+
+from gearopt.errors import GearoptInputError
+from gearopt.studies.background import side_process
+from gearopt.validation import check_range
+
+SCRIPT = '''
+import os
+
+def stage(x, *, scale=1.0):
+    return {"value": x * scale, "pid": os.getpid()}
+
+def broken(x):
+    raise ValueError(f"bad stage input {x}")
+'''
+
+
+@pytest.fixture(scope="module")
+def script(tmp_path_factory):
+    path = tmp_path_factory.mktemp("script") / "a_script.py"
+    path.write_text(SCRIPT)
+    spec = importlib.util.spec_from_file_location("loaded_from_its_path", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_functions_run_in_a_second_process_with_the_same_results_and_failures_reach_the_caller(script):
+    with side_process() as side:          # one worker for the whole test: its start imports gearopt
+        assert side.enabled
+        there = side.submit(script.stage, 3.0, scale=2.0)
+        hyp = side.submit(math.hypot, 3.0, 4.0)
+        failed = side.submit(script.broken, 7)
+        assert there.result()["value"] == script.stage(3.0, scale=2.0)["value"] == 6.0
+        assert there.result()["pid"] != os.getpid()
+        assert hyp.result() == 5.0
+        with pytest.raises(ValueError, match="bad stage input 7"):
+            failed.result()
+
+
+def test_disabled_runs_here_at_once(script):
+    with side_process(enabled=False) as side:
+        assert not side.enabled
+        assert side.submit(script.stage, 1.5).result() == {"value": 1.5, "pid": os.getpid()}
+        with pytest.raises(GearoptInputError, match="speed_rpm"):
+            side.submit(check_range, "speed_rpm", -1.0, 0.0, None).result()
