@@ -622,6 +622,7 @@ def plot_failure_map(out: Path, envelope: pd.DataFrame) -> Path:
     for ax, joint in zip(axes, ("cam", "crank")):
         rows = envelope[(envelope["joint"] == joint) & envelope["train"].isin(["helical", "spur"])]
         if rows.empty:
+            ax.set_visible(False)                  # no such joint in the envelope: no empty panel
             continue
         tol = rows[rows["fit_case"].isin(["weakest", "strongest"])]["capacity_N"]
         ax.axvspan(tol.min() * 1e-3, tol.max() * 1e-3, color="0.92", label="toleranced fits")
