@@ -622,6 +622,7 @@ def plot_failure_map(out: Path, envelope: pd.DataFrame) -> Path:
     for ax, joint in zip(axes, ("cam", "crank")):
         rows = envelope[(envelope["joint"] == joint) & envelope["train"].isin(["helical", "spur"])]
         if rows.empty:
+            ax.set_visible(False)                  # no such joint in the envelope: no empty panel
             continue
         tol = rows[rows["fit_case"].isin(["weakest", "strongest"])]["capacity_N"]
         ax.axvspan(tol.min() * 1e-3, tol.max() * 1e-3, color="0.92", label="toleranced fits")
@@ -640,10 +641,15 @@ def plot_failure_map(out: Path, envelope: pd.DataFrame) -> Path:
         ax.set_yscale("symlog", linthresh=1e-2)
         ax.set_ylim(bottom=0.0)
         ax.set_xlabel("friction capacity C [kN]")
-        ax.set_ylabel("axial creep off the nose [um per engine cycle]")
+        ax.set_ylabel("axial creep off the nose [µm per engine cycle]")
         ax.set_title(f"{joint} gear" + (" (spur: zero creep everywhere)" if spur_zero else ""))
         ax.grid(alpha=0.3, which="both")
-    axes[0].legend(fontsize=6, ncol=2)
+    handles = {}                                   # one legend for both panels (the same speeds and damper states)
+    for ax in axes:
+        handles.update(zip(*reversed(ax.get_legend_handles_labels())))
+    fig.legend(list(handles.values()), list(handles), loc="outside lower center", fontsize=7,
+               ncol=min(len(handles), 4))
+    fig.suptitle("Failure reproduction: axial creep of the joints against the fit's friction capacity")
     return figs.save(fig, out / "figures" / "failure_reproduction_creep_map.png")
 
 

@@ -25,6 +25,11 @@ from ..errors import GearoptInputError  # noqa: E402
 DEFAULT_ORDERS = tuple(np.arange(0.5, 12.01, 0.5))
 
 
+#: Crossing marker area [pt^2] = first + second x relative strength; the mode labels keep clear of the largest.
+_MARKER_AREA_PT2 = (8.0, 160.0)
+_LABEL_CLEARANCE_PT = 0.5 * float(np.sqrt(sum(_MARKER_AREA_PT2))) + 2.0
+
+
 def _network(model):
     """A TimingModel's network, or the network itself."""
     net = getattr(model, "network", model)
@@ -94,18 +99,22 @@ def plot_campbell(model, speeds_rpm, orders=DEFAULT_ORDERS, *, max_frequency_Hz:
     for _, mode in camp["modes"].iterrows():
         node = shapes[f"mode_{int(mode['mode'])}"].abs().idxmax()
         ax.axhline(mode["frequency_Hz"], color="tab:blue", lw=1.0, zorder=2)
+        below = mode["frequency_Hz"] > 0.06 * f_top       # below the line: the order labels sit above the markers
         ax.annotate(f"mode {int(mode['mode'])} ({node}) {mode['frequency_Hz']:.0f} Hz", (n[0], mode["frequency_Hz"]),
-                    xytext=(3, 2), textcoords="offset points", fontsize=7, color="tab:blue")
+                    xytext=(3, -_LABEL_CLEARANCE_PT if below else _LABEL_CLEARANCE_PT), textcoords="offset points",
+                    fontsize=7, color="tab:blue", va="top" if below else "bottom", zorder=4,
+                    bbox={"boxstyle": "square,pad=0.1", "fc": "white", "ec": "none", "alpha": 0.85})
     if len(table):
-        strength = table["relative_strength"].to_numpy()
-        points = ax.scatter(table["speed_rpm"], table["frequency_Hz"], s=8 + 160 * strength,
+        area = _MARKER_AREA_PT2[0] + _MARKER_AREA_PT2[1] * table["relative_strength"].to_numpy()
+        points = ax.scatter(table["speed_rpm"], table["frequency_Hz"], s=area,
                             c=table["modal_excitation_Nm"], cmap="Reds", vmin=0.0, edgecolors="0.3",
                             linewidths=0.4, zorder=3,
                             label=f"{len(table)} crossings in {speeds.min():.0f}-{speeds.max():.0f} rpm "
                                   "(size, colour: modal excitation)")
         fig.colorbar(points, ax=ax, label="modal excitation of the crossing [N m]", shrink=0.8)
-        for _, r in table[table["relative_strength"] >= annotate_above].iterrows():
-            ax.annotate(f"{r['order']:g}", (r["speed_rpm"], r["frequency_Hz"]), xytext=(4, 4),
+        for k in np.nonzero(table["relative_strength"].to_numpy() >= annotate_above)[0]:
+            r, off = table.iloc[k], 0.35 * float(np.sqrt(area[k])) + 1.5     # beside the marker's edge
+            ax.annotate(f"{r['order']:g}", (r["speed_rpm"], r["frequency_Hz"]), xytext=(off, off),
                         textcoords="offset points", fontsize=7, color="darkred")
         ax.legend(loc="upper left", fontsize=8)
     ax.set_xlim(n[0], n[1] * 1.04)

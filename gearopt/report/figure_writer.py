@@ -11,7 +11,9 @@ either way (the worker unpickles the very figure the caller built).
 from __future__ import annotations
 
 import contextlib
+import json
 import multiprocessing
+import os
 import pickle
 from concurrent.futures import Future, ProcessPoolExecutor
 from pathlib import Path
@@ -25,10 +27,30 @@ _POOL: ProcessPoolExecutor | None = None
 _PENDING: list[Future] = []
 
 
-def _render(payload: bytes, path: str, dpi: int) -> str:
-    fig = pickle.loads(payload)
+CHECKS_ENV = "GEAROPT_FIGURE_CHECKS"
+"""Environment variable: a file path; when set, every figure written (in this process or a worker) is checked by
+:func:`gearopt.report.figure_checks.readability_issues` first and one JSON line appended to that file: ``file``,
+``issues``, ``figure_legends`` (legends of the figure), ``axes_legends`` (of its axes), ``suptitle``. The tests
+set it to check every figure a script writes, whichever process draws it."""
+
+
+def _write(fig, path: str | Path, dpi: int) -> None:
+    log = os.environ.get(CHECKS_ENV)
+    if log:
+        from .figure_checks import readability_issues
+
+        record = {"file": Path(path).name, "issues": readability_issues(fig),
+                  "figure_legends": len(fig.legends),
+                  "axes_legends": sum(a.get_legend() is not None for a in fig.axes),
+                  "suptitle": bool(fig.get_suptitle()) if hasattr(fig, "get_suptitle") else False}
+        with open(log, "a", encoding="utf-8") as f:     # one short line per write: appends do not interleave
+            f.write(json.dumps(record) + "\n")
     fig.savefig(path, dpi=dpi)
     plt.close(fig)
+
+
+def _render(payload: bytes, path: str, dpi: int) -> str:
+    _write(pickle.loads(payload), path, dpi)
     return path
 
 
@@ -38,8 +60,7 @@ def save(fig, path: str | Path, dpi: int = 120) -> Path:
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     if _POOL is None:
-        fig.savefig(path, dpi=dpi)
-        plt.close(fig)
+        _write(fig, path, dpi)
         return path
     payload = pickle.dumps(fig)
     plt.close(fig)
@@ -48,9 +69,7 @@ def save(fig, path: str | Path, dpi: int = 120) -> Path:
 
 
 def _build_render(builder, args: tuple, kwargs: dict, path: str, dpi: int) -> str:
-    fig = builder(*args, **kwargs)
-    fig.savefig(path, dpi=dpi)
-    plt.close(fig)
+    _write(builder(*args, **kwargs), path, dpi)
     return path
 
 

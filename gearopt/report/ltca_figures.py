@@ -32,6 +32,9 @@ COLUMN_LABELS = {"ppte_um": "PPTE [µm]", "max_contact_stress_MPa": "max contact
                  "max_load_intensity_N_per_mm": "max load intensity [N/mm]",
                  "loaded_contact_ratio": "loaded contact ratio"}
 
+#: Face colour of flank-map panels: what shows where a design has no contact on the common roll-angle axis.
+NO_CONTACT_COLOUR = "0.82"
+
 FLANK_QUANTITIES = {
     "load_intensity": ("load intensity [N/mm]", lambda r: r.load_intensity_N_per_mm),
     "contact_stress": ("contact stress [MPa]", lambda r: r.contact_stress_MPa),
@@ -45,19 +48,23 @@ def plot_transmission_error(results: dict, *, align: str = "mean", title: str = 
     """Static TE [um] over one mesh cycle, one line per labelled result (e.g. several torques or designs).
 
     ``align="mean"`` (default) removes each curve's mean, so curves of different mean deflection share one scale and
-    their PPTE compares at a glance; ``"none"`` draws the absolute TE. The cycle is drawn once, from its first to its
-    last position (no segment back to the start)."""
+    their PPTE compares at a glance; ``"none"`` draws the absolute TE. The cycle is drawn once, its positions sorted
+    along the roll angle of gear 1 from the smallest (a refined position set comes in any order, and gear 2 driving
+    walks the roll angle backwards): no segment back to the start of the cycle."""
     if align not in ("mean", "none"):
         raise GearoptInputError(f"align={align!r} must be 'mean' or 'none'")
     fig, ax = _axes(ax, (6.4, 3.8))
     for i, (label, r) in enumerate(results.items()):
-        x = np.asarray(r.position_roll_deg) - r.position_roll_deg[0]
-        te = np.asarray(r.transmission_error_um, dtype=float)
+        roll = np.asarray(r.position_roll_deg, dtype=float)
+        order = np.argsort(roll, kind="stable")
+        x = roll[order] - roll[order[0]]
+        te = np.asarray(r.transmission_error_um, dtype=float)[order]
         if align == "mean":
             te = te - te.mean()
         ax.plot(x, te, lw=1.4, ls=LINE_STYLES[i % len(LINE_STYLES)], label=f"{label}: PPTE {r.ppte_um:.2f} µm")
     ylabel = "TE minus its mean [µm]" if align == "mean" else "transmission error [µm]"
-    return _finish_line_plot(fig, ax, "mesh position, roll angle of gear 1 [deg]", ylabel, title)
+    return _finish_line_plot(fig, ax, "mesh position, roll angle of gear 1 [deg]", ylabel,
+                             title or "static transmission error over one mesh cycle")
 
 
 def flank_map(result, quantity: str = "load_intensity", gear: int = 1, points: int = 200):
@@ -93,7 +100,7 @@ def plot_flank_map(result, quantity: str = "load_intensity", *, gear: int = 1, t
     fig.colorbar(mesh, ax=ax, label=FLANK_QUANTITIES[quantity][0])
     ax.set_xlabel(f"roll angle of gear {gear} [deg]")
     ax.set_ylabel("face position [mm]")
-    ax.set_title(title)
+    ax.set_title(title or f"{FLANK_QUANTITIES[quantity][0].split(' [')[0]} over the flank of gear {gear}")
     fig.set_layout_engine("tight")      # laid out when drawn, not here
     return fig
 
@@ -102,7 +109,8 @@ def plot_flank_grid(results: dict, quantities=("load_intensity", "contact_stress
                                                 "root_stress_1"), *, gear: int = 1, title: str = ""):
     """Flank maps side by side: one row per quantity, one column per labelled result (design). Every panel has the
     same roll-angle and face axes, and each row one colour scale with its own colour bar, so designs compare at a
-    glance (as the thesis' Figs. 4.10-4.15)."""
+    glance (as the thesis' Figs. 4.10-4.15). Where a design's active flank is shorter than the common roll-angle axis
+    the panel shows grey (no contact there), and the title says so."""
     rows, cols = len(quantities), len(results)
     fig, axes = plt.subplots(rows, cols, figsize=(3.3 * cols + 1.0, 2.0 * rows + 0.6), squeeze=False,
                              sharex=True, sharey=True, layout="constrained")
@@ -112,6 +120,7 @@ def plot_flank_grid(results: dict, quantities=("load_intensity", "contact_stress
         hi = max(float(np.max(d[i][2])) for d in data.values())
         for j, (label, maps) in enumerate(data.items()):
             x, y, z = maps[i]
+            axes[i, j].set_facecolor(NO_CONTACT_COLOUR)
             mesh = axes[i, j].pcolormesh(x, y, z, shading="auto", cmap="viridis", vmin=lo, vmax=hi)
             if i == 0:
                 axes[i, j].set_title(label, fontsize=9)
@@ -123,7 +132,11 @@ def plot_flank_grid(results: dict, quantities=("load_intensity", "contact_stress
         cb = fig.colorbar(mesh, ax=axes[i, :].tolist(), shrink=0.95, aspect=12, pad=0.01)
         cb.set_label(FLANK_QUANTITIES[q][0], fontsize=7)
         cb.ax.tick_params(labelsize=7)
-    fig.suptitle(title, fontsize=9)
+    spans = [(float(m[0][0].min()), float(m[0][0].max())) for m in data.values()]
+    partial = len(set(spans)) > 1
+    note = "grey: outside the design's active flank (no contact)" if partial else ""
+    title = title or f"flank maps of gear {gear}"
+    fig.suptitle("\n".join(t for t in (title, note) if t), fontsize=9)
     return fig
 
 
@@ -145,7 +158,8 @@ def plot_harris_map(maps: dict[str, pd.DataFrame], *, design_range_Nm: tuple[flo
         ax.plot(df["torque_Nm"], df["ppte_um"], ls=LINE_STYLES[i % len(LINE_STYLES)], marker=MARKERS[i % len(MARKERS)],
                 ms=7 - 4 * i / max(n - 1, 1), lw=2.6 - 1.4 * i / max(n - 1, 1), mfc="none" if i == 0 else None,
                 label=label, zorder=2 + i)
-    return _finish_line_plot(fig, ax, "torque on the driving gear [N m]", "PPTE [µm]", title)
+    return _finish_line_plot(fig, ax, "torque on the driving gear [N m]", "PPTE [µm]",
+                             title or "Harris map: PPTE against torque")
 
 
 def plot_percentage_change(table: pd.DataFrame, baseline: str, *, by: str | None = None, title: str = "", ax=None):
@@ -190,8 +204,16 @@ def plot_percentage_change(table: pd.DataFrame, baseline: str, *, by: str | None
     pad = 0.22 * max(extent[1] - extent[0], 1.0)        # room for the value labels on both sides
     for panel in axes:
         panel.set_xlim(extent[0] - (pad if extent[0] < 0 else 0.3 * pad), extent[1] + pad)
-    axes[0].legend(fontsize=7, loc="best")
-    fig.suptitle(title, fontsize=10)
+    if ax is None:          # own figure: the legend below the panels, where it can cover no bar or value label
+        fig.legend(*axes[0].get_legend_handles_labels(), loc="outside lower center", fontsize=8,
+                   ncol=min(len(change.index), 4))
+    else:
+        axes[0].legend(fontsize=7, loc="best")
+    default = f"percentage change against {baseline.replace('_', ' ')}"
+    if ax is None or title:
+        fig.suptitle(title or default, fontsize=10)
+    elif not ax.get_title():
+        ax.set_title(default, fontsize=9)        # the caller's figure: no figure title imposed on it
     return fig
 
 

@@ -334,8 +334,18 @@ def _normalised(x: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return norm(x), norm(y)
 
 
+_DISPLAY_UNITS = {"um": "µm", "C": "°C", "N*m": "N m", "kg*m^2": "kg m²"}
+
+
 def _axis(name: str, unit: str) -> str:
-    return f"{name} [{unit}]" if unit else name
+    """Axis label of a front column: ``"ppte_um[crank-cam]"`` in ``um`` -> ``"ppte, crank-cam [µm]"``; a
+    quantity of the vocabulary without a unit is a ratio (``[-]``); the weighted ``objective`` has none."""
+    quantity, _, target = name.partition("[")
+    if not target:
+        return f"{name} [{_DISPLAY_UNITS.get(unit, unit)}]" if unit else name
+    if unit and quantity.endswith(f"_{unit}"):
+        quantity = quantity[:-len(unit) - 1]
+    return f"{quantity.replace('_', ' ')}, {target.rstrip(']')} [{_DISPLAY_UNITS.get(unit, unit) or '-'}]"
 
 
 __all__ = ["pareto_front", "ParetoFront", "run_segment", "OK"]

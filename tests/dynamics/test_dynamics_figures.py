@@ -9,6 +9,7 @@ import pytest
 from gearopt.dynamics import TorsionalNetwork, default_timing_model
 from gearopt.errors import GearoptInputError
 from gearopt.report.dynamics_figures import DEFAULT_ORDERS, campbell_table, plot_campbell
+from gearopt.report.figure_checks import readability_issues
 
 
 def _two_mass_chain(j1=0.01, j2=0.02, k1=2.0e4, k2=1.0e4):
@@ -59,4 +60,39 @@ def test_campbell_figure_of_the_default_model():
         plot_campbell(model, [1000.0])
     with pytest.raises(GearoptInputError, match="TorsionalNetwork"):
         campbell_table(object(), [700.0, 3000.0])
+    matplotlib.pyplot.close(fig)
+
+
+def test_campbell_markers_are_weighted_by_how_hard_the_order_drives_the_mode():
+    """Marker area and colour follow the crossing's modal excitation (the order's harmonic of the engine torques
+    projected on the mode shape): a strong order's crossing is drawn larger than a weak one's, and the mode labels
+    cover no crossing marker."""
+    model = default_timing_model("spur")
+    speeds = np.linspace(750.0, 3000.0, 50)
+    fig = plot_campbell(model, speeds, title="spur train: Campbell diagram")
+    ax = fig.axes[0]
+    points = ax.collections[0]
+    table = campbell_table(model, speeds, max_frequency_Hz=1.1 * max(DEFAULT_ORDERS) * 3000.0 / 60.0)
+    excitation = table["modal_excitation_Nm"].to_numpy()
+    sizes = points.get_sizes()
+    np.testing.assert_allclose(points.get_array(), excitation)
+    assert np.ptp(excitation) > 0.5 * excitation.max()               # the orders differ in strength ...
+    assert np.all(np.diff(sizes[np.argsort(excitation)]) >= 0.0)      # ... and the marker areas follow them
+    assert sizes.max() > 5.0 * sizes.min()
+    strongest = table.iloc[int(np.argmax(excitation))]
+    # order 6: the inline six's 2nd firing harmonic (firing order 3) and the valve train's 12 lobe events per cam
+    # revolution (default data, docs/default-data.md sec. 2.6) act together
+    assert strongest["order"] == 6.0
+    labelled = {t.get_text() for t in ax.texts}
+    assert "6" in labelled
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    centres = ax.transData.transform(np.asarray(points.get_offsets()))
+    radii = 0.5 * np.sqrt(sizes) * fig.dpi / 72.0
+    for text in (t for t in ax.texts if t.get_text().startswith("mode ")):
+        box = text.get_window_extent(renderer)
+        nearest_x = np.clip(centres[:, 0], box.x0, box.x1)
+        nearest_y = np.clip(centres[:, 1], box.y0, box.y1)
+        assert np.all(np.hypot(centres[:, 0] - nearest_x, centres[:, 1] - nearest_y) > radii), text.get_text()
+    assert readability_issues(fig) == []
     matplotlib.pyplot.close(fig)

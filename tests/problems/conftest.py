@@ -1,9 +1,14 @@
 """Shared fixture of the problem-script tests: run a script of ``problems/`` in-process with ``--quick``."""
 
 import importlib.util
+import json
 from pathlib import Path
 
 import pytest
+
+from gearopt.report.figure_writer import CHECKS_ENV
+
+FIGURE_CHECKS = "figure_checks.jsonl"
 
 PROBLEMS = Path(__file__).resolve().parents[2] / "problems"
 
@@ -18,10 +23,24 @@ def load_script(name: str):
 
 @pytest.fixture(scope="session")
 def run_quick(tmp_path_factory):
-    """``run_quick(name)``: run ``problems/<name>.py --quick --out <tmp>``, assert exit code 0, return the output
-    directory."""
+    """``run_quick(name)``: run ``problems/<name>.py --quick --out <tmp>`` (once per session), assert exit code 0,
+    return the output directory."""
+    done: dict[str, Path] = {}
+
     def run(name: str) -> Path:
-        out = tmp_path_factory.mktemp(name)
-        assert load_script(name).main(["--quick", "--out", str(out)]) == 0
+        if name in done:                   # one quick run per script and session, shared by its test modules
+            return done[name]
+        out = done[name] = tmp_path_factory.mktemp(name)
+        with pytest.MonkeyPatch.context() as mp:     # every figure checked where it is drawn (any process)
+            mp.setenv(CHECKS_ENV, str(out / FIGURE_CHECKS))
+            assert load_script(name).main(["--quick", "--out", str(out)]) == 0
         return out
     return run
+
+
+def figure_checks(out: Path) -> dict[str, dict]:
+    """``{file name: check record}`` of the figures a ``run_quick`` run wrote (:data:`CHECKS_ENV`)."""
+    path = out / FIGURE_CHECKS
+    if not path.exists():
+        return {}
+    return {r["file"]: r for r in map(json.loads, path.read_text().splitlines())}

@@ -106,6 +106,8 @@ def test_front_plot_draws_and_annotates_the_knee(front, tmp_path):
     knee = front.knee()
     assert knee["status"] == OK
     assert any("knee" in t.get_text() for t in fig.axes[0].texts)
+    assert fig.axes[0].get_xlabel() == f"loaded contact ratio, {MESH} [-]"      # a ratio: dimensionless
+    assert fig.axes[0].get_ylabel() == f"ppte, {MESH} [µm]"
 
 
 def test_bad_fronts_raise_clear_errors(scene):
