@@ -4,6 +4,8 @@ import json
 
 import pytest
 
+from conftest import figure_checks
+
 
 @pytest.fixture(scope="module")
 def run(run_quick):
@@ -230,3 +232,27 @@ def test_codesign_stage_reports_both_designs_per_flank_and_mesh(run):
         for mesh in ("crank-cam", "cam-ac", "cam-fp"):
             assert entry["meshes"][mesh]["ppte_um"] > 0 and "max_contact_stress_MPa" in entry["meshes"][mesh]["margins"]
     assert "## Co-design" in (run / "report.md").read_text()
+
+
+@pytest.fixture(scope="module")
+def checked(run):
+    """Every figure of the run checked where it was drawn -- the main process, the figure writer's worker or the
+    side process (``GEAROPT_FIGURE_CHECKS``, set by the shared quick run): gearopt.report.figure_checks."""
+    return figure_checks(run), run
+
+
+def test_every_figure_of_the_main_job_is_readable(checked):
+    found, out = checked
+    written = {p.name for p in (out / "figures").glob("*.png")}
+    assert written == set(found)                       # every file went through the check
+    assert {"campbell_spur.png", "harris_crank_cam.png", "te_crank_cam.png", "flank_maps_crank_cam.png",
+            "change_load_cases_crank_cam.png", "failure_reproduction_creep_map.png",
+            "trade_off_crank_cam.png"} <= written
+    assert {name: r["issues"] for name, r in found.items() if r["issues"]} == {}
+
+
+def test_creep_map_has_one_legend_for_both_joints(checked):
+    found, _ = checked
+    record = found["failure_reproduction_creep_map.png"]
+    assert record["figure_legends"] == 1 and record["axes_legends"] == 0
+    assert record["suptitle"]
