@@ -419,10 +419,12 @@ def codesign_stage(data: dict, quick: bool = False):
                                                            "max_helical_slices": 7})
 
 
-def write_contact(out: Path, studies: dict) -> tuple[list[str], dict]:
-    """Contact tables and figures; returns the report lines and the result.json entries."""
+def write_contact(out: Path, studies: dict, *, quick: bool = False) -> tuple[list[str], dict]:
+    """Contact tables and figures; returns the report lines and the result.json entries. ``quick``: the flank maps
+    and the per-load-case change chart of the first mesh only (the largest figures)."""
     lines, result = ["## Contact: helical baseline vs unmodified spur vs optimised spur", ""], {}
-    for mesh, st in studies.items():
+    for index, (mesh, st) in enumerate(studies.items()):
+        every_figure = not quick or index == 0
         tag = mesh.replace("-", "_")
         write_table(st.summary, out, f"contact_{tag}")
         opt = st.optimisation
@@ -440,13 +442,14 @@ def write_contact(out: Path, studies: dict) -> tuple[list[str], dict]:
         fig_maps = plot_later(figs.plot_flank_grid, out / "figures" / f"flank_maps_{tag}.png",
                               {d: st.ltca[d] for d in DESIGNS},
                               title=f"{mesh}: load intensity, contact stress, contact temperature, root stress of "
-                                    f"gear 1 over its flank")
+                                    f"gear 1 over its flank") if every_figure else None
         change = st.summary.set_index("design").drop(columns=["loaded_contact_ratio"])
         fig_c = plot_later(figs.plot_percentage_change, out / "figures" / f"change_{tag}.png", change, "helical",
                            title=f"{mesh}: change against helical")
         fig_cl = plot_later(figs.plot_percentage_change, out / "figures" / f"change_load_cases_{tag}.png",
                             opt.table.set_index("design"), "unmodified", by="torque_Nm",
-                            title=f"{mesh}: change against the unmodified spur pair at every load case (exact LTCA)")
+                            title=f"{mesh}: change against the unmodified spur pair at every load case (exact LTCA)"
+                            ) if every_figure else None
         lines += [f"### {mesh} at {st.torque_Nm:g} N m on the driving gear, {st.speed_rpm:g} rpm", "",
                   to_markdown(st.summary), "",
                   "Optimised microgeometry (linear tip relief blended over "
@@ -456,9 +459,9 @@ def write_contact(out: Path, studies: dict) -> tuple[list[str], dict]:
                   f"load cases {', '.join(f'{t:g}' for t in opt.torques_Nm)} N m. Exact-LTCA check of the designs:",
                   "", to_markdown(opt.table), "",
                   f"![TE]({fig_te.relative_to(out)}) ![TE over torque]({fig_tt.relative_to(out)}) "
-                  f"![Harris]({fig_h.relative_to(out)}) "
-                  f"![change]({fig_c.relative_to(out)}) ![change at every load case]({fig_cl.relative_to(out)})", "",
-                  f"![flank maps]({fig_maps.relative_to(out)})", ""]
+                  f"![Harris]({fig_h.relative_to(out)}) ![change]({fig_c.relative_to(out)})"
+                  + (f" ![change at every load case]({fig_cl.relative_to(out)})" if fig_cl else ""), ""]
+        lines += [f"![flank maps]({fig_maps.relative_to(out)})", ""] if fig_maps else []
         entry = st.headline()
         entry["optimised_microgeometry"] = {k: v for k, v in opt.values.items()}
         entry["optimised_microgeometry"]["relief_shape"] = opt.microgeometry.relief_shape
@@ -691,7 +694,8 @@ def write_outputs(out: Path, macro: dict, split: dict, timings: dict, contact: d
     out.mkdir(parents=True, exist_ok=True)
     if sections is None:
         sections = write_sections(out, contact, ratings, joints, dynamics, design_torques)
-    failure_lines, failure_result = write_failure(out, failure) if failure else ([], {})
+    failure_lines, failure_result = (sections["failure"] if "failure" in sections
+                                     else write_failure(out, failure) if failure else ([], {}))
     lines = list(failure_lines)  # the failure the redesign cures comes first, after the summary
     appendix = ["## Appendix: reproductions of the source study's tables", "",
                 "Thesis columns are the thesis' own (normalised where the thesis normalised); see "
@@ -778,11 +782,12 @@ def write_outputs(out: Path, macro: dict, split: dict, timings: dict, contact: d
 
 
 def write_sections(out: Path, contact: dict | None, ratings: dict | None, joints: dict | None,
-                   dynamics: dict | None, design_torques: pd.DataFrame | None) -> dict:
-    """Tables and figures of the main process's sections, written as soon as their stages end (the figures go to
-    the figure writer's worker); ``{section: (report lines, result.json entries)}`` for :func:`write_outputs`."""
+                   dynamics: dict | None, design_torques: pd.DataFrame | None, *, quick: bool = False) -> dict:
+    """Tables and figures of the main process's sections (the figures go to the figure writer's worker);
+    ``{section: (report lines, result.json entries)}`` for :func:`write_outputs`. The main job calls it per
+    section as soon as its stage ends, so the figures render while the next stages run."""
     out.mkdir(parents=True, exist_ok=True)
-    return {"contact": write_contact(out, contact) if contact else ([], {}),
+    return {"contact": write_contact(out, contact, quick=quick) if contact else ([], {}),
             "rating": write_rating(out, ratings) if ratings else ([], {}),
             "joints": write_joints(out, joints) if joints else ([], {}),
             "dynamics": write_dynamics(out, dynamics, design_torques) if dynamics else ([], {})}
@@ -881,7 +886,7 @@ def side_stages(data: dict, out: Path, quick: bool = False) -> dict:
 
     timings = StageTimings()
     t0 = time.perf_counter()
-    failure = failure_reproduction_stage(data, quick=quick)
+    failure = write_failure(out, failure_reproduction_stage(data, quick=quick))    # its tables and creep map too
     timings["failure_reproduction"] = time.perf_counter() - t0
     t0 = time.perf_counter()
     study = codesign_stage(data, quick=quick)
@@ -930,6 +935,9 @@ def main(argv: list[str] | None = None) -> int:
         dynamics = dynamics_stage(data, quick=args.quick)
         design_torques = dynamic_design_torques(data, dynamics)
         timings["dynamics"] = time.perf_counter() - t0
+        t0 = time.perf_counter()
+        sections = write_sections(args.out, None, None, None, dynamics, design_torques)
+        timings["write_sections"] = time.perf_counter() - t0
 
         t0 = time.perf_counter()
         sizing = joint_sizing_stage(data, macro["trains"], dynamics)
@@ -938,6 +946,9 @@ def main(argv: list[str] | None = None) -> int:
         t0 = time.perf_counter()
         contact = contact_stage(data, macro["trains"], quick=args.quick)
         timings["contact_ltca_and_microgeometry_nlp"] = time.perf_counter() - t0
+        t0 = time.perf_counter()
+        sections["contact"] = write_sections(args.out, contact, None, None, None, None, quick=args.quick)["contact"]
+        timings["write_sections"] += time.perf_counter() - t0
 
         t0 = time.perf_counter()
         ratings = rating_stage(data, macro["trains"])
@@ -949,8 +960,9 @@ def main(argv: list[str] | None = None) -> int:
         timings["joints_blanks_webs"] = time.perf_counter() - t0
 
         t0 = time.perf_counter()
-        sections = write_sections(args.out, contact, ratings, joints, dynamics, design_torques)
-        timings["write_sections"] = time.perf_counter() - t0
+        written = write_sections(args.out, None, ratings, joints, None, None)
+        sections.update(rating=written["rating"], joints=written["joints"])
+        timings["write_sections"] += time.perf_counter() - t0
 
         t0 = time.perf_counter()
         side_result = side_run.result()
@@ -960,8 +972,8 @@ def main(argv: list[str] | None = None) -> int:
 
         t0 = time.perf_counter()
         write_outputs(args.out, macro, split, timings, contact, ratings, joints, dynamics, design_torques, teeth,
-                      sizing, data=data, failure=side_result["failure"], codesign=CodesignOutputs(*side_result["codesign"]),
-                      sections=sections)
+                      sizing, data=data, codesign=CodesignOutputs(*side_result["codesign"]),
+                      sections={**sections, "failure": side_result["failure"]})
         write_trade_off(args.out, *side_result["trade_off"])
         timings["write_outputs"] = time.perf_counter() - t0
         t0 = time.perf_counter()

@@ -1,6 +1,7 @@
 """The main job runs end to end on the packaged data and writes its tables; shape checks against the thesis."""
 
 import json
+import re
 
 import pytest
 
@@ -72,8 +73,13 @@ def test_contact_stage_compares_three_designs_per_pair(run):
         assert entry["max_flash_temperature_C"]["helical"] > 100.0   # bulk 100 C + a positive flash rise
         assert all(v >= -1e-6 for v in entry["constraint_margins"].values()), mesh
         assert "tip_relief_1_um" in entry["optimised_microgeometry"]
-    for stem in ("te_crank_cam", "harris_cam_ac", "flank_maps_cam_fp", "change_crank_cam"):
+    for stem in ("te_crank_cam", "harris_cam_ac", "flank_maps_crank_cam", "change_crank_cam", "te_cam_fp"):
         assert (run / "figures" / f"{stem}.png").stat().st_size > 10_000
+    # --quick draws the flank maps of the first mesh only, and the report links only figures that exist
+    assert not (run / "figures" / "flank_maps_cam_fp.png").exists()
+    report = (run / "report.md").read_text()
+    for link in re.findall(r"!\[[^\]]*\]\(([^)]+)\)", report):
+        assert (run / link).exists(), link
 
 
 def test_rating_tables_for_both_trains(run):
