@@ -317,31 +317,25 @@ def dynamic_design_torques(data: dict, dyn: dict) -> pd.DataFrame:
 
 
 def write_dynamics(out: Path, dyn: dict, design_torques: pd.DataFrame | None = None) -> tuple[list[str], dict]:
-    import matplotlib.pyplot as plt
+    from gearopt.report.dynamics_figures import campbell_data, campbell_table, plot_campbell_data, plot_force_traces
 
     lines = ["## Timing-train dynamics: contact forces, helical vs spur, without and with backlash", ""]
     speeds = dyn["speeds_rpm"]
-    fig, axes = plt.subplots(len(speeds), 2, figsize=(11, 3.2 * len(speeds)), squeeze=False, layout="constrained")
-    rows = []
-    for i, speed in enumerate(speeds):
-        for j, lash in enumerate((False, True)):
-            ax = axes[i, j]
+    traces, rows = {}, []
+    for speed in speeds:
+        for lash in (False, True):
+            panel = traces.setdefault(f"crank-cam, {speed:g} rpm, {'with' if lash else 'no'} backlash", {})
             for kind in ("helical", "spur"):
                 sim = dyn["runs"][(kind, speed, lash)]
                 f = sim.frame("mesh_force_N", "crank_angle_deg")["crank-cam"]
-                ax.plot(f.index - f.index[0], f.to_numpy() / 1000.0, lw=0.8, label=kind)
+                panel[kind] = ((f.index - f.index[0]).to_numpy(), f.to_numpy() / 1000.0)
                 summ = sim.summary()
                 for mesh, r in summ.iterrows():
                     rows.append({"train": kind, "speed_rpm": speed, "backlash": lash, "mesh": mesh,
                                  "peak_drive_force_N": r["peak_drive_force_N"],
                                  "peak_back_force_N": r["peak_back_force_N"], "rms_force_N": r["rms_force_N"],
                                  "peak_axial_force_N": r["peak_axial_force_N"]})
-            ax.set_title(f"crank-cam, {speed:g} rpm, {'with' if lash else 'no'} backlash", fontsize=9)
-            ax.set_xlabel("crank angle [deg]")
-            ax.set_ylabel("mesh force [kN]")
-            ax.grid(alpha=0.3)
-            ax.legend(fontsize=7)
-    path = figs.save(fig, out / "figures" / "dynamics_crank_cam_force.png")
+    path = plot_later(plot_force_traces, out / "figures" / "dynamics_crank_cam_force.png", traces)
     table = pd.DataFrame(rows)
     write_table(table, out, "dynamics_mesh_forces")
     lines += [f"![contact forces]({path.relative_to(out)})", "", to_markdown(table), ""]
@@ -353,12 +347,11 @@ def write_dynamics(out: Path, dyn: dict, design_torques: pd.DataFrame | None = N
                   "the inputs of the design torques; with backlash the impacts exceed them (the thesis' overspeed "
                   "case).", "", to_markdown(design_torques), ""]
         result["design_torques"] = design_torques.to_dict(orient="records")
-    from gearopt.report.dynamics_figures import campbell_table, plot_campbell
-
     speeds_c = dyn["campbell_speeds_rpm"]
     for kind, model in dyn["models"].items():
-        fig = plot_campbell(model, np.linspace(speeds_c[0], speeds_c[1], 50), title=f"{kind} train: Campbell diagram")
-        path = figs.save(fig, out / "figures" / f"campbell_{kind}.png")
+        path = plot_later(plot_campbell_data, out / "figures" / f"campbell_{kind}.png",
+                          campbell_data(model, np.linspace(speeds_c[0], speeds_c[1], 50)),
+                          title=f"{kind} train: Campbell diagram")
         crossings = campbell_table(model, speeds_c)
         write_table(crossings, out, f"campbell_crossings_{kind}")
         lines += [f"### Campbell diagram ({kind})", "", f"![Campbell]({path.relative_to(out)})", "",

@@ -73,6 +73,14 @@ def plot_campbell(model, speeds_rpm, orders=DEFAULT_ORDERS, *, max_frequency_Hz:
     (:func:`campbell_table`) sized and coloured by how hard its order drives its mode (modal excitation, N m); the
     strongest crossings (``relative_strength`` >= ``annotate_above``) are labelled with their order. ``max_frequency_Hz`` (default: 1.1 x the highest order's frequency at the top speed)
     limits modes and axis. Returns the matplotlib ``Figure``."""
+    return plot_campbell_data(campbell_data(model, speeds_rpm, orders, max_frequency_Hz=max_frequency_Hz),
+                              label_orders=label_orders, annotate_above=annotate_above, title=title, ax=ax)
+
+
+def campbell_data(model, speeds_rpm, orders=DEFAULT_ORDERS, *, max_frequency_Hz: float | None = None) -> dict:
+    """What :func:`plot_campbell` draws, as plain data (picklable: drawn elsewhere by :func:`plot_campbell_data`):
+    ``speeds_rpm``, ``orders``, ``max_frequency_Hz``, ``crossings`` (:func:`campbell_table`), ``modes`` (mode,
+    frequency_Hz) and ``dominant_node`` per mode."""
     speeds = np.asarray(speeds_rpm, dtype=float).reshape(-1)
     orders = np.asarray(orders, dtype=float).reshape(-1)
     if speeds.size < 2:
@@ -82,7 +90,17 @@ def plot_campbell(model, speeds_rpm, orders=DEFAULT_ORDERS, *, max_frequency_Hz:
     f_top = max_frequency_Hz if max_frequency_Hz is not None else 1.1 * float(orders.max()) * speeds.max() / 60.0
     table = campbell_table(model, speeds, orders, max_frequency_Hz=f_top)
     net = _network(model)
-    camp = campbell_diagram(net, speeds, orders, max_frequency_Hz=f_top)
+    modes = campbell_diagram(net, speeds, orders, max_frequency_Hz=f_top)["modes"][["mode", "frequency_Hz"]]
+    shapes = mode_shapes(net).drop(index="frequency_Hz")
+    nodes = {int(m): str(shapes[f"mode_{int(m)}"].abs().idxmax()) for m in modes["mode"]}
+    return {"speeds_rpm": speeds, "orders": orders, "max_frequency_Hz": float(f_top), "crossings": table,
+            "modes": modes.reset_index(drop=True), "dominant_node": nodes}
+
+
+def plot_campbell_data(data: dict, *, label_orders=(0.5, 1.5, 3.0, 4.5, 6.0, 7.5, 9.0, 12.0),
+                       annotate_above: float = 0.2, title: str = "", ax=None):
+    """The Campbell diagram of :func:`plot_campbell` from :func:`campbell_data`. Returns the ``Figure``."""
+    speeds, orders, f_top, table = data["speeds_rpm"], data["orders"], data["max_frequency_Hz"], data["crossings"]
     if ax is None:
         fig, ax = plt.subplots(figsize=(8.0, 5.5), layout="constrained")
     else:
@@ -95,9 +113,8 @@ def plot_campbell(model, speeds_rpm, orders=DEFAULT_ORDERS, *, max_frequency_Hz:
         if strong and o * n[1] / 60.0 <= f_top:
             ax.annotate(f"{o:g}", (n[1], o * n[1] / 60.0), xytext=(2, 0), textcoords="offset points",
                         fontsize=7, va="center")
-    shapes = mode_shapes(net).drop(index="frequency_Hz")
-    for _, mode in camp["modes"].iterrows():
-        node = shapes[f"mode_{int(mode['mode'])}"].abs().idxmax()
+    for _, mode in data["modes"].iterrows():
+        node = data["dominant_node"][int(mode["mode"])]
         ax.axhline(mode["frequency_Hz"], color="tab:blue", lw=1.0, zorder=2)
         below = mode["frequency_Hz"] > 0.06 * f_top       # below the line: the order labels sit above the markers
         ax.annotate(f"mode {int(mode['mode'])} ({node}) {mode['frequency_Hz']:.0f} Hz", (n[0], mode["frequency_Hz"]),
@@ -126,4 +143,27 @@ def plot_campbell(model, speeds_rpm, orders=DEFAULT_ORDERS, *, max_frequency_Hz:
     return fig
 
 
-__all__ = ["DEFAULT_ORDERS", "campbell_table", "plot_campbell"]
+def plot_force_traces(traces: dict, *, quantity: str = "mesh force [kN]", title: str = ""):
+    """A grid of force traces: ``traces`` maps a panel title to ``{label: (crank angle [deg], force [kN])}``,
+    panels in rows of two (e.g. speeds x without/with backlash). Returns the ``Figure``."""
+    if not traces:
+        raise GearoptInputError("traces must hold at least one panel")
+    rows = (len(traces) + 1) // 2
+    fig, axes = plt.subplots(rows, 2, figsize=(11, 3.2 * rows), squeeze=False, layout="constrained")
+    for ax, (panel, lines) in zip(axes.ravel(), traces.items()):
+        for label, (angle, force) in lines.items():
+            ax.plot(angle, force, lw=0.8, label=label)
+        ax.set_title(panel, fontsize=9)
+        ax.set_xlabel("crank angle [deg]")
+        ax.set_ylabel(quantity)
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=7)
+    for ax in axes.ravel()[len(traces):]:
+        ax.set_visible(False)
+    if title:
+        fig.suptitle(title)
+    return fig
+
+
+__all__ = ["DEFAULT_ORDERS", "campbell_table", "campbell_data", "plot_campbell", "plot_campbell_data",
+           "plot_force_traces"]
