@@ -43,7 +43,6 @@ from typing import Any, Sequence
 
 import numpy as np
 import pandas as pd
-from scipy.optimize import brentq
 
 from ..data import values as data_values
 from ..errors import GearoptInputError
@@ -241,6 +240,7 @@ def _allowed_max_interference_um(spec, demands, s_hub, s_shaft, opts) -> float:
         hi *= 2.0
         if hi > 1e5:
             return math.inf
+    from scipy.optimize import brentq   # imported here: scipy.optimize takes 0.2 s to import
     return float(brentq(slack, lo, hi, xtol=1e-9, rtol=1e-12))
 
 

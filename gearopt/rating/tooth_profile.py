@@ -16,7 +16,6 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy.optimize import brentq
 
 from .. import numerics as nm
 from ..errors import GearoptInputError
@@ -105,6 +104,7 @@ class GeneratedTooth:
         k = np.nonzero(np.sign(angles[:-1]) != np.sign(angles[1:]))[0]
         if k.size == 0:
             raise GearoptInputError(f"no fillet point with a {angle_deg} deg tangent")
+        from scipy.optimize import brentq   # imported here: scipy.optimize takes 0.2 s to import
         phi = brentq(lambda p: float(self.fillet_tangent_angle(p)) - target, phis[k[0]], phis[k[0] + 1],
                      xtol=1e-14)
         x, y = self.fillet_point(phi)
