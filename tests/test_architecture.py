@@ -18,7 +18,7 @@ import gearopt
 
 PACKAGE = pathlib.Path(gearopt.__file__).parent
 
-LAYERS = [("errors", "units"), ("numerics",), ("validation", "nlp", "compile_cache"), ("geometry",), ("data",),
+LAYERS = [("errors", "units"), ("numerics",), ("validation", "nlp", "compile_cache", "executor"), ("geometry",), ("data",),
           ("rating",), ("contact",), ("joints", "blank", "engine"), ("dynamics",), ("design",), ("studies",), ("report",),
           ("cli", "__init__")]
 RANK = {name: rank for rank, names in enumerate(LAYERS) for name in names}

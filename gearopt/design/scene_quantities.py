@@ -60,6 +60,8 @@ class QuantityTerms:
                 return _margin(cap["torque_capacity_Nm"], torque(), target, "torque", torque_Nm)
             if name == "axial_margin":
                 return _margin(cap["axial_capacity_N"], axial(), target, "axial force", axial_N)
+            if name == "axial_utilisation":       # squared (scene_terms): smooth where the thrust vanishes
+                return (axial() / cap["axial_capacity_N"]) ** 2
             from ..joints.walk_off import joint_margins
             return joint_margins(cap["type"], torque(), axial(), cap["torque_capacity_Nm"],
                                  cap["axial_capacity_N"])["slip_utilisation"]
@@ -173,7 +175,8 @@ class QuantityTerms:
 
     def _add_margin_limit(self, lim: Limit, kind: QuantityKind, lc: LoadCase, label: str) -> bool:
         """A lower limit S on a joint margin whose demand is symbolic (walk-off through a free helix angle):
-        ``capacity^2 - S^2 demand^2 >= 0`` (smooth also where the demand vanishes). False when not applicable."""
+        ``capacity^2 - S^2 demand^2 >= 0`` (smooth also where the demand vanishes); S <= 0 always holds and is only
+        recorded (a loose bound, e.g. a trade-off front's). False when not applicable."""
         if kind.name not in ("axial_margin", "torque_margin") or lim.lower is None or lim.upper is not None:
             return False
         demand = (self.joint_axial_force_N if kind.name == "axial_margin" else self.joint_torque_Nm)(lim.target, lc)
@@ -182,6 +185,9 @@ class QuantityTerms:
         cap = self._joint(lim.target, lc)["axial_capacity_N" if kind.name == "axial_margin" else "torque_capacity_Nm"]
         ratio = cap / nm.fmax(nm.sqrt(demand * demand), 1e-9)
         self._record(label, lim.quantity, lim.target, lc, kind, ratio, lim.lower, None, "limit")
+        if lim.lower <= 0.0:
+            # a capacity is >= 0, so the limit always holds; squaring it would turn it into |demand| <= cap/|S|
+            return True
         c0 = float(np.max(self._initial(cap)))
         self.problem.subject_to(label, (cap * cap - lim.lower ** 2 * demand * demand) / c0 ** 2, lower=0.0)
         return True

@@ -22,6 +22,12 @@ quantity: an upper limit is imposed on every element, a minimised objective gets
 (the mirror), ``ppte`` (peak-to-peak of the TE over the mesh positions: two epigraph variables per load case, valid for
 minimisation and upper limits). ``squared``: the elements are squares of the quantity (contact stress: the square
 of the Hertzian stress is smooth at zero load), limits are squared when imposed.
+
+Joint quantities: ``torque_margin`` and ``axial_margin`` (capacity / |demand|, infinite for a zero demand),
+``slip_utilisation`` (combined demand over capacity, :func:`gearopt.joints.joint_margins`) and
+``axial_utilisation`` (|axial force| / axial capacity = 1 / ``axial_margin``: the walk-off demand of a helical
+train as a fraction of what the fit holds, 0 for a spur train; squared, so it stays smooth through a helix angle
+of 0 -- the quantity to trade against when the helix angle may go to 0).
 """
 
 from __future__ import annotations
@@ -116,6 +122,7 @@ def _quantities() -> dict[str, QuantityKind]:
          QuantityKind("torque_margin", "joint", ("joint",), "", True, scale=0.1),
          QuantityKind("axial_margin", "joint", ("joint",), "", True, scale=0.1),
          QuantityKind("slip_utilisation", "joint", ("joint",), "", True, scale=0.1),
+         QuantityKind("axial_utilisation", "joint", ("joint",), "", True, shape="max", squared=True, scale=0.01),
          QuantityKind("torque_capacity_Nm", "joint", ("joint",), "N*m", False, scale=100.0),
          QuantityKind("axial_capacity_N", "joint", ("joint",), "N", False, scale=1e4),
          QuantityKind("hub_yield_safety", "joint", ("joint",), "", False, scale=0.1),

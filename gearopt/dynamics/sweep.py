@@ -11,6 +11,8 @@ recorded cycles, and more cycles give steadier values.
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 import pandas as pd
 
@@ -157,7 +159,8 @@ def cycle_spread(history, cycles: int) -> dict:
 
 def speed_sweep(model, speeds_rpm, backlash=(False, True), cycles: int = 2, run_in_cycles: int = 2,
                 steady_state_tol: float | None = None, rtol: float = 1e-6, shafts=("cam-cam_station_1",),
-                joints=("cam",), parameters: dict | None = None, **options) -> pd.DataFrame:
+                joints=("cam",), parameters: dict | None = None, executor: Any = "serial", *,
+                workers: int | None = None, progress: bool | None = None, **options) -> pd.DataFrame:
     """Sweep ``model`` (a :class:`~gearopt.dynamics.default_model.TimingModel`) over ``speeds_rpm`` [rpm] for each
     lash option in ``backlash``; returns one row per (speed, lash, element) with the columns of
     :func:`simulation_statistics` plus ``speed_rpm``, ``backlash``, ``cycle_change`` (last run-in/recorded cycle's
@@ -169,34 +172,50 @@ def speed_sweep(model, speeds_rpm, backlash=(False, True), cycles: int = 2, run_
     ``..._median``, ``..._best``, the same for ``axial_margin``).
     ``options`` go to the simulator (JIT kernels come from the on-disk compile cache, :mod:`gearopt.compile_cache`).
     A (speed, lash) run already computed this session with the same settings is re-used
-    (:func:`gearopt.dynamics.simulate.simulate`, ``reuse``)."""
+    (:func:`gearopt.dynamics.simulate.simulate`, ``reuse``).
+
+    ``executor``: who runs the (speed, lash) points -- ``"serial"`` (default), ``"processes"``, ``"dask"``, a
+    ``dask.distributed.Client`` or a :class:`gearopt.executor.Executor` (``workers``, ``progress`` as there); each
+    point is one task, the rows come back in (lash, speed) order whoever ran them, so the table is the same
+    (``run_time_s`` aside). A worker process gets its own copy of the model (serialised with cloudpickle) and
+    builds its integrator there (compiled kernels from the on-disk cache); the session re-use then holds per
+    process."""
+    from ..executor import using_executor
+
     speeds = np.atleast_1d(np.asarray(speeds_rpm, dtype=float))
     check_range("cycles", cycles, 1, None)
-    frames = []
-    for lash in backlash:
-        for speed in speeds:
-            sim = model.simulate(float(speed), cycles, backlash=bool(lash), rtol=rtol, parameters=parameters,
-                                 run_in_cycles=run_in_cycles, steady_state_tol=steady_state_tol, **options)
-            stats = simulation_statistics(sim, shafts)
-            rows = []
-            for joint in joints:
-                w = walk_off_history(model, sim, joint)
-                spread = {f"{key}_cycle_{stat}": v for key in ("torque_margin", "axial_margin")
-                          for stat, v in cycle_spread(w[key], sim.cycles).items()}
-                rows.append({"element": f"joint:{joint}", "element_type": "joint", "cycles": int(sim.cycles), **spread,
-                             "peak_axial_force_N": float(np.max(np.abs(w["axial_force_N"]))),
-                             "max_off_nose_force_N": float(np.max(w["axial_force_N"])),
-                             "peak_torque_Nm": float(np.max(np.abs(w["joint_torque_Nm"]))),
-                             **{k: w[k] for k in ("min_torque_margin", "min_axial_margin", "min_combined_margin",
-                                                  "max_slip_utilisation")}})
-            if rows:
-                stats = pd.concat([stats, pd.DataFrame(rows)], ignore_index=True)
-            stats.insert(0, "backlash", bool(lash))
-            stats.insert(0, "speed_rpm", float(speed))
-            stats["cycle_change"] = sim.cycle_change[-1] if sim.cycle_change else np.nan
-            stats["run_time_s"] = sim.stats["run_time_s"]
-            frames.append(stats)
+    settings = dict(cycles=cycles, run_in_cycles=run_in_cycles, steady_state_tol=steady_state_tol, rtol=rtol,
+                    shafts=tuple(shafts), joints=tuple(joints), parameters=parameters, options=dict(options))
+    tasks = [(model, float(speed), bool(lash), settings) for lash in backlash for speed in speeds]
+    with using_executor(executor, workers=workers, progress=progress) as ex:
+        frames = ex.map(sweep_point, tasks, desc="speed sweep")
     return pd.concat(frames, ignore_index=True)
 
 
-__all__ = ["speed_sweep", "cycle_spread", "simulation_statistics", "walk_off_history"]
+def sweep_point(task: tuple) -> pd.DataFrame:
+    """Executor task of :func:`speed_sweep`: the rows of one (speed, lash) point."""
+    model, speed, lash, st = task
+    sim = model.simulate(speed, st["cycles"], backlash=lash, rtol=st["rtol"], parameters=st["parameters"],
+                         run_in_cycles=st["run_in_cycles"], steady_state_tol=st["steady_state_tol"], **st["options"])
+    stats = simulation_statistics(sim, st["shafts"])
+    rows = []
+    for joint in st["joints"]:
+        w = walk_off_history(model, sim, joint)
+        spread = {f"{key}_cycle_{stat}": v for key in ("torque_margin", "axial_margin")
+                  for stat, v in cycle_spread(w[key], sim.cycles).items()}
+        rows.append({"element": f"joint:{joint}", "element_type": "joint", "cycles": int(sim.cycles), **spread,
+                     "peak_axial_force_N": float(np.max(np.abs(w["axial_force_N"]))),
+                     "max_off_nose_force_N": float(np.max(w["axial_force_N"])),
+                     "peak_torque_Nm": float(np.max(np.abs(w["joint_torque_Nm"]))),
+                     **{k: w[k] for k in ("min_torque_margin", "min_axial_margin", "min_combined_margin",
+                                          "max_slip_utilisation")}})
+    if rows:
+        stats = pd.concat([stats, pd.DataFrame(rows)], ignore_index=True)
+    stats.insert(0, "backlash", bool(lash))
+    stats.insert(0, "speed_rpm", float(speed))
+    stats["cycle_change"] = sim.cycle_change[-1] if sim.cycle_change else np.nan
+    stats["run_time_s"] = sim.stats["run_time_s"]
+    return stats
+
+
+__all__ = ["speed_sweep", "sweep_point", "cycle_spread", "simulation_statistics", "walk_off_history"]

@@ -1,16 +1,19 @@
 """Studies: multi-model comparisons, trade-off fronts, sensitivity reports and tolerance robustness, on one executor.
 
 - :func:`pareto_front`: the front between a scene's objective and a second quantity (ε-constraint continuation);
+  :func:`verify_front`: each of its points re-solved by the scene's exact-LTCA refinement;
 - :func:`sensitivity_report`: d objective / d limit (multipliers) and d objective / d datum (KKT system), absolute and
   logarithmic;
 - :func:`monte_carlo`, :func:`sobol_indices`: distributions, probabilities of broken limits and Sobol indices over
   the tolerances (:class:`Tolerance`); :func:`robust_design`: the scene's limits held at the tolerance corners;
 - :func:`scene_study`: the three above for one scene, with a report section;
-- :func:`get_executor` / :class:`Executor`: serial, local processes or a Dask cluster for every batch.
+- :func:`get_executor` / :class:`Executor`: serial, local processes or a Dask cluster for every batch
+  (:mod:`gearopt.executor`, re-exported).
 """
 
 from .contact_study import DESIGNS, MeshContactStudy, mesh_contact_study
 from .executor import Executor, get_executor, using_executor
+from .front_check import verify_front
 from .monte_carlo import MonteCarloResult, monte_carlo, sobol_indices
 from .parametric import KKTSensitivity, kkt_sensitivity
 from .pareto import ParetoFront, pareto_front
@@ -20,6 +23,6 @@ from .sensitivity import SensitivityReport, sensitivity_report
 from .tolerances import Tolerance, default_tolerances
 
 __all__ = ["mesh_contact_study", "MeshContactStudy", "DESIGNS", "Executor", "get_executor", "using_executor",
-           "pareto_front", "ParetoFront", "sensitivity_report", "SensitivityReport", "kkt_sensitivity",
+           "pareto_front", "ParetoFront", "verify_front", "sensitivity_report", "SensitivityReport", "kkt_sensitivity",
            "KKTSensitivity", "robust_design", "monte_carlo", "sobol_indices", "MonteCarloResult", "Tolerance",
            "default_tolerances", "scene_study", "SceneStudy", "relief_scene_from_data"]

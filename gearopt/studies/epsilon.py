@@ -71,6 +71,9 @@ class EpsilonModel:
         else:
             p.subject_to("front.epsilon_limit", self.z - bound, lower=0.0, scale=scale, unit=_unit(kind))
         self._z_scale = scale
+        # the declared start: a solve without warm start begins here, whatever an earlier front (this model is
+        # cached per process) set as initial guesses -- so a front does not depend on what ran before it
+        self._declared = {name: np.array(v.init, dtype=float) for name, v in p._variables.items()}
 
     # -- the aggregated quantity -------------------------------------------------------------------------------------
 
@@ -127,6 +130,9 @@ class EpsilonModel:
             p.minimize(self.objective_expr)
         eps = (LOOSE if sense == "min" else -LOOSE) if epsilon is None else float(epsilon)
         p.set_parameter("front.epsilon", eps)
+        if not warm:
+            for name, value in self._declared.items():
+                p.set_initial(name, value)
         if start is not None:
             for name, value in start.items():
                 p.set_initial(name, value)

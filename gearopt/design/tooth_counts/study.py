@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any, Mapping
 
 import casadi as ca
@@ -151,10 +151,40 @@ def solve_candidate(enumeration: ToothCountEnumeration, teeth: Mapping[str, int]
 STARTS = ("previous", "precheck", "iso")
 
 
+def solve_chain(task: tuple) -> list[dict]:
+    """Executor task of :func:`tooth_count_study`: the candidates of one piece in order, each warm-started from the
+    previous optimum of the piece when ``start == "previous"`` (the first at its ISO/TR 4467 split). Returns the
+    :func:`solve_candidate` dicts plus ``start``, the typed error replaced by its message (plain data)."""
+    enumeration, chunk, objective, start, verbose = task
+    out, previous = [], None
+    for _, teeth, bounds, x0, kind in chunk:
+        if start == "previous" and previous is not None:
+            x0, kind = previous, "previous"
+        r = solve_candidate(enumeration, teeth, objective=objective, root_shift_start=x0, root_shift_bounds=bounds,
+                            verbose=verbose)
+        r["start"] = kind
+        if r["error"] is None:
+            previous = r["root_profile_shift"]
+        else:
+            r["error"] = str(r["error"])
+        out.append(r)
+    return out
+
+
+def _bounds(n: int, pieces: int) -> list[tuple[int, int]]:
+    """Contiguous index ranges of ``n`` items in ``pieces`` near-equal pieces (numpy's array_split sizes)."""
+    if n == 0:
+        return []
+    sizes = [len(a) for a in np.array_split(np.arange(n), pieces)]
+    ends = np.cumsum(sizes)
+    return [(int(e - k), int(e)) for e, k in zip(ends, sizes)]
+
+
 def tooth_count_study(train: GearTrain, *, objective: str = "max_min_worst_case_contact_ratio",
                       top: int | None = None, start: str = "previous", bonmin: bool = False,
                       enumeration: ToothCountEnumeration | None = None, verbose: bool = False,
-                      **enumerate_options) -> ToothCountStudy:
+                      executor: Any = "serial", segments: int = 1, workers: int | None = None,
+                      progress: bool | None = None, **enumerate_options) -> ToothCountStudy:
     """Enumerate (unless ``enumeration`` is given), optimise each admissible candidate, rank (module docstring).
 
     Args:
@@ -168,6 +198,12 @@ def tooth_count_study(train: GearTrain, *, objective: str = "max_min_worst_case_
             ``"precheck"`` (the best precheck sample of the objective) or ``"iso"`` (cold: the train's ISO/TR 4467
             split of the root mesh, ``root_shift_split``).
         bonmin: also run :func:`bonmin_cross_check` (raises ``GearoptInputError`` if CasADi has no Bonmin).
+        executor: who solves the candidates: ``"serial"`` (default), ``"processes"``, ``"dask"``, a
+            ``dask.distributed.Client`` or a :class:`gearopt.executor.Executor` (``workers``, ``progress`` as
+            there). With ``start="previous"`` the warm-started chain is split into ``segments`` contiguous pieces
+            (each a task, its first candidate started cold); with ``"precheck"``/``"iso"`` every candidate is a task.
+            The split does not depend on the executor, so neither does the table (``solve_time_s`` aside).
+        segments: pieces of the warm-started chain (``start="previous"``; default 1: one chain, as serially).
     """
     t_start = time.perf_counter()
     if objective not in OBJECTIVES:
@@ -191,26 +227,33 @@ def tooth_count_study(train: GearTrain, *, objective: str = "max_min_worst_case_
     if top is not None and len(chosen) > top:
         chosen = list(adm[pre_col].sort_values(ascending=False, na_position="last").index[:top])
         chosen.sort()
-    solves, previous = [], None
-    results: dict[Any, dict] = {}
+    if isinstance(segments, bool) or not isinstance(segments, (int, np.integer)) or segments < 1:
+        raise GearoptInputError(f"segments={segments!r} must be an integer >= 1")
+    items = []
     for idx in chosen:
-        teeth = enumeration.teeth(idx)
-        lo, hi = float(adm.at[idx, "root_shift_min"]), float(adm.at[idx, "root_shift_max"])
         x0, kind = None, "iso"
-        if start == "previous" and previous is not None:
-            x0, kind = previous, "previous"
-        elif start == "precheck":
+        if start == "precheck":
             col = ("precheck_root_shift_contact_ratio" if objective == "max_min_worst_case_contact_ratio"
                    else "precheck_root_shift_tip_thickness")
             if col in adm and math.isfinite(float(adm.at[idx, col])):
                 x0, kind = float(adm.at[idx, col]), "precheck"
-        r = solve_candidate(enumeration, teeth, objective=objective, root_shift_start=x0,
-                            root_shift_bounds=(lo, hi), verbose=verbose)
-        r["start"] = kind
-        if r["error"] is None:
-            previous = r["root_profile_shift"]
-        solves.append({k: v for k, v in r.items() if k != "error"})
-        results[idx] = r
+        items.append((idx, enumeration.teeth(idx), (float(adm.at[idx, "root_shift_min"]),
+                                                    float(adm.at[idx, "root_shift_max"])), x0, kind))
+    pieces = min(int(segments), len(items)) if start == "previous" else len(items)
+    chunks = [items[a:b] for a, b in _bounds(len(items), pieces)]
+    from ...executor import using_executor
+
+    with using_executor(executor, workers=workers, progress=progress) as ex:
+        # a worker process rebuilds the candidate models (CasADi functions) instead of receiving the cache
+        shipped = enumeration if ex.kind == "serial" else replace(enumeration, models={})
+        parts = ex.map(solve_chain, [(shipped, chunk, objective, start, verbose) for chunk in chunks],
+                       desc="tooth-count candidates")
+    solves = []
+    results: dict[Any, dict] = {}
+    for chunk, part in zip(chunks, parts):
+        for (idx, *_), r in zip(chunk, part):
+            solves.append({k: v for k, v in r.items() if k != "error"})
+            results[idx] = r
     rows = []
     best_idx, best_x = None, None
     for idx in adm.index:
