@@ -18,6 +18,8 @@ import pickle
 from concurrent.futures import Future, ProcessPoolExecutor
 from pathlib import Path
 
+from ..errors import GearoptInputError
+
 import matplotlib
 
 matplotlib.use("Agg")
@@ -25,6 +27,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 _POOL: ProcessPoolExecutor | None = None
 _PENDING: list[Future] = []
+DEFAULT_DPI = 120
+_DPI = DEFAULT_DPI          # resolution of a figure saved without one (background_figures(dpi=...) sets it)
 
 
 CHECKS_ENV = "GEAROPT_FIGURE_CHECKS"
@@ -54,9 +58,11 @@ def _render(payload: bytes, path: str, dpi: int) -> str:
     return path
 
 
-def save(fig, path: str | Path, dpi: int = 120) -> Path:
+def save(fig, path: str | Path, dpi: int | None = None) -> Path:
     """Write ``fig`` to ``path`` (directories created) and close it; inside :func:`background_figures` the
-    rendering happens in the worker and the file exists when the block ends."""
+    rendering happens in the worker and the file exists when the block ends. ``dpi``: default
+    :data:`DEFAULT_DPI`, or the block's."""
+    dpi = _DPI if dpi is None else dpi
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     if _POOL is None:
@@ -73,10 +79,11 @@ def _build_render(builder, args: tuple, kwargs: dict, path: str, dpi: int) -> st
     return path
 
 
-def plot_later(builder, path: str | Path, *args, dpi: int = 120, **kwargs) -> Path:
+def plot_later(builder, path: str | Path, *args, dpi: int | None = None, **kwargs) -> Path:
     """Write the figure ``builder(*args, **kwargs)`` to ``path``; inside :func:`background_figures` the worker
     builds it too (then ``builder`` must be a module-level function and its arguments picklable: the caller pays
     for neither the plotting nor the rendering). Outside the block it is built and written at once."""
+    dpi = _DPI if dpi is None else dpi
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     if _POOL is None:
@@ -86,18 +93,28 @@ def plot_later(builder, path: str | Path, *args, dpi: int = 120, **kwargs) -> Pa
 
 
 @contextlib.contextmanager
-def background_figures(enabled: bool = True):
+def background_figures(enabled: bool = True, *, dpi: int | None = None):
     """Render the figures saved inside the block in one worker process (``enabled=False``: at once, in this
     process). The worker is started with ``spawn`` (no fork of a process holding solver threads) and needs only
-    matplotlib. Leaving the block waits for every figure; a failed one raises here."""
-    global _POOL
+    matplotlib. Leaving the block waits for every figure; a failed one raises here. ``dpi``: the resolution of the
+    figures saved in the block without one (e.g. lower for a quick run)."""
+    global _POOL, _DPI
+    if dpi is not None:
+        if isinstance(dpi, bool) or not isinstance(dpi, int) or not 20 <= dpi <= 1200:
+            raise GearoptInputError(f"dpi={dpi!r} must be an integer in [20, 1200]")
+    previous_dpi = _DPI
+    _DPI = previous_dpi if dpi is None else dpi
     if not enabled or _POOL is not None:
-        yield
+        try:
+            yield
+        finally:
+            _DPI = previous_dpi
         return
     _POOL = ProcessPoolExecutor(max_workers=1, mp_context=multiprocessing.get_context("spawn"))
     try:
         yield
     finally:
+        _DPI = previous_dpi
         pool, pending = _POOL, list(_PENDING)
         _POOL = None
         _PENDING.clear()

@@ -217,9 +217,9 @@ def plot_percentage_change(table: pd.DataFrame, baseline: str, *, by: str | None
     return fig
 
 
-def save(fig, path: str | Path, dpi: int = 120) -> Path:
+def save(fig, path: str | Path, dpi: int | None = None) -> Path:
     """Write ``fig`` to ``path`` (directories created) and close it (in the background inside
-    :func:`gearopt.report.figure_writer.background_figures`)."""
+    :func:`gearopt.report.figure_writer.background_figures`; ``dpi`` default: the writer's)."""
     return figure_writer.save(fig, path, dpi=dpi)
 
 

@@ -56,13 +56,17 @@ class SideProcess:
 
 
 @contextlib.contextmanager
-def side_process(enabled: bool = True) -> Iterator[SideProcess]:
+def side_process(enabled: bool = True, *, workers: int = 1) -> Iterator[SideProcess]:
     """A :class:`SideProcess` for the block; leaving it waits for the submitted work (a failure is raised by
-    the future's ``result()``)."""
+    the future's ``result()``). ``workers`` > 1: that many side processes, the submitted functions spread over
+    them in order of submission."""
+    if isinstance(workers, bool) or not isinstance(workers, int) or workers < 1:
+        from ..errors import GearoptInputError
+        raise GearoptInputError(f"workers={workers!r} must be an integer >= 1")
     if not enabled:
         yield SideProcess(None)
         return
-    pool = ProcessPoolExecutor(max_workers=1, mp_context=multiprocessing.get_context("spawn"),
+    pool = ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context("spawn"),
                                initializer=_configure_logging)
     try:
         yield SideProcess(pool)

@@ -52,3 +52,9 @@ def test_disabled_runs_here_at_once(script):
         assert side.submit(script.stage, 1.5).result() == {"value": 1.5, "pid": os.getpid()}
         with pytest.raises(GearoptInputError, match="speed_rpm"):
             side.submit(check_range, "speed_rpm", -1.0, 0.0, None).result()
+
+
+def test_bad_worker_count_is_named():
+    with pytest.raises(GearoptInputError, match="workers=0"):
+        with side_process(workers=0):
+            pass
