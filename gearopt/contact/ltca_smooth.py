@@ -207,7 +207,7 @@ class LTCAModel:
 
     def evaluate(self, microgeometry: Microgeometry | None = None, torque_Nm: Any = 0.0, *,
                  stiffness_factor: Any = 1.0, E_MPa: Any = None, speed_rpm: Any = None,
-                 thermal_contact_coefficients: Any = None) -> SmoothLTCAResult:
+                 thermal_contact_coefficients: Any = None, face_width_mm: Any = None) -> SmoothLTCAResult:
         """Smooth LTCA at ``torque_Nm`` (a scalar, or a 1-D sequence of L load cases: the outputs then hold the
         load cases side by side, position-major within each case).
 
@@ -219,11 +219,21 @@ class LTCAModel:
           half-width of the flash temperature; the springs keep the build's stiffness (with ``stiffness="iso6336"``
           they do not depend on E: ISO 6336-1's c' is the steel value);
         - ``speed_rpm`` of the driving gear (the rolling speeds scale with it); ``thermal_contact_coefficients``
-          (B_M1, B_M2) [N/(mm s^0.5 K)]: both need a model built with ``speed_rpm``.
+          (B_M1, B_M2) [N/(mm s^0.5 K)]: both need a model built with ``speed_rpm``;
+        - ``face_width_mm``: the contact face width of a model with one face slice (a spur pair without lead
+          modifications: the springs scale with the width, the load per unit width falls with it); a helical
+          pair's contact lines change with the width, so it needs a new model.
         """
-        for name, value in (("stiffness_factor", stiffness_factor), ("E_MPa", E_MPa), ("speed_rpm", speed_rpm)):
+        for name, value in (("stiffness_factor", stiffness_factor), ("E_MPa", E_MPa), ("speed_rpm", speed_rpm),
+                            ("face_width_mm", face_width_mm)):
             if value is not None:
                 check_range(name, value, 0.0, None, low_inclusive=False)
+        if face_width_mm is not None and (self.layout.slices != 1 or self.layout.base_helix_angle_rad != 0.0):
+            raise GearoptInputError(f"face_width_mm given to evaluate: only a spur model with one face slice scales "
+                                    f"with its face width (this one: {self.layout.slices} slices, base helix angle "
+                                    f"{np.degrees(self.layout.base_helix_angle_rad):.3g} deg); build a new model")
+        width = 1.0 if face_width_mm is None else face_width_mm / self.layout.face_width_mm
+        stiffness_factor = stiffness_factor * width
         if (speed_rpm is not None or thermal_contact_coefficients is not None) and not self.speed_rpm:
             raise GearoptInputError("speed_rpm/thermal_contact_coefficients given to evaluate: build the LTCAModel "
                                     "with speed_rpm > 0 (the flash temperature)")
@@ -239,7 +249,8 @@ class LTCAModel:
         L = len(torques)
         e = self.gaps_um(mods)
         symbolic = (nm.is_casadi(e) or nm.is_symbolic(*torques)
-                    or nm.is_symbolic(*(v for v in (stiffness_factor, E_MPa, speed_rpm) if v is not None))
+                    or nm.is_symbolic(*(v for v in (stiffness_factor, E_MPa, speed_rpm, face_width_mm)
+                                        if v is not None))
                     or (thermal_contact_coefficients is not None and nm.is_symbolic(*thermal_contact_coefficients)))
         if not symbolic:
             for T in torques:
@@ -263,13 +274,13 @@ class LTCAModel:
             delta = np.asarray(delta, dtype=float).reshape(-1)
         on_path = np.tile(self._on_path, (1, L))
         closure = nm.repeat_rows(nm.row(delta), e.shape[0]) - E_all
-        load = on_path * S_all * nm.softplus(closure, self.smoothing_um) / lay.slice_width_mm
+        load = on_path * S_all * nm.softplus(closure, self.smoothing_um) / (lay.slice_width_mm * width)
         stress_sq = load * np.tile(self._stress_factor, (1, L))
         if E_MPa is not None:
             stress_sq = stress_sq * (E_MPa / self.E_MPa)
         J, K = lay.slices, lay.shape[1]
         pair_sum = np.kron(np.eye(K), np.ones((1, J))) * lay.slice_width_mm   # (K, N): slice loads -> pair load
-        sharing = nm.matmul(pair_sum, load) / nm.repeat_rows(F_all + 1e-12, K)
+        sharing = nm.matmul(pair_sum, load) * width / nm.repeat_rows(F_all + 1e-12, K)
         loaded = nm.column_sum(on_path * nm.sigmoid(closure, self.count_width_um)) / J
         te = delta if (L == 1 and not symbolic) else nm.reshape(delta, P, L)
         if not symbolic:

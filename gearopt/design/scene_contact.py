@@ -277,8 +277,9 @@ class ContactModels:
     def _ltca_data(self, mesh: str, model: LTCAModel) -> dict[str, Any]:
         """A parametric build's LTCA data as NLP parameters (:meth:`LTCAModel.evaluate`'s data keywords), each
         declared only where a quantity of the mesh depends on it: the single-pair stiffness c' (every LTCA
-        quantity; with ``stiffness="iso6336"`` or a number), Young's modulus (contact stress and temperature), the
-        driving gear's speed and both gears' thermal contact coefficients (contact temperature)."""
+        quantity; with ``stiffness="iso6336"`` or a number), the contact face width (a spur mesh with one face
+        slice), Young's modulus (contact stress and temperature), the driving gear's speed and both gears' thermal
+        contact coefficients (contact temperature)."""
         if not self.parametric:
             return {}
         used = {q.quantity for q in (*self.scene.objectives, *self.scene.limits) if q.target == mesh}
@@ -291,6 +292,8 @@ class ContactModels:
                 c0 = float(stiffness)
             data["stiffness_factor"] = self._datum(f"single_pair_stiffness_N_per_mm_um[{mesh}]", c0,
                                                    "N/(mm*um)") / c0
+        if model.layout.slices == 1 and model.layout.base_helix_angle_rad == 0.0:   # the face width scales exactly
+            data["face_width_mm"] = self._datum(f"face_width_mm[{mesh}]", float(model.layout.face_width_mm), "mm")
         if used & {"max_contact_stress_MPa", "max_contact_temperature_C"}:
             data["E_MPa"] = self._datum(f"youngs_modulus_MPa[{mesh}]", model.E_MPa, "MPa")
         if model.speed_rpm and "max_contact_temperature_C" in used:

@@ -14,7 +14,8 @@ For the objective at the optimum, :func:`sensitivity_report` tables
   - materials and lubrication: ``sigma_Hlim_MPa[gear]``, ``sigma_Flim_MPa[gear]`` (ISO 6336 ratings),
     ``youngs_modulus_MPa[mesh]`` (LTCA contact stress and temperature), ``thermal_contact_coefficient_N_per_mm_sqrt_s_K
     [gear]``, ``oil_temperature_C[mesh]``, ``friction_coefficient[mesh]`` (flash temperature);
-  - stiffness: ``single_pair_stiffness_N_per_mm_um[mesh]`` (c' of the LTCA, its profile along the path kept);
+  - stiffness and fixed geometry: ``single_pair_stiffness_N_per_mm_um[mesh]`` (c' of the LTCA, its profile along
+    the path kept), ``face_width_mm[mesh]`` (the contact face width of a spur mesh with one face slice);
   - joints: ``friction_coefficient[joint]``, the nominal ``diametral_interference_um[joint]``,
     ``fit_length_mm[joint]``, ``shaft_diameter_mm[joint]``, ``hub_outer_diameter_mm[joint]`` (press fits) or
     ``nut_torque_Nm``, ``nut_factor``, ``taper_length_mm`` (taper joints) -- unless a design variable frees them;
@@ -25,8 +26,9 @@ in engineering design", CHI '20) -- sorted by its magnitude. ``quantity_table`` 
 reported quantity of the scene (a margin, a stress) with respect to every datum.
 
 A datum appears only where a quantity of the scene depends on it. Not covered (built numbers of the models): the
-gear geometry held fixed (face widths, tip diameters, centre distances -- free them as design variables to see
-their multipliers), the data of a mesh whose macro geometry is free (its macro-symbolic LTCA), and ISO 6336 factors
+rest of the gear geometry held fixed (a helical mesh's face width, tip diameters, centre distances -- free them as
+design variables to see their multipliers), manufacturing tolerances (:func:`gearopt.studies.monte_carlo` spreads
+them), the data of a mesh whose macro geometry is free (its macro-symbolic LTCA), and ISO 6336 factors
 other than the endurance limits. A datum no objective or constraint uses (of a quantity only reported, or of a limit
 no design variable moves) has zero objective sensitivity; its quantity sensitivities are the partial derivatives.
 """

@@ -193,3 +193,20 @@ def test_data_keywords_are_checked(crank_cam):
         model.evaluate(None, 100.0, E_MPa=-1.0)
     with pytest.raises(GearoptInputError, match="speed_rpm"):
         model.evaluate(None, 100.0, speed_rpm=2000.0)        # built without a speed: no flash temperature
+
+
+def test_face_width_given_to_evaluate_equals_a_pair_of_that_width(spur):
+    # one face slice: springs scale with the width and the load per unit width falls with it -- exactly a pair
+    # built with the other width (the helical case needs a new layout and is refused)
+    wide = go.GearPair.from_profile_shifts(teeth=(30, 60), profile_shifts=(0.0, 0.0), module_mm=3.0,
+                                           face_width_mm=26.0)
+    a = LTCAModel(spur, positions=16, speed_rpm=2000.0, root_stress=True).evaluate(MODS, 200.0, face_width_mm=26.0)
+    b = LTCAModel(wide, positions=16, speed_rpm=2000.0, root_stress=True).evaluate(MODS, 200.0)
+    for field in ("transmission_error_um", "load_intensity_N_per_mm", "contact_stress_squared_MPa2",
+                  "load_sharing", "flash_temperature_rise_K"):
+        np.testing.assert_allclose(getattr(a, field), getattr(b, field), rtol=1e-9, atol=1e-12, err_msg=field)
+    np.testing.assert_allclose(a.root_stress_MPa[0], b.root_stress_MPa[0], rtol=1e-9)
+    helical = go.GearPair.from_profile_shifts(teeth=(30, 60), profile_shifts=(0.0, 0.0), module_mm=3.0,
+                                              helix_angle_deg=12.0, face_width_mm=20.0)
+    with pytest.raises(GearoptInputError, match="face_width_mm"):
+        LTCAModel(helical, positions=8, slices=3).evaluate(None, 100.0, face_width_mm=22.0)

@@ -178,14 +178,16 @@ def test_speed_and_material_sensitivities_match_re_solves_with_the_datum_moved()
 
     pb = result.source.parametric_twin()
     t = report.table.set_index("name")
-    c0 = t.loc[stiffness, "value"]
-    moved = []
-    for sign in (-1, 1):
-        pb.problem.set_parameter(stiffness, c0 * (1 + sign * 1e-3))
-        moved.append(float(pb.problem.solve(tol=1e-11).objective) * 5.0)      # ppte_um's NLP scale is 5 um
-    assert t.loc[stiffness, "sensitivity"] == pytest.approx((moved[1] - moved[0]) / (2e-3 * c0), rel=1e-3)
-    # a stiffer mesh deflects less: the PPTE of this relieved pair falls with c'
-    assert t.loc[stiffness, "log_sensitivity"] < -0.1
+    for datum in (stiffness, f"face_width_mm[{MESH}]"):
+        value = t.loc[datum, "value"]
+        moved = []
+        for sign in (-1, 1):
+            pb.problem.set_parameter(datum, value * (1 + sign * 1e-3))
+            moved.append(float(pb.problem.solve(tol=1e-11).objective) * 5.0)      # ppte_um's NLP scale is 5 um
+        pb.problem.set_parameter(datum, value)
+        assert t.loc[datum, "sensitivity"] == pytest.approx((moved[1] - moved[0]) / (2e-3 * value), rel=1e-3)
+        # a stiffer or wider mesh deflects less under the same torque: the PPTE of this relieved pair falls
+        assert t.loc[datum, "log_sensitivity"] < -0.1, datum
 
 
 def test_joint_data_sensitivities_match_re_solves_with_the_data_file_changed():
