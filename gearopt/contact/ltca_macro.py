@@ -40,6 +40,7 @@ Units: lengths mm, angles deg, deflections and modifications um, forces N, stres
 from __future__ import annotations
 
 import math
+import os
 from dataclasses import dataclass
 from typing import Any, Sequence
 
@@ -49,7 +50,7 @@ import numpy as np
 from .. import numerics as nm
 from ..errors import GearoptInputError
 from ..geometry.pair import GearPair
-from ..validation import check_range
+from ..validation import check_int, check_range
 from .layout import position_fractions
 from .ltca_smooth import DEFAULT_COUNT_WIDTH_UM, DEFAULT_SMOOTHING_UM
 from .microgeometry import Microgeometry, lead_deviation_um, misalignment_gap_um, profile_deviation_um
@@ -155,6 +156,15 @@ class MacroLTCAResult:
         return self._np(self.loaded_pairs).reshape(self.load_cases, self.positions).mean(axis=1)
 
 
+def default_map_threads() -> int:
+    """Threads of a :class:`MacroLTCAModel`'s position map: ``GEAROPT_THREADS`` if set, else the machine's CPU
+    count (at most 8)."""
+    env = os.environ.get("GEAROPT_THREADS")
+    if env:
+        return check_int("GEAROPT_THREADS", int(env) if env.strip().isdigit() else env, 1, 256)
+    return max(1, min(os.cpu_count() or 1, 8))
+
+
 class MacroLTCAModel:
     """Smooth LTCA of one mesh as a CasADi ``Function`` ``(macro, micro, torque) -> outputs`` built once.
 
@@ -175,6 +185,10 @@ class MacroLTCAModel:
             the root-stress and flash-temperature outputs as in :class:`~gearopt.contact.ltca_smooth.LTCAModel`.
         approach_steps: Newton steps unrolled for the approach (default 8 + springs per position / 4; on the default
             crank-cam mesh 4 steps reach a relative residual of 1e-13 with one slice, 10 steps 5e-16 with 44 springs).
+        map_threads: threads that evaluate the positions (and the derivatives CasADi builds from them) in parallel
+            (CasADi's ``map(..., "thread", n)``; default :func:`default_map_threads`, 1 = serial). The results are
+            the same to the last bit; on 2 cores the crank-cam mesh at 200 positions x 4 load cases x 7 slices
+            evaluates with gradient and Hessian in 0.91 s instead of 1.73 s.
 
     The approach ``delta`` of every position solves ``sum c db w_on softplus(delta - e, w) = F_bt`` by Newton's
     method unrolled in the expression graph (the residual is convex and increasing in ``delta`` and the start,
@@ -196,7 +210,8 @@ class MacroLTCAModel:
                  relief_smoothing_deg: float = 0.0, E_MPa: float = 206000.0, poisson: float = 0.3,
                  root_stress: bool = False, speed_rpm: float | None = None, bulk_temperature_C: float = 100.0,
                  friction_coefficient: float = 0.06, materials: Any = "20MnCr5",
-                 sliding_smoothing_m_s: float = 0.01, approach_steps: int | None = None) -> None:
+                 sliding_smoothing_m_s: float = 0.01, approach_steps: int | None = None,
+                 map_threads: int | None = None) -> None:
         if pair.is_symbolic:
             raise GearoptInputError("MacroLTCAModel needs a numeric template pair; the macro values are its inputs")
         if driving_gear not in (1, 2):
@@ -245,6 +260,8 @@ class MacroLTCAModel:
         self.approach_steps = int(approach_steps) if approach_steps is not None else \
             8 + math.ceil(self.springs_per_position / 4)
         check_range("approach_steps", self.approach_steps, 1, 1000)
+        self.map_threads = default_map_threads() if map_threads is None else check_int("map_threads", map_threads,
+                                                                                        1, 256)
         self.kernel = self._build()
         self.builds = {"kernel": 1}
 
@@ -370,7 +387,8 @@ class MacroLTCAModel:
             outs.append(self._flash(lay, load))
             names.append("flash_rise_K")
         position = ca.Function("macro_ltca_position", [macro, micro, G, torque, frac], outs, {"cse": True})
-        mapped = position.map(self.positions * self.load_cases)
+        n = self.positions * self.load_cases
+        mapped = position.map(n, "thread", self.map_threads) if self.map_threads > 1 else position.map(n)
         m_mx, u_mx, t_mx = ca.MX.sym("macro", macro.numel()), ca.MX.sym("micro", micro.numel()), \
             ca.MX.sym("torque", self.load_cases)
         t_row = ca.horzcat(*[ca.repmat(t_mx[i], 1, P) for i in range(self.load_cases)])

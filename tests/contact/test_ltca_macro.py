@@ -121,3 +121,26 @@ def test_bad_inputs_raise_clear_errors(template):
         m.evaluate(None, [0.0] * (len(MICRO_INPUTS) - 1), [100.0])
     with pytest.raises(GearoptInputError, match="positions"):
         MacroLTCAModel(template, positions=[0.1, 1.2])
+
+
+def test_threaded_position_map_gives_the_serial_values_and_derivatives(template, monkeypatch):
+    # the positions evaluated by 2 threads (and the derivatives CasADi derives from that map) equal the serial map
+    macro = ca.MX.sym("macro", len(macro_vector(template)))
+    kernels = [MacroLTCAModel(template, positions=12, load_cases=2, map_threads=n).kernel for n in (1, 2)]
+    x0 = ca.DM(ca.vertcat(*macro_vector(template)))
+    u0 = ca.DM(ca.vertcat(*micro_vector(Microgeometry(tip_relief_um=(8.0, 6.0), tip_relief_start_roll_deg=(24.0, 22.0)),
+                                        template.geometry())))
+    values = []
+    for kernel in kernels:
+        te = kernel(macro, u0, ca.DM([200.0, 400.0]))[0]
+        f = ca.Function("f", [macro], [ca.vec(te), ca.jacobian(ca.vec(te), macro)])
+        values.append([np.asarray(v) for v in f(x0)])
+    np.testing.assert_array_equal(values[0][0], values[1][0])
+    np.testing.assert_array_equal(values[0][1], values[1][1])
+    monkeypatch.setenv("GEAROPT_THREADS", "3")
+    assert MacroLTCAModel(template, positions=4).map_threads == 3
+    monkeypatch.setenv("GEAROPT_THREADS", "many")
+    with pytest.raises(GearoptInputError, match="GEAROPT_THREADS"):
+        MacroLTCAModel(template, positions=4)
+    with pytest.raises(GearoptInputError, match="map_threads"):
+        MacroLTCAModel(template, positions=4, map_threads=0)
