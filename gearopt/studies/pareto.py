@@ -96,7 +96,7 @@ class ParetoFront:
             ax.plot([], [], color="C1", ls=":", label=f"failed points ({len(bad)})")
         if annotate and len(s) >= 3:
             k = self.knee()
-            text = "\n".join(f"{n} = {k[n]:.4g}" for n in self.variables)
+            text = "\n".join(_variable_label(n, float(k[n])) for n in self.variables)
             rising = s[self.objective_column].iloc[-1] > s[self.objective_column].iloc[0]
             corner = (0.03, 0.97) if rising == (s[self.quantity_column].iloc[-1] > s[self.quantity_column].iloc[0]) \
                 else (0.97, 0.97)            # the empty upper corner, away from the front
@@ -339,6 +339,18 @@ def _normalised(x: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         span = np.ptp(v)
         return (v - v.min()) / span if span > 0 else np.zeros_like(v)
     return norm(x), norm(y)
+
+
+def _variable_label(name: str, value: float) -> str:
+    """``"crank-cam.tip_relief_1_um", 12.3`` -> ``"crank-cam tip relief 1 = 12.3 µm"`` (a figure's annotation)."""
+    target, _, variable = name.rpartition(".")
+    for suffix, unit in (("_start_roll_deg", " start roll [deg]"), ("_um", " [um]"), ("_deg", " [deg]"),
+                         ("_mm", " [mm]"), ("_Nm", " [N*m]")):
+        if variable.endswith(suffix):
+            label, unit = variable[: -len(suffix)].replace("_", " ") + unit.split(" [")[0], unit.split(" [")[1][:-1]
+            shown = _DISPLAY_UNITS.get(unit, unit)
+            return f"{target} {label} = {value:.4g} {shown}".replace("  ", " ").strip()
+    return f"{target} {variable.replace('_', ' ')} = {value:.4g}".strip()
 
 
 _DISPLAY_UNITS = {"um": "µm", "C": "°C", "N*m": "N m", "kg*m^2": "kg m²"}

@@ -106,6 +106,9 @@ def test_front_plot_draws_and_annotates_the_knee(front, tmp_path):
     knee = front.knee()
     assert knee["status"] == OK
     assert any("knee" in t.get_text() for t in fig.axes[0].texts)
+    # the knee's design in words and units (not raw variable keys): "crank-cam tip relief 1 = 9.2 µm"
+    note = next(t.get_text() for t in fig.axes[0].texts if "knee" in t.get_text())
+    assert "tip relief 1 = " in note and "µm" in note and "_um" not in note and "start roll = " in note
     assert fig.axes[0].get_xlabel() == f"loaded contact ratio, {MESH} [-]"      # a ratio: dimensionless
     assert fig.axes[0].get_ylabel() == f"ppte, {MESH} [µm]"
 
