@@ -29,8 +29,10 @@ the data-file format of the packaged default, ``gearopt/data/default_train.toml`
 from __future__ import annotations
 
 import argparse
+import contextlib
 import json
 import logging
+import os
 import sys
 import time
 from pathlib import Path
@@ -866,6 +868,21 @@ class CodesignOutputs:
         return self._json
 
 
+@contextlib.contextmanager
+def one_thread_per_process(enabled: bool):
+    """``--quick``: the macro-symbolic LTCA maps its positions on one thread (``GEAROPT_THREADS=1``, inherited by
+    the side process) unless the user set it -- the main, side and figure processes already fill two cores, and
+    threads on top made the run slower and less steady here (9.2-11.3 s against 9.1-9.2 s)."""
+    previous = os.environ.get("GEAROPT_THREADS")
+    if enabled and previous is None:
+        os.environ["GEAROPT_THREADS"] = "1"
+    try:
+        yield
+    finally:
+        if enabled and previous is None:
+            os.environ.pop("GEAROPT_THREADS", None)
+
+
 QUICK_DPI = 80
 """Resolution of the figures of a ``--quick`` run (120 otherwise): fewer pixels to render."""
 
@@ -927,7 +944,7 @@ def main(argv: list[str] | None = None) -> int:
     # a full run: the co-design (minutes) in a process of its own; --quick: one side process (a second one made
     # it slower here, 12 s against 9.6 s: four processes on two cores)
     workers = 1 if args.quick else 2
-    with side_process(enabled=not args.serial, workers=workers) as side, \
+    with one_thread_per_process(args.quick), side_process(enabled=not args.serial, workers=workers) as side, \
             background_figures(dpi=QUICK_DPI if args.quick else None):
         side_runs = {stage: side.submit(fn, data, args.out, quick=args.quick) for stage, fn in SIDE_STAGES.items()}
 

@@ -262,3 +262,14 @@ def test_creep_map_has_one_legend_for_both_joints(checked):
     record = found["failure_reproduction_creep_map.png"]
     assert record["figure_legends"] == 1 and record["axes_legends"] == 0
     assert record["suptitle"]
+
+
+def test_quick_run_leaves_the_thread_setting_as_it_found_it(run):
+    # --quick maps the macro LTCA on one thread per process (GEAROPT_THREADS=1 for the run) and restores the
+    # environment afterwards, so later work in the same process gets its default threads again
+    import os
+
+    from gearopt.contact.ltca_macro import default_map_threads
+
+    assert os.environ.get("GEAROPT_THREADS") is None or os.environ["GEAROPT_THREADS"] != "1"
+    assert default_map_threads() == min(os.cpu_count() or 1, 8) or "GEAROPT_THREADS" in os.environ
