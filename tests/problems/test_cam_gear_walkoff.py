@@ -36,6 +36,31 @@ def test_every_stage_timed_and_kernels_compiled_or_loaded_never_silently_interpr
         assert stats["interpreted"] == 0
 
 
+@pytest.fixture(scope="module")
+def second_run(run, tmp_path_factory):
+    """The quick main job run again after the shared run (issue 16: a second run starts no compiler)."""
+    from conftest import load_script
+
+    out = tmp_path_factory.mktemp("second_run")
+    assert load_script("cam_gear_walkoff").main(["--quick", "--out", str(out)]) == 0
+    return out
+
+
+def test_a_second_run_compiles_nothing_and_loads_its_kernels(run, second_run):
+    """Every kernel the first run compiled (or found) is loaded from the on-disk cache by the second, in every
+    process of the run (the side process starts fresh, so it loads rather than reuses): ``compiled`` 0."""
+    from gearopt.compile_cache import compiler_available, jit_enabled
+
+    first = json.loads((run / "result.json").read_text())["compile_cache"]
+    second = json.loads((second_run / "result.json").read_text())["compile_cache"]
+    assert second["compiled"] == 0
+    if compiler_available() and jit_enabled():
+        assert first["hits"] + first["compiled"] > 0
+        assert second["interpreted"] == 0 and second["hits"] > 0
+    else:                             # no compiler (or GEAROPT_JIT=0): interpreted, with the one-line notice
+        assert second["hits"] == 0 and second["interpreted"] > 0
+
+
 def test_result_json_shape_checks_against_thesis(run):
     result = json.loads((run / "result.json").read_text())
     spur = result["meshes"]["spur"]
