@@ -779,8 +779,9 @@ def write_outputs(out: Path, macro: dict, split: dict, timings: dict, contact: d
 def write_sections(out: Path, contact: dict | None, ratings: dict | None, joints: dict | None,
                    dynamics: dict | None, design_torques: pd.DataFrame | None, *, quick: bool = False) -> dict:
     """Tables and figures of the main process's sections (the figures go to the figure writer's worker);
-    ``{section: (report lines, result.json entries)}`` for :func:`write_outputs`. The main job calls it per
-    section as soon as its stage ends, so the figures render while the next stages run."""
+    ``{section: (report lines, result.json entries)}`` for :func:`write_outputs` (which calls it when not given
+    them; the main job writes each section as soon as its stage ends, so the figures render while the next stages
+    run)."""
     out.mkdir(parents=True, exist_ok=True)
     return {"contact": write_contact(out, contact, quick=quick) if contact else ([], {}),
             "rating": write_rating(out, ratings) if ratings else ([], {}),
@@ -966,9 +967,9 @@ def main(argv: list[str] | None = None) -> int:
         dynamics = dynamics_stage(data, quick=args.quick)
         design_torques = dynamic_design_torques(data, dynamics)
         timings["dynamics"] = time.perf_counter() - t0
-        t0 = time.perf_counter()
-        sections = write_sections(args.out, None, None, None, dynamics, design_torques)
-        timings["write_sections"] = time.perf_counter() - t0
+        t0 = time.perf_counter()                 # each section written as its stage ends: its figures render now
+        sections = {"dynamics": write_dynamics(args.out, dynamics, design_torques)}
+        timings["write_dynamics"] = time.perf_counter() - t0
 
         t0 = time.perf_counter()
         sizing = joint_sizing_stage(data, macro["trains"], dynamics)
@@ -978,8 +979,8 @@ def main(argv: list[str] | None = None) -> int:
         contact = contact_stage(data, macro["trains"], quick=args.quick)
         timings["contact_ltca_and_microgeometry_nlp"] = time.perf_counter() - t0
         t0 = time.perf_counter()
-        sections["contact"] = write_sections(args.out, contact, None, None, None, None, quick=args.quick)["contact"]
-        timings["write_sections"] += time.perf_counter() - t0
+        sections["contact"] = write_contact(args.out, contact, quick=args.quick)
+        timings["write_contact"] = time.perf_counter() - t0
 
         t0 = time.perf_counter()
         ratings = rating_stage(data, macro["trains"])
@@ -991,14 +992,13 @@ def main(argv: list[str] | None = None) -> int:
         timings["joints_blanks_webs"] = time.perf_counter() - t0
 
         t0 = time.perf_counter()
-        written = write_sections(args.out, None, ratings, joints, None, None)
-        sections.update(rating=written["rating"], joints=written["joints"])
-        timings["write_sections"] += time.perf_counter() - t0
+        sections.update(rating=write_rating(args.out, ratings), joints=write_joints(args.out, joints))
+        timings["write_rating_joints"] = time.perf_counter() - t0
 
         t0 = time.perf_counter()
         side_results = {stage: run.result() for stage, run in side_runs.items()}
         timings["side_process_wait"] = time.perf_counter() - t0
-        for stage, r in side_results.items():
+        for r in side_results.values():
             timings.update(r["timings"])
 
         t0 = time.perf_counter()
