@@ -15,7 +15,7 @@ A design whose solve fails is reported with its typed error (the violated limits
 
 Both minimise the largest PPTE of the ``meshes`` (crank-cam, cam-AC, cam-FP) over the design torque range
 (``[design_loads]`` torques times ``torque_range_fractions`` at the rated speed), subject to the LTCA contact stress
-(the unmodified spur mesh's own maximum), root stress, contact temperature and loaded contact ratio
+(the unmodified spur mesh's own maximum plus :data:`CONTACT_STRESS_ALLOWANCE`), root stress, contact temperature and loaded contact ratio
 (``[design_limits]``), the geometry limits of every mesh of the train (worst-case contact ratio, tip thickness,
 undercut, interference, ISO/TR 4467 shift limits) and, for a helical option, the axial margins of the joints of the
 gears with helical thrust at the overspeed test speed (mesh torques at the largest fraction). Every optimum is
@@ -35,6 +35,7 @@ import pandas as pd
 from ..contact.ltca import ltca
 from ..errors import GearoptInputError, SolveError
 from ..geometry.train import GearTrain
+from ..validation import check_range
 from .scene import Scene, SceneResult
 from .scene_spec import DesignVariable, Limit, LoadCase, Objective
 
@@ -84,7 +85,9 @@ class CodesignStudy:
         cases = ", ".join(f"{k} ({', '.join(f'{m} {t:g}' for m, t in v.items())} N m)"
                           for k, v in s["load_cases"].items())
         lines = [f"Minimise the largest PPTE of {', '.join(self.flanks)} over the load cases {cases} at "
-                 f"{s['speed_rpm']:g} rpm; LTCA contact stress (the unmodified spur meshes' own maxima), root "
+                 f"{s['speed_rpm']:g} rpm; LTCA contact stress (the unmodified spur meshes' own maxima plus "
+                 f"{100 * s.get('contact_stress_allowance', 0.0):g} %: "
+                 + ", ".join(f"{m} {v:.0f} MPa" for m, v in s["contact_stress_limit_MPa"].items()) + "), root "
                  "stress, contact temperature, loaded contact ratio, every mesh's geometry limits and, for a helical "
                  f"option, the joints' axial margins >= {s['min_axial_margin']:g} at {s['overspeed_rpm']:g} rpm. "
                  "Sequential = macro first (the data's root shift; the largest helix angle meeting the walk-off "
@@ -195,15 +198,36 @@ def macro_first_helix(data: dict, train: GearTrain, torques: dict, speed_rpm: fl
     return lo
 
 
+CONTACT_STRESS_ALLOWANCE = 0.0
+"""Default fraction by which a mesh's LTCA contact stress may exceed the unmodified spur mesh's exact maximum (the
+limit of both designs). At 0 the limit pins the root profile shift: the shift moves the contact stresses of meshes
+that share a gear in opposite directions, and the data's shift sits on every mesh's limit (the limit is its own
+maximum), so the co-design's only macro freedom is the sliver the smooth model's sampling leaves below the exact
+peaks. The refinement samples the peaks more densely and closes it: the spur co-design's re-solve ends
+``Infeasible_Problem_Detected`` on crank-cam and cam-AC stress rows 0.02-0.05 % over their limits, and the study
+keeps its first, unrefined solve. Measured on the default data with ``contact_stress_allowance=0.02``:
+
+- the spur co-design re-solves and moves the root shift from 0.31 to 0.10; the largest PPTE goes from 3.589 to
+  3.568 um, and cam-FP's from 1.418 to 0.958 um;
+- the low-helix co-design then takes 446 s instead of 154 s (398 + 280 Ipopt iterations) and returns the
+  sequential design.
+
+The main job keeps 0 for its run time; pass 0.02 to let the co-design trade contact stress for transmission error."""
+
+
 def codesign_study(data: dict | None = None, *, options: Sequence[str] = ("spur", "low_helix"),
                    meshes: Sequence[str] = tuple(MESHES), max_helix_angle_deg: float = 8.0,
                    root_shift_bounds: tuple[float, float] = (0.0, 0.6), min_axial_margin: float = 1.5,
-                   quick: bool = False, ltca_options: dict | None = None) -> CodesignStudy:
+                   quick: bool = False, ltca_options: dict | None = None,
+                   contact_stress_allowance: float = CONTACT_STRESS_ALLOWANCE) -> CodesignStudy:
     """Run the study of the module docstring on ``data`` (default: the packaged default data). ``quick``: one load
     case (the design torque), 16 positions, 5 face slices for a helical option and no refinement (a smoke run for
-    tests: every optimum is still checked by the exact LTCA, but not refined to the 2 % agreement)."""
+    tests: every optimum is still checked by the exact LTCA, but not refined to the 2 % agreement).
+    ``contact_stress_allowance``: the LTCA contact stress of each mesh may exceed the unmodified mesh's exact
+    maximum by this fraction (:data:`CONTACT_STRESS_ALLOWANCE`)."""
     from ..data import load_default_data, train_from_data, values
 
+    check_range("contact_stress_allowance", contact_stress_allowance, 0.0, 0.5)
     data = data or load_default_data()
     v = values(data)
     loads, limits = v["design_loads"], v["design_limits"]
@@ -221,7 +245,8 @@ def codesign_study(data: dict | None = None, *, options: Sequence[str] = ("spur"
     opts = {"refine_neighbours": 3, **(ltca_options or {})}
     if quick:
         opts.update(positions=16, helical_slices=5, max_refinements=0)
-    stress_limit = {m: max(ltca(train.pairs[m], c.mesh_torque_Nm(m)).max_contact_stress_MPa for c in cases)
+    stress_limit = {m: (1.0 + contact_stress_allowance)
+                    * max(ltca(train.pairs[m], c.mesh_torque_Nm(m)).max_contact_stress_MPa for c in cases)
                     for m in meshes}
     names = [c.name for c in cases]
     ltca_limits = []
@@ -277,7 +302,8 @@ def codesign_study(data: dict | None = None, *, options: Sequence[str] = ("spur"
     settings = {"load_cases": {c.name: dict(c.torque_Nm) for c in cases}, "speed_rpm": speed,
                 "overspeed_rpm": overspeed, "overspeed_torques_Nm": over_torques, "min_axial_margin": min_axial_margin,
                 "max_helix_angle_deg": max_helix_angle_deg, "root_shift_bounds": list(root_shift_bounds),
-                "contact_stress_limit_MPa": stress_limit, "quick": quick}
+                "contact_stress_limit_MPa": stress_limit, "contact_stress_allowance": contact_stress_allowance,
+                "quick": quick}
     return CodesignStudy(out, flanks, settings)
 
 

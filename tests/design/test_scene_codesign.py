@@ -232,3 +232,11 @@ def test_refinement_raises_the_face_slices_of_a_helical_mesh_until_smooth_and_ex
     assert check["slices"] == 81 and check["ppte_um_error"] <= 0.02 and check["ppte_um"] > 0.1
     # the chosen design is the admissible solve with the lowest exact objective (within the tolerance)
     assert ref.attrs["verified_objective"] <= ref.loc[ref["admissible"], "exact_objective"].min() * 1.02
+
+
+@pytest.mark.parametrize("allowance", [-0.01, 0.9, float("nan")])
+def test_codesign_study_names_a_bad_contact_stress_allowance(allowance):
+    from gearopt.design.scene_codesign import codesign_study
+
+    with pytest.raises(GearoptInputError, match="contact_stress_allowance"):
+        codesign_study(options=("spur",), quick=True, contact_stress_allowance=allowance)
