@@ -27,6 +27,7 @@ Run: ``python benchmarks/bench_studies.py`` (``--quick``: fewer generations, poi
 from __future__ import annotations
 
 import argparse
+from dataclasses import replace
 import json
 import os
 import platform
@@ -72,15 +73,19 @@ def hypervolume(points: np.ndarray, ideal: np.ndarray, nadir: np.ndarray) -> flo
     return float(HV(ref_point=np.array([1.1, 1.1]))(f))
 
 
-def epsilon_runs(point_counts, starts: int) -> list[dict]:
+def epsilon_runs(point_counts, starts: int, approach: str = "nested") -> list[dict]:
+    """ε fronts of ``point_counts`` points, each timed end to end; ``approach``: the scene's contact form
+    (``ltca_options["approach"]``: Newton's root inside the model, or the lifted approaches as NLP variables)."""
     runs = []
     for n in point_counts:
         t0 = time.perf_counter()
-        front = pareto_front(scene(), LCR, MESH, points=n, starts=starts)
+        sc = scene()
+        sc = replace(sc, ltca_options={**sc.ltca_options, "approach": approach})
+        front = pareto_front(sc, LCR, MESH, points=n, starts=starts)
         wall = time.perf_counter() - t0
         s = front.solved
         pts = np.column_stack([s[front.objective_column], -s[front.quantity_column]])
-        runs.append({"points": n, "starts": starts, "wall_s": wall, "iterations": int(front.table["iterations"].sum()),
+        runs.append({"points": n, "starts": starts, "approach": approach, "wall_s": wall, "iterations": int(front.table["iterations"].sum()),
                      "failed": int((front.table["status"] != "ok").sum()), "front": pts.tolist(),
                      "ends": front.ends})
     return runs
@@ -182,7 +187,7 @@ def main(argv=None) -> dict:
     generations = 10 if args.quick else 150
     samples = 256 if args.quick else 8192
 
-    eps = epsilon_runs(counts, 1) + epsilon_runs(counts_multi, 4)
+    eps = epsilon_runs(counts, 1) + epsilon_runs(counts_multi, 4) + epsilon_runs(counts, 1, "lifted")
     warm = continuation(3 if args.quick else 10)
     # normalisation: ideal = the best of each objective either method finds, nadir = the worst end of the ε fronts
     ga_probe = nsga2_run(generations, np.zeros(2), np.ones(2))
@@ -193,8 +198,13 @@ def main(argv=None) -> dict:
         r["hypervolume"] = hypervolume(np.array(r["front"]), ideal, nadir)
     ga = nsga2_run(generations, ideal, nadir)
     final_hv = ga["history"][-1]["hypervolume"]
-    reach = [r for r in eps if r["hypervolume"] >= final_hv]
+    reach = [r for r in eps if r["hypervolume"] >= final_hv and r["approach"] == "nested"]
     first_reach = min(reach, key=lambda r: r["wall_s"]) if reach else None
+    reach_lifted = [r for r in eps if r["hypervolume"] >= final_hv and r["approach"] == "lifted"]
+    first_lifted = min(reach_lifted, key=lambda r: r["wall_s"]) if reach_lifted else None
+    same = {r["points"]: r["wall_s"] for r in eps if r["starts"] == 1 and r["approach"] == "nested"}
+    lifted_ratio = {str(r["points"]): r["wall_s"] / same[r["points"]] for r in eps
+                    if r["approach"] == "lifted" and r["points"] in same}
     # quick: no Dask cluster (its start alone takes seconds; tests/studies holds Dask to the same tables)
     mc = mc_throughput(samples, ("serial", "processes") if args.quick else ("serial", "processes", "dask"))
 
@@ -204,6 +214,9 @@ def main(argv=None) -> dict:
         "epsilon_points_to_reach_nsga2": first_reach["points"] if first_reach else None,
         "epsilon_time_to_reach_nsga2_s": first_reach["wall_s"] if first_reach else None,
         "time_ratio_epsilon_over_nsga2": (first_reach["wall_s"] / ga["wall_s"]) if first_reach else None,
+        "epsilon_lifted_points_to_reach_nsga2": first_lifted["points"] if first_lifted else None,
+        "time_ratio_epsilon_lifted_over_nsga2": (first_lifted["wall_s"] / ga["wall_s"]) if first_lifted else None,
+        "wall_time_ratio_lifted_over_nested_by_points": lifted_ratio,
         "mc_samples_per_s_steady": {r["executor"]: r["samples_per_s_steady"] for r in mc},
         "continuation_iterations_warm_vs_primal_only": [sum(warm["warm_iterations"]),
                                                         sum(warm["primal_only_iterations"])],
@@ -226,17 +239,18 @@ def figure(data: dict, path: Path) -> None:
     eps = data["epsilon"]
     ax = axes[0]
     ax.plot([x["wall_s"] for x in h], [x["hypervolume"] for x in h], "-", label="NSGA-II (pop 40)")
-    for starts, style in ((1, "o-"), (4, "s--")):
-        sel = [r for r in eps if r["starts"] == starts]
-        ax.plot([r["wall_s"] for r in sel], [r["hypervolume"] for r in sel], style,
-                label=f"ε-constraint, ends from {starts} start(s)")
+    for starts, approach, style in ((1, "nested", "o-"), (4, "nested", "s--"), (1, "lifted", "^-")):
+        sel = [r for r in eps if r["starts"] == starts and r.get("approach", "nested") == approach]
+        if sel:
+            ax.plot([r["wall_s"] for r in sel], [r["hypervolume"] for r in sel], style,
+                    label=f"ε-constraint ({approach} contact), ends from {starts} start(s)")
     ax.set_xscale("log")
     ax.set_xlabel("wall time [s]")
     ax.set_ylabel("hypervolume (normalised, ref 1.1)")
     ax.legend(fontsize=8)
     ax = axes[1]
     ax.plot([x["evaluations"] for x in h], [x["hypervolume"] for x in h], "-", label="NSGA-II: model samples")
-    sel = [r for r in eps if r["starts"] == 1]
+    sel = [r for r in eps if r["starts"] == 1 and r.get("approach", "nested") == "nested"]
     ax.plot([r["iterations"] for r in sel], [r["hypervolume"] for r in sel], "o-",
             label="ε-constraint: Ipopt iterations")
     ax.set_xscale("log")

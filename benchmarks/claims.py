@@ -120,10 +120,18 @@ def studies(d) -> str:
                f"({_x(s['time_ratio_epsilon_over_nsga2'])} NSGA-II's time)"
                if s.get("epsilon_points_to_reach_nsga2") else
                f"reaches {s['epsilon_best_hypervolume']:.4g} at best")
+    ratios = s.get("wall_time_ratio_lifted_over_nested_by_points") or {}
+    lifted = ""
+    if ratios:
+        lifted = (f" With the lifted contact form (`ltca_options={{\"approach\": \"lifted\"}}`) the same fronts take "
+                  + ", ".join(f"{_x(v)} ({k} points)" for k, v in ratios.items()) + " the nested form's time"
+                  + (f"; it passes NSGA-II's hypervolume with {s['epsilon_lifted_points_to_reach_nsga2']} points in "
+                     f"{_x(s['time_ratio_epsilon_lifted_over_nsga2'])} NSGA-II's time."
+                     if s.get("epsilon_lifted_points_to_reach_nsga2") else "."))
     return (f"`studies.json` (load average {d['machine']['load_average_1_5_15_min'][0]:.1f} on "
             f"{d['machine']['cpus']} cores): NSGA-II (pymoo) reaches a normalised hypervolume of "
             f"{s['nsga2_final_hypervolume']:.4g} after {s['nsga2_evaluations']} model samples and "
-            f"{s['nsga2_wall_s']:.2g} s; the warm-started epsilon-constraint front {reached}. Warm-started "
+            f"{s['nsga2_wall_s']:.2g} s; the warm-started epsilon-constraint front {reached}.{lifted} Warm-started "
             f"continuation: {warm} Ipopt iterations against {cold} when each point starts from its neighbour's primal "
             f"values only. Monte Carlo throughput (steady): " + ", ".join(f"{k} {v:.0f} samples/s" for k, v in mc.items())
             + "; the three executors give identical tables.")

@@ -350,12 +350,26 @@ def implicit_scalar_root(name: str, residual, n_params: int, *, abstol: float = 
     return ca.rootfinder(name, "newton", g, {"abstol": abstol, "max_iter": max_iter, "error_on_fail": True})
 
 
+
 def column_max(x):
     """Maximum of every column of a matrix: a row (1 x cols) for CasADi, a 1-D array for numpy. Non-smooth; use it
     for initial guesses and bounds, not inside objectives."""
     if isinstance(x, _CASADI_TYPES):
         return ca.horzcat(*[ca.mmax(x[:, j]) for j in range(x.shape[1])])
     return np.max(np.asarray(x), axis=0)
+
+
+def column_softmin(x, width):
+    """Smooth minimum of every column of a matrix (a row for CasADi, a 1-D array for numpy):
+    ``-width * log(sum(exp(-x / width)))``, at most ``width * ln(rows)`` below the true minimum and never above it.
+    Evaluated shifted by the column minimum (no overflow); the shift cancels in value and derivative."""
+    _check_width(width)
+    if isinstance(x, _CASADI_TYPES):
+        low = -column_max(-x)
+        return low - width * ca.log(ca.sum1(ca.exp(-(x - repeat_rows(low, x.shape[0])) / width)))
+    a = np.asarray(x, dtype=float)
+    low = a.min(axis=0)
+    return low - width * np.log(np.sum(np.exp(-(a - low) / width), axis=0))
 
 
 def column_sum(x):
@@ -413,5 +427,5 @@ __all__ = [
     "is_casadi", "depends_on", "is_symbolic", "is_numeric", "to_float", "value", "sin", "cos", "tan", "asin", "acos", "atan",
     "atan2", "tanh", "exp", "log", "log1p", "sqrt", "fabs", "sign", "floor", "fmax", "fmin", "clip", "where", "vertcat",
     "sum1", "softplus", "sigmoid", "smooth_max", "smooth_min", "smooth_abs", "sqrt_safe", "acos_safe", "involute",
-    "inverse_involute", "INVOLUTE_MAX", "column", "reshape", "symbol", "function", "implicit_scalar_root", "column_max", "column_sum", "matrix", "hcat", "vcat", "matmul", "row", "repeat_rows",
+    "inverse_involute", "INVOLUTE_MAX", "column", "reshape", "symbol", "function", "implicit_scalar_root", "column_max", "column_softmin", "column_sum", "matrix", "hcat", "vcat", "matmul", "row", "repeat_rows",
 ]

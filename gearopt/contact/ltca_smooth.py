@@ -7,7 +7,9 @@ overflow-free, an upper bound of ``max`` with error at most ``w ln 2``). At each
 solves ``sum c db softplus(delta - e, w) = F_bt``; the left side is convex and increasing in ``delta``, so Newton's
 method started right of the root (``max e + F/sum(c db)``) converges monotonically. The root is a CasADi
 ``rootfinder`` (derivatives by the implicit function theorem), built once per model as a ``casadi.Function`` and
-mapped over the positions (and load cases for a Harris map).
+mapped over the positions (and load cases for a Harris map). The *lifted* form (:meth:`LTCAModel.evaluate` with
+``approach_um``) leaves the root to the NLP instead: the approaches are its variables and the force balance its
+equality constraints.
 
 Convergence to the exact solver as ``w -> 0``: the smooth approach lies below the exact one by at most ``w ln 2``
 (every softplus over-estimates its spring's load by at most ``c db w ln 2``), so TE and PPTE converge linearly in
@@ -37,6 +39,8 @@ from .layout import MeshLayout, hertz_stress_factor, mesh_layout, position_fract
 from .microgeometry import Microgeometry
 
 DEFAULT_SMOOTHING_UM = 0.05
+LIFTED_OFF_PATH_GAP_UM = 1e4
+"""Gap given to springs off the path of contact in the lifted form's smooth minimum (they never close)."""
 DEFAULT_COUNT_WIDTH_UM = 0.25
 
 
@@ -60,6 +64,8 @@ class SmoothLTCAResult:
     root_stress_MPa: Any = None            # (gear 1, gear 2), each (N, P[*L]), when the model was built for it
     flash_temperature_rise_K: Any = None   # (N, P[*L]) when the model has a speed
     bulk_temperature_C: Any = None
+    approach_residual_N: Any = None        # (1, P*L) force balance of the lifted form (evaluate(approach_um=...))
+    approach_floor_um: Any = None          # (1, P*L) approach above the smallest gap (smooth), lifted form
 
     @property
     def max_root_stress_MPa(self) -> tuple[float, float]:
@@ -207,7 +213,8 @@ class LTCAModel:
 
     def evaluate(self, microgeometry: Microgeometry | None = None, torque_Nm: Any = 0.0, *,
                  stiffness_factor: Any = 1.0, E_MPa: Any = None, speed_rpm: Any = None,
-                 thermal_contact_coefficients: Any = None, face_width_mm: Any = None) -> SmoothLTCAResult:
+                 thermal_contact_coefficients: Any = None, face_width_mm: Any = None,
+                 approach_um: Any = None) -> SmoothLTCAResult:
         """Smooth LTCA at ``torque_Nm`` (a scalar, or a 1-D sequence of L load cases: the outputs then hold the
         load cases side by side, position-major within each case).
 
@@ -223,6 +230,16 @@ class LTCAModel:
         - ``face_width_mm``: the contact face width of a model with one face slice (a spur pair without lead
           modifications: the springs scale with the width, the load per unit width falls with it); a helical
           pair's contact lines change with the width, so it needs a new model.
+
+        ``approach_um`` (symbolic evaluations only): the approach of every position and load case as given symbols
+        (a (P*L) vector, load-case-major) instead of the Newton solve -- the *lifted* form of an NLP, where they are
+        variables and ``result.approach_residual_N`` (the force balance ``sum c db softplus(delta - e) - F_bt`` of
+        every position [N]) is held at zero by equality constraints. ``result.approach_floor_um`` (the approach
+        above a smooth minimum of the position's gaps, never above the smallest gap) is positive at every solution
+        (a loaded mesh closes its smallest gap); held >= 0 it keeps the NLP out of the region where no spring is
+        loaded and the force balance has no slope (there Ipopt stalls and reports a local infeasibility). The NLP's graph is then a few operations per
+        spring (no Newton iterations to differentiate twice); at a feasible point every output equals the nested
+        form's.
         """
         for name, value in (("stiffness_factor", stiffness_factor), ("E_MPa", E_MPa), ("speed_rpm", speed_rpm),
                             ("face_width_mm", face_width_mm)):
@@ -251,7 +268,8 @@ class LTCAModel:
         symbolic = (nm.is_casadi(e) or nm.is_symbolic(*torques)
                     or nm.is_symbolic(*(v for v in (stiffness_factor, E_MPa, speed_rpm, face_width_mm)
                                         if v is not None))
-                    or (thermal_contact_coefficients is not None and nm.is_symbolic(*thermal_contact_coefficients)))
+                    or (thermal_contact_coefficients is not None and nm.is_symbolic(*thermal_contact_coefficients))
+                    or (approach_um is not None and nm.is_symbolic(approach_um)))
         if not symbolic:
             for T in torques:
                 check_range("torque_Nm", T, 0.0, None, unit="N*m")
@@ -264,12 +282,28 @@ class LTCAModel:
         S_all = nm.matrix(np.tile(self._springs, (1, L)), like) * stiffness_factor
         F_all = nm.hcat([f * np.ones((1, P)) for f in forces])
         X0 = nm.hcat([nm.row(x0_base) + nm.row(f / (self._stiffness_sum * stiffness_factor)) + 1e-3 for f in forces])
-        try:
-            delta = self._approach_map(P * L)(X0, nm.vcat([E_all, S_all, F_all]))
-        except RuntimeError as exc:  # numeric inputs only: the Newton root of the approach failed
-            raise NumericalSolveError(f"LTCAModel: the approach (Newton root) did not converge at torque_Nm="
-                                      f"{torque_Nm!r}", hint="check the torque and the microgeometry for "
-                                      "implausible magnitudes") from exc
+        params = nm.vcat([E_all, S_all, F_all])
+        lifted_residual = lifted_floor = None
+        if approach_um is not None:
+            if not nm.is_symbolic(approach_um):
+                raise GearoptInputError("approach_um is for symbolic (NLP) evaluations; a numeric evaluation solves "
+                                        "the approach itself")
+            if approach_um.numel() != P * L:
+                raise GearoptInputError(f"approach_um has {approach_um.numel()} elements: needs positions x load "
+                                        f"cases = {P * L}")
+            delta = nm.row(approach_um)
+            lifted_residual = nm.column_sum(S_all * nm.softplus(nm.repeat_rows(delta, e.shape[0]) - E_all,
+                                                                self.smoothing_um)) - F_all
+            on_all = nm.matrix(np.tile(self._on_path, (1, L)), True)
+            lifted_floor = delta - nm.row(nm.column_softmin(E_all * on_all + LIFTED_OFF_PATH_GAP_UM * (1.0 - on_all),
+                                                            self.smoothing_um))
+        else:
+            try:
+                delta = self._approach_map(P * L)(X0, params)
+            except RuntimeError as exc:  # numeric inputs only: the Newton root of the approach failed
+                raise NumericalSolveError(f"LTCAModel: the approach (Newton root) did not converge at torque_Nm="
+                                          f"{torque_Nm!r}", hint="check the torque and the microgeometry for "
+                                          "implausible magnitudes") from exc
         if not symbolic:
             delta = np.asarray(delta, dtype=float).reshape(-1)
         on_path = np.tile(self._on_path, (1, L))
@@ -297,7 +331,15 @@ class LTCAModel:
                                 contact_stress_squared_MPa2=stress_sq, load_sharing=sharing,
                                 loaded_pairs=loaded, layout=lay, torque_Nm=torque_Nm, root_stress_MPa=root,
                                 flash_temperature_rise_K=flash,
-                                bulk_temperature_C=self._thermal["bulk"] if self._thermal else None)
+                                bulk_temperature_C=self._thermal["bulk"] if self._thermal else None,
+                                approach_residual_N=lifted_residual, approach_floor_um=lifted_floor)
+
+    def approach_start(self, microgeometry: Microgeometry | None, torques) -> np.ndarray:
+        """Numeric approaches [um] (a (P*L) vector, load-case-major) of ``microgeometry`` at numeric ``torques``:
+        the start of the lifted form's approach variables (see :meth:`evaluate`)."""
+        te = np.asarray(self.evaluate(microgeometry, list(np.atleast_1d(np.asarray(torques, dtype=float))))
+                        .transmission_error_um, dtype=float)
+        return te.reshape(-1, order="F") if te.ndim == 2 else te.ravel()
 
     def _flash_temperature_K(self, load, L: int, symbolic: bool, data: dict):
         """Blok flash temperature of every spring (:func:`gearopt.rating.flash_temperature.flash_temperature_blok_K`,

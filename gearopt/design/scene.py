@@ -67,7 +67,7 @@ DEFAULT_LTCA_OPTIONS: dict[str, Any] = {
     "helical_slices": 11, "engagement_width_mm": DEFAULT_ENGAGEMENT_WIDTH_MM, "root_rotation": "cw",
     "refine_tolerance": 0.02, "max_refinements": 6, "max_helical_slices": 41, "min_smoothing_um": 0.005,
     "refine_abs_tolerance_um": 0.01,
-    "refine_neighbours": 3}
+    "refine_neighbours": 3, "approach": "nested"}
 """LTCA settings of a scene (override per scene with ``ltca_options``): the NLP's initial uniform positions and
 contact smoothing (:class:`~gearopt.contact.ltca_smooth.LTCAModel`), the relief-start blend of the design, the oil
 temperature and friction of the flash temperature, the positions of the exact-LTCA check of the optimum
@@ -75,7 +75,10 @@ temperature and friction of the flash temperature, the positions of the exact-LT
 engagement width (:class:`~gearopt.contact.ltca_macro.MacroLTCAModel`); the crank's sense of rotation seen from the
 front (walk-off); and the semi-infinite refinement: relative PPTE agreement of smooth and exact model (with an absolute floor), the most
 re-solves, the most face slices it may raise a helical mesh to, the smallest contact smoothing it may halve down to
-and the grid neighbours added on either side of each worst position (:mod:`gearopt.design.scene_refine`)."""
+and the grid neighbours added on either side of each worst position (:mod:`gearopt.design.scene_refine`);
+``approach``: ``"lifted"`` (a mesh at fixed macro geometry: each position's approach an NLP variable held by an
+equality constraint, the fast form) or ``"nested"`` (Newton's method inside the model, as the macro-symbolic LTCA
+does)."""
 
 
 @dataclass
@@ -165,6 +168,8 @@ class BuiltScene(ContactModels, TrainModels, QuantityTerms):
         unknown = set(scene.ltca_options) - set(DEFAULT_LTCA_OPTIONS)
         if unknown:
             raise GearoptInputError(f"ltca_options {sorted(unknown)} are unknown ({sorted(DEFAULT_LTCA_OPTIONS)})")
+        if self._opts["approach"] not in ("lifted", "nested"):
+            raise GearoptInputError(f"ltca_options approach={self._opts['approach']!r} must be 'lifted' or 'nested'")
         self._meshes = scene.meshes()
         self._needs = scene.needs()
         self._position_sets = dict(positions or {})
@@ -381,11 +386,12 @@ class BuiltScene(ContactModels, TrainModels, QuantityTerms):
 
     # -- data as parameters, quantity expressions (hooks of gearopt.studies) --------------------------------------
 
-    def parametric_twin(self) -> "BuiltScene":
+    def parametric_twin(self, **options: Any) -> "BuiltScene":
         """The same NLP (same mesh positions and option overrides, e.g. after a refinement) built with its data as
-        parameters (``Scene.build(parametric=True)``)."""
-        return BuiltScene(self.scene, positions=self._position_sets or None, options=self._options_override or None,
-                          parametric=True)
+        parameters (``Scene.build(parametric=True)``); ``options``: further ``ltca_options`` overrides (e.g.
+        ``approach="nested"`` where the quantities must follow perturbed inputs at fixed variables)."""
+        return BuiltScene(self.scene, positions=self._position_sets or None,
+                          options={**self._options_override, **options} or None, parametric=True)
 
     def _datum(self, name: str, value: float, unit: str):
         """A datum a quantity uses: the number itself, or (``parametric`` build) a :class:`Problem` parameter of

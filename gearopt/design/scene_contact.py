@@ -40,6 +40,8 @@ from .scene_terms import FLANKS, quantity_kind
 
 MICRO_FIELDS = ("tip_relief_um", "tip_relief_start_roll_deg", "profile_crown_um", "lead_crown_um")
 START_WIDENING_DEG = 3.0
+APPROACH_SCALE_UM = 10.0
+"""Scale of the lifted form's approach variables [um] (a mesh's static TE is some microns to tens of microns)."""
 """With free macro geometry the start bounds of a tip relief are widened by this much around the initial
 geometry's pitch point .. tip, and constraints on the symbolic geometry keep the start inside the profile."""
 
@@ -253,6 +255,19 @@ class ContactModels:
             f"positions={m.positions}, slices={m.slices}, pairs={len(m.pair_index)}, root_stress={m.root_stress}, "
             f"flash_temperature={speed is not None}, symbolic macro geometry"))
 
+    def _lifted_start(self, values: Mapping[str, Any]) -> dict[str, np.ndarray]:
+        """The lifted approaches consistent with the design variables of a start (``Problem.start_completion``):
+        a start from other design values (a multi-start point, a neighbour of a front) would otherwise begin far
+        from the force balance."""
+        scalars = {k: float(np.asarray(v).ravel()[0]) for k, v in values.items() if np.size(v) == 1}
+        out = {}
+        for mesh, (model, numbers) in self._lifted.items():
+            try:
+                out[f"{mesh}.approach_um"] = model.approach_start(self._microgeometry(mesh, scalars), numbers)
+            except GearoptInputError:     # a start outside the model's range: Ipopt restores the balance itself
+                continue
+        return out
+
     def _driver_speed_rpm(self, mesh: str, crank_speed_rpm: float) -> float:
         name = self._meshes[mesh].names[self._driving_gear(mesh) - 1]
         train = self.scene.train
@@ -271,8 +286,35 @@ class ContactModels:
                 micro = micro_vector(self._microgeometry(mesh), self._meshes[mesh].geometry())
                 return model.evaluate(macro_vector(self._pair(mesh)), micro, torques)
             return self._model(f"ltca_evaluation:{mesh}", evaluate, detail)
-        return self._model(f"ltca_evaluation:{mesh}", lambda: model.evaluate(
-            self._microgeometry(mesh), torques, **self._ltca_data(mesh, model)), detail)
+        if self._opts["approach"] == "nested":
+            return self._model(f"ltca_evaluation:{mesh}", lambda: model.evaluate(
+                self._microgeometry(mesh), torques, **self._ltca_data(mesh, model)), detail)
+        return self._model(f"ltca_evaluation:{mesh}", lambda: self._lifted_ltca(mesh, model, torques, numbers),
+                           f"{detail}, lifted approach")
+
+    def _lifted_ltca(self, mesh: str, model: LTCAModel, torques: list, numbers: list):
+        """The smooth LTCA in lifted form (``ltca_options["approach"] = "lifted"``): the approach of every position
+        and load case is an NLP variable ``{mesh}.approach_um`` (started at the numeric approaches of the start
+        design) held by the equality constraint ``{mesh}.approach_equilibrium`` (the force balance of each
+        position, scaled by the largest mesh force), instead of Newton's method inside the model. Same optimum as
+        the nested form; the NLP's graph is a few operations per spring, so its derivatives are cheap (measured
+        in benchmarks/bench_studies.py)."""
+        values = {name: float(np.asarray(entry.init).ravel()[0]) for name, entry in self.problem._variables.items()
+                  if entry.size == 1}
+        start = model.approach_start(self._microgeometry(mesh, values), numbers)
+        if not getattr(self, "_lifted", None):
+            self._lifted = {}
+            self.problem.start_completion = self._lifted_start
+        self._lifted[mesh] = (model, numbers)
+        force = max(max(numbers), 1e-6) * float(model.layout.force_per_torque_N_per_Nm)
+        delta = self.problem.variable(f"{mesh}.approach_um", init=start, n=start.size, scale=APPROACH_SCALE_UM,
+                                      unit="um")
+        res = model.evaluate(self._microgeometry(mesh), torques, approach_um=delta, **self._ltca_data(mesh, model))
+        self.problem.subject_to(f"{mesh}.approach_equilibrium", nm.column(res.approach_residual_N), lower=0.0,
+                                upper=0.0, scale=force, unit="N")
+        self.problem.subject_to(f"{mesh}.approach_closes_a_gap", nm.column(res.approach_floor_um), lower=0.0,
+                                unit="um")
+        return res
 
     def _ltca_data(self, mesh: str, model: LTCAModel) -> dict[str, Any]:
         """A parametric build's LTCA data as NLP parameters (:meth:`LTCAModel.evaluate`'s data keywords), each

@@ -210,6 +210,11 @@ class QuantityTerms:
         opti = self.problem.opti
         at = [self.problem._variables[k].symbol == values[k] / self.problem._variables[k].scale[0]
               for k in (f"{t}.{n}" for (t, n) in self._variables)]
+        completion = self.problem.start_completion    # dependent variables (lifted contact approaches) at the design
+        if completion is not None:
+            for name, value in completion(dict(values)).items():
+                entry = self.problem._variables[name]
+                at.append(entry.symbol == np.asarray(value, dtype=float).reshape(-1) / entry.scale)
         return lambda expr: opti.value(expr, at)
 
     def _quantity_table(self, solved: ProblemResult | None, evaluate: Callable | None = None) -> pd.DataFrame:

@@ -73,6 +73,10 @@ class Problem(Declarations, Evaluation):
         self._pending_build_s = 0.0
         self._previous_x: dict[str, np.ndarray] = {}
         self._previous_lam: np.ndarray | None = None
+        self.start_completion = None
+        """Optional callable ``{name: value in variable units} -> {name: value}`` run on every start that is not a
+        warm start: it may set dependent variables consistently with the others (e.g. the approaches of a lifted
+        contact model from the design variables of that start)."""
 
     # ------------------------------------------------------------------ introspection
 
@@ -218,9 +222,16 @@ class Problem(Declarations, Evaluation):
                 f"parameters and constraints through Problem so that they can be reported by name")
 
     def _start(self, warm_start: bool) -> dict[str, np.ndarray]:
-        """Scaled start point: previous solution (warm start, where available) or the declared initial guess."""
-        return {name: (self._previous_x[name] if warm_start and name in self._previous_x else v.init / v.scale)
-                for name, v in self._variables.items()}
+        """Scaled start point: previous solution (warm start, where available) or the declared initial guess
+        (completed by :attr:`start_completion`)."""
+        if warm_start and self._previous_x:
+            return {name: (self._previous_x[name] if name in self._previous_x else v.init / v.scale)
+                    for name, v in self._variables.items()}
+        if self.start_completion is not None:
+            done = self.start_completion({name: v.init for name, v in self._variables.items()})
+            for name, value in done.items():
+                self._variables[name].init = np.asarray(value, dtype=float).reshape(self._variables[name].init.shape)
+        return {name: v.init / v.scale for name, v in self._variables.items()}
 
     def _start_multipliers(self, warm_start: bool) -> np.ndarray:
         lam = self._previous_lam

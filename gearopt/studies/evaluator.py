@@ -93,7 +93,7 @@ def scene_evaluator(result) -> SceneEvaluator:
     if built is None:
         raise GearoptInputError(f"result={type(result).__name__} must be the SceneResult of a solved scene "
                                 f"(scene.build().solve())")
-    pb = built.parametric_twin()
+    pb = built.parametric_twin(approach="nested")   # quantities of perturbed inputs: each approach re-solved
     problem = pb.problem
     opti = problem.opti
     vtable = result.solve.variables.set_index("name")

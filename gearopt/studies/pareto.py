@@ -133,6 +133,10 @@ def pareto_front(scene: Scene, quantity: str, target: str, points: int = 11, exe
             variables, seed 0; the best optimum): for scenes with several local optima.
         **ipopt: Ipopt options of every solve.
 
+    A scene with ``ltca_options={"approach": "lifted"}`` (each position's contact approach an NLP variable) gives
+    the front cheaper iterations; the lifted and the default nested form have the same optima but may reach
+    different local optima of a multimodal scene.
+
     Raises:
         GearoptInputError: a quantity not in the vocabulary or not of the scene's targets, ``points`` < 3, a bad
             ``sense``, a quantity the design cannot change, or a front whose two ends coincide (the quantity does

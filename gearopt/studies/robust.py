@@ -19,7 +19,7 @@ from typing import Any, Sequence
 import casadi as ca
 import numpy as np
 
-from ..design.scene import Scene, SceneResult
+from ..design.scene import BuiltScene, Scene, SceneResult
 from ..design.scene_terms import variable_kind
 from ..errors import GearoptInputError
 from ..nlp import InitialGuessWarning
@@ -47,7 +47,9 @@ def robust_design(scene: Scene, tolerances: Sequence[Tolerance] | None = None, *
     """
     source = getattr(start, "source", None)
     # from a nominal optimum: its NLP as it was solved (a refinement's mesh positions included), data as parameters
-    built = source.parametric_twin() if source is not None and source.scene is scene else scene.build(parametric=True)
+    # the nested approach: each shifted copy of a limit solves its own contact (a lifted approach is one per position)
+    built = source.parametric_twin(approach="nested") if source is not None and source.scene is scene else \
+        BuiltScene(scene, parametric=True, options={"approach": "nested"})
     problem = built.problem
     opti = problem.opti
     names_x, names_p = list(problem.variable_names), list(problem.parameter_names)

@@ -15,8 +15,11 @@ from gearopt.studies import kkt_sensitivity, sensitivity_report
 from studies_scenes import DATA_TORQUES as TORQUES, MESH, relief_scene
 
 
-def ppte(scene) -> float:
-    return scene.build().solve(check=False, tol=1e-11).quantities.query("quantity == 'ppte_um'")["value"].max()
+def ppte(scene, start=None) -> float:
+    """Largest PPTE of a re-solve started from ``start`` (the report's optimum: a sensitivity belongs to one local
+    optimum, and the relief problem has several; a re-solve from the declared guess may land on another branch)."""
+    built = scene.build(initial=None if start is None else start.values)
+    return built.solve(check=False, tol=1e-11).quantities.query("quantity == 'ppte_um'")["value"].max()
 
 
 @pytest.fixture(scope="module")
@@ -25,8 +28,13 @@ def scene():
 
 
 @pytest.fixture(scope="module")
-def report(scene):
-    return sensitivity_report(scene.build().solve(check=False))
+def solved(scene):
+    return scene.build().solve(check=False)
+
+
+@pytest.fixture(scope="module")
+def report(solved):
+    return sensitivity_report(solved)
 
 
 def test_kkt_sensitivity_of_an_analytic_parametric_nlp():
@@ -55,14 +63,14 @@ def test_report_columns_and_order(report):
     assert md.count("\n") == 4 and "log_sensitivity" in md
 
 
-def test_torque_sensitivities_match_re_solves_with_the_torque_moved(scene, report):
+def test_torque_sensitivities_match_re_solves_with_the_torque_moved(scene, solved, report):
     t = report.table.set_index("name")
     for i, torque in ((0, TORQUES[0]), (2, TORQUES[2])):     # the two ends of the range hold the PPTE maximum
         h = 1.0
         moved = []
         for sign in (-1, 1):
             cases = [LoadCase(f"T{tq:g}", tq + (sign * h if j == i else 0.0)) for j, tq in enumerate(TORQUES)]
-            moved.append(ppte(replace(scene, load_cases=cases)))
+            moved.append(ppte(replace(scene, load_cases=cases), solved))
         difference = (moved[1] - moved[0]) / (2 * h)
         kkt = t.loc[f"torque_Nm[{MESH}]@T{torque:g}", "sensitivity"]
         assert kkt == pytest.approx(difference, rel=0.02, abs=1e-5)
@@ -70,13 +78,13 @@ def test_torque_sensitivities_match_re_solves_with_the_torque_moved(scene, repor
             kkt * torque / report.objective, rel=1e-12)
 
 
-def test_limit_sensitivity_matches_a_re_solve_with_the_limit_moved(scene, report):
+def test_limit_sensitivity_matches_a_re_solve_with_the_limit_moved(scene, solved, report):
     row = report.table.set_index("name").loc[f"loaded_contact_ratio[{MESH}]@T150 (lower)"]
     assert row["active"]
     # the optimum curves strongly in this bound (the central difference is 0.2485 at h = 2e-3, 0.2399 at 2e-4)
     h = 2e-4
-    moved = [ppte(replace(scene, limits=[scene.limits[0], Limit("loaded_contact_ratio", MESH, lower=1.3 + s * h)]))
-             for s in (-1, 1)]
+    moved = [ppte(replace(scene, limits=[scene.limits[0], Limit("loaded_contact_ratio", MESH, lower=1.3 + s * h)]),
+                  solved) for s in (-1, 1)]
     assert row["sensitivity"] == pytest.approx((moved[1] - moved[0]) / (2 * h), rel=2e-3)
     # the contact-stress limit has a large margin: no sensitivity
     stress = report.table[report.table["name"].str.startswith("max_contact_stress_MPa")]
@@ -89,7 +97,9 @@ def test_contact_stress_follows_hertz_square_root_of_its_torque(report):
     q = report.quantity_table.set_index(["quantity", "parameter"])
     own = q.loc[(f"max_contact_stress_MPa[{MESH}]@T450", f"torque_Nm[{MESH}]@T450"), "log_sensitivity"]
     other = q.loc[(f"max_contact_stress_MPa[{MESH}]@T450", f"torque_Nm[{MESH}]@T150"), "log_sensitivity"]
-    assert own == pytest.approx(0.5, abs=1e-6) and abs(other) < 1e-6
+    # to the accuracy of the KKT solve (relative residual ~1e-4 here; with the lifted approach the contact's own
+    # variables carry it into the stress at about 5e-6)
+    assert own == pytest.approx(0.5, abs=2e-5) and abs(other) < 2e-5
 
 
 def test_report_needs_a_solved_scene(tmp_path, report):
