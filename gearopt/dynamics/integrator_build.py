@@ -100,6 +100,7 @@ class IntegratorBuild:
             "check", args, [check_expr["check"]], dict({"cse": True}, **extra)).map(self.n_out),
             repr(("map", self.n_out)))
         self.build_time_s = time.perf_counter() - t0
+        self.last_cycle_stats: dict = {}  # integrator statistics of the last cycle run (Simulator.run)
         self.cycle_rad = cycle_rad
 
     def _build(self, name: str, expressions: dict, build, options_repr: str):

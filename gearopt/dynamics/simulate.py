@@ -47,10 +47,15 @@ from .. import compile_cache
 from ..errors import GearoptInputError
 from ..validation import check_int, check_range
 from . import budget
+from .buffered_call import BufferedFunction
 from .integrator_build import INTEGRATORS, IntegratorBuild
 from .network import OFFSET_PARAMETER, SPEED_PARAMETER, TorsionalNetwork
 from .shooting import PeriodicStateError, Shooting
 from .simulation import QUANTITIES, Simulation
+
+#: CasADi integrator statistics that time function evaluations: right-hand side, Jacobian, quadratures (CVODES;
+#: IDAS and the fixed-step integrators report what they have).
+EVALUATION_TIMERS = ("t_wall_daeF", "t_wall_jacF", "t_wall_quadF")
 
 
 class Simulator(IntegratorBuild, Shooting):
@@ -105,12 +110,20 @@ class Simulator(IntegratorBuild, Shooting):
         if x.size != self.eq.x.numel():
             raise GearoptInputError(f"x0 has {x.size} entries, the network has {self.eq.x.numel()} states")
         method, shooting = "run-in", {}
+        # numpy in and out without DM conversions (buffered_call module docstring); one memory per run
+        integrate = BufferedFunction(self.integrator, ["x0", "p"], ["xf", "qf"] if self.contact_quadratures
+                                     else ["xf"])
+        outputs = BufferedFunction(self.output_function, [0, 1, 2], [0])
+        checks = BufferedFunction(self.check_function, [0, 1, 2], [0])
+        max_num_steps = self.options.get("max_num_steps", 0)
+        evaluation_time, t_integrator, t_outputs = 0.0, 0.0, 0.0
         if steady_state == "shooting":
             x_start = x
             for c in range(run_in_cycles):
                 p = pvec.copy()
                 p[i_off] = c * self.cycle_rad
-                x = np.array(self.integrator(x0=x, p=p)["xf"])[:, -1]
+                with budget.step_limit_errors(max_num_steps):
+                    x = integrate(x, p)[0][:, -1].copy()
             try:
                 shooting = self.periodic_state(speed_rpm, parameters, x0=x, tol=shooting_tol,
                                                max_iter=shooting_max_iter, jacobian=shooting_jacobian)
@@ -134,16 +147,22 @@ class Simulator(IntegratorBuild, Shooting):
             p = pvec.copy()
             p[i_off] = cycle * self.cycle_rad
             budget.check_wall_time(t_start, self.max_wall_time_s, cycle)
-            res = budget.integrate(self.integrator, x, p, self.options.get("max_num_steps", 0))
-            xs = res["xf"].full()
-            stats = self.integrator.stats()
+            t0 = time.perf_counter()
+            with budget.step_limit_errors(max_num_steps):
+                res = integrate(x, p)
+            t1 = time.perf_counter()
+            xs = res[0]
+            stats = integrate.stats()
+            self.last_cycle_stats = stats
             nsteps.append(stats.get("nsteps", stats.get("n_step", 0)))
-            pmat = np.repeat(p[:, None], self.n_out, 1)
+            evaluation_time += sum(float(stats.get(k, 0.0)) for k in EVALUATION_TIMERS)
+            pmat = np.tile(p, self.n_out)  # p repeated per output point, column-major
             if recording:  # the recorded cycle's outputs hold the checked quantities: evaluate once
-                outs = self.output_function(self.grid_rad[None, :], xs, pmat).full()
+                outs = outputs(self.grid_rad, xs, pmat)[0]
                 check = outs[self._check_rows]
             else:
-                check = self.check_function(self.grid_rad[None, :], xs, pmat).full()
+                check = checks(self.grid_rad, xs, pmat)[0]
+            t_integrator, t_outputs = t_integrator + t1 - t0, t_outputs + time.perf_counter() - t1
             if previous is not None and check.size:
                 scale = max(float(np.max(np.abs(check))), 1e-9)
                 changes.append(float(np.max(np.abs(check - previous)) / scale))
@@ -153,17 +172,18 @@ class Simulator(IntegratorBuild, Shooting):
             if recording:
                 recorded.append((cycle, xs, p, outs))
                 if self.contact_quadratures:
-                    quads.append(np.array(res["qf"])[:, -1])
+                    quads.append(res[1][:, -1].copy())
             else:
                 run_in_done += 1
-            x = xs[:, -1]
+            x = xs[:, -1].copy()
             cycle += 1
             if not math.isfinite(float(np.max(np.abs(x)))):
                 raise GearoptInputError(f"simulation diverged at cycle {cycle} (speed {speed_rpm} rpm): check the "
                                         f"parameters (negative stiffness? unbounded free system?)")
         stats = {"integration_time_s": time.perf_counter() - t_loop, "cycles_integrated": cycle,
-                 "steps_per_cycle": nsteps, "build_time_s": self.build_time_s, "method": self.method,
-                 "rtol": self.rtol, "atol": self.atol, "max_step_deg": self.max_step_deg}
+                 "steps_per_cycle": nsteps, "integrator_time_s": t_integrator, "output_time_s": t_outputs,
+                 "function_evaluation_time_s": evaluation_time, "build_time_s": self.build_time_s,
+                 "method": self.method, "rtol": self.rtol, "atol": self.atol, "max_step_deg": self.max_step_deg}
         result = self._result(speed_rpm, pvec, recorded, quads, changes, run_in_done, steady_state_tol, x, stats)
         result.steady_state_method, result.shooting = method, shooting
         stats["run_time_s"] = time.perf_counter() - t_start  # static state + integration + outputs
@@ -177,16 +197,20 @@ class Simulator(IntegratorBuild, Shooting):
         outs = np.concatenate([o for _, _, _, o in recorded], axis=1)
         time_s = tau / omega
         index = pd.Index(time_s, name="time_s")
-        frames = {q: {} for q in QUANTITIES}
+        groups: dict = {q: ([], []) for q in QUANTITIES}
         for i, (q, element) in enumerate(self.output_names):
-            frames[q][element] = outs[i]
-        frames = {q: pd.DataFrame(cols, index=index) for q, cols in frames.items()}
+            groups[q][0].append(i)
+            groups[q][1].append(element)
+        # one 2-D block per quantity (a dict of columns would be stacked into one by pandas, column by column)
+        frames = {q: pd.DataFrame(outs[rows].T, index=index, columns=cols) if rows else pd.DataFrame({}, index=index)
+                  for q, (rows, cols) in groups.items()}
         free = self.eq.free_nodes
         n = len(free)
         ratios = self.network.speed_ratios()
-        frames["node_angle_mrad"] = pd.DataFrame({nd: xs[i] for i, nd in enumerate(free)}, index=index)
-        frames["node_speed_rpm"] = pd.DataFrame(
-            {nd: (ratios[nd] * omega + xs[n + i]) * 30.0 / math.pi for i, nd in enumerate(free)}, index=index)
+        frames["node_angle_mrad"] = pd.DataFrame(xs[:n].T, index=index, columns=list(free))
+        ratio = np.array([ratios[nd] for nd in free])
+        frames["node_speed_rpm"] = pd.DataFrame(((ratio[:, None] * omega + xs[n:]) * 30.0 / math.pi).T,
+                                                index=index, columns=list(free))
         if quads:
             total = np.sum(quads, axis=0)
             tv = {}
