@@ -12,7 +12,12 @@ simulator's lowest speed (``min_speed_rpm``), without the contact-indicator quad
 width of the dead zone (a model change: x4). For each: wall time of the acceptance run (``model.simulate(2500,
 cycles=10, backlash=True)``, static state + integration + outputs, median of repeats, JIT kernels loaded from the
 compile cache), steps per cycle, time per step and the integrator's own time in function evaluations (the floor:
-``t_wall_daeF + t_wall_jacF + t_wall_quadF`` of the CVODES statistics) against its total.
+``t_wall_daeF + t_wall_jacF + t_wall_quadF`` of the CVODES statistics, summed over the run's cycles) against the
+cycle loop (``integration_over_function_evaluations``: integrator calls, output functions, Python) and against the
+integrator calls alone (``integrator_over_function_evaluations``); ``floor_fraction``. CasADi times every
+evaluation with the process CPU clock (a system call, 2 per evaluation; profiled with ``perf``: about a fifth of
+the integrator's time on this machine), part of which falls inside the timed evaluations, so the floor includes
+some of CasADi's own bookkeeping.
 
 Also: the JIT gain (interpreted / compiled run time of the same run) and the compiler optimisation level
 (-O0..-O3: compile time of the lash integrator and its run time) that ``gearopt.compile_cache.JIT_FLAGS`` is picked

@@ -29,6 +29,12 @@ changes of every cycle are reported); or single shooting (``steady_state="shooti
 sensitivities, reporting residual and iterations, and a typed error (:class:`PeriodicStateError`) when no periodic
 state is found (the rattling lash model).
 
+Each cycle calls the integrator and the output function through :mod:`~gearopt.dynamics.buffered_call` (numpy
+arrays handed to CasADi as they are: converting the 46 x 2880 states and the outputs of a cycle of the default
+train to and from ``casadi.DM`` cost more than the integrator's own function evaluations); the run's
+``Simulation.stats`` split its time into integrator calls, output evaluations and the integrator's function
+evaluations, and :attr:`Simulator.last_cycle_stats` holds the CVODES statistics of the last cycle.
+
 Modules: :mod:`~gearopt.dynamics.integrator_build` (settings, integrator and output functions, static state),
 :mod:`~gearopt.dynamics.shooting` (periodic state by shooting), :mod:`~gearopt.dynamics.simulation` (the result
 record); this module runs the cycles and holds the entry points, and re-exports the public names of the others.
@@ -75,6 +81,8 @@ class Simulator(IntegratorBuild, Shooting):
     default train -- without them only the sampled contact counts are reported), the budgets ``max_steps_per_cycle``
     (estimated steps per cycle before a run; also CVODES/IDAS ``max_num_steps``) and ``max_wall_time_s`` (checked
     between cycles), each raising :class:`~gearopt.errors.BudgetExceededError` (:mod:`gearopt.dynamics.budget`).
+    ``last_cycle_stats``: the integrator statistics (CasADi's, e.g. ``nsteps``, ``nfevals``, ``t_wall_daeF``) of the
+    last cycle :meth:`run` integrated.
     """
 
     def run(self, speed_rpm: float, cycles: int = 10, *, parameters: dict | None = None, x0=None,
