@@ -92,4 +92,6 @@ def test_simulated_cycles_reproduce_plain_calls_and_report_their_evaluation_time
     assert stats["cycles_integrated"] == 3
     assert 0.0 < stats["function_evaluation_time_s"] < stats["integrator_time_s"] <= stats["integration_time_s"]
     assert 0.0 < stats["output_time_s"] < stats["integration_time_s"]
+    assert 0.0 < stats["function_evaluation_cpu_time_s"] < stats["integrator_cpu_time_s"]
+    assert stats["integrator_cpu_time_s"] <= stats["integration_cpu_time_s"]
     assert sim.last_cycle_stats["nsteps"] == stats["steps_per_cycle"][-1]
