@@ -242,6 +242,10 @@ class Simulator(IntegratorBuild, Shooting):
                           angle_offset_rad=float(recorded[0][0] * self.cycle_rad))
 
 
+#: Samples per call of the acceleration function in :func:`node_accelerations`.
+ACCELERATION_CHUNK = 2048
+
+
 def node_accelerations(network: TorsionalNetwork, sim: Simulation) -> pd.DataFrame:
     """Angular accelerations [rad/s^2] of the free nodes at the samples of ``sim`` (a simulation of ``network``),
     in the network's common sign convention (the nominal rotation has constant speed, so this is both the
@@ -265,8 +269,18 @@ def node_accelerations(network: TorsionalNetwork, sim: Simulation) -> pd.DataFra
                   + [sim.node_speed_rpm[nd].to_numpy() * math.pi / 30.0 - ratios[nd] * omega
                      for nd in eq.free_nodes])
     tau = np.radians(sim.crank_angle_deg) + sim.angle_offset_rad
-    acc = np.array(fun.map(tau.size)(tau[None, :], x, np.repeat(pvec[:, None], tau.size, 1)))
-    return pd.DataFrame({nd: acc[i] for i, nd in enumerate(eq.free_nodes)}, index=pd.Index(sim.time_s, name="time_s"))
+    # a map over fixed chunks, kept with the network: CasADi holds a map only weakly and building one over all the
+    # samples of a long run took 0.2 s (28 800 samples), more than evaluating it
+    key_map = ("accelerations_map", sim.backlash, ACCELERATION_CHUNK)
+    if key_map not in network._cache:
+        network._cache[key_map] = fun.map(ACCELERATION_CHUNK, "serial")
+    chunk = BufferedFunction(network._cache[key_map], [0, 1, 2], [0])
+    size, pad = tau.size, -tau.size % ACCELERATION_CHUNK
+    tau, x = np.concatenate([tau, np.repeat(tau[-1:], pad)]), np.hstack([x, np.repeat(x[:, -1:], pad, axis=1)])
+    ptile = np.tile(pvec, ACCELERATION_CHUNK)
+    acc = np.hstack([chunk(tau[i:i + ACCELERATION_CHUNK], x[:, i:i + ACCELERATION_CHUNK], ptile)[0]
+                     for i in range(0, tau.size, ACCELERATION_CHUNK)])[:, :size]
+    return pd.DataFrame(acc.T, index=pd.Index(sim.time_s, name="time_s"), columns=list(eq.free_nodes))
 
 
 def simulator(network: TorsionalNetwork, **options) -> Simulator:
