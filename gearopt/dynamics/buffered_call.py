@@ -12,7 +12,9 @@ the evaluation alone. Results are the same numbers as the plain call's (tested i
 
 Only dense inputs and outputs are supported (every nonzero of the sparsity is an entry of the matrix). Inputs that
 are not named are passed as null pointers, which CasADi reads as zeros; outputs that are not named are not
-computed. A failing evaluation raises the same ``RuntimeError`` as a plain call.
+computed. A failing evaluation raises the same ``RuntimeError`` as a plain call. Results are column-major
+(Fortran-ordered) arrays, as CasADi writes them: the same values as ``.full()``, whose arrays are row-major; a sum
+along an axis may round differently between the two layouts (``np.ascontiguousarray`` first where that matters).
 
 A :class:`BufferedFunction` holds one checked-out memory of the Function (not thread-safe: make one per thread or
 per run; making one costs about 0.1 ms). Its :meth:`~BufferedFunction.stats` are those of that memory, with the
