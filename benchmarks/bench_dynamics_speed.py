@@ -12,7 +12,13 @@ simulator's lowest speed (``min_speed_rpm``), without the contact-indicator quad
 width of the dead zone (a model change: x4). For each: wall time of the acceptance run (``model.simulate(2500,
 cycles=10, backlash=True)``, static state + integration + outputs, median of repeats, JIT kernels loaded from the
 compile cache), steps per cycle, time per step and the integrator's own time in function evaluations (the floor:
-``t_wall_daeF + t_wall_jacF + t_wall_quadF`` of the CVODES statistics) against its total.
+``t_wall_daeF + t_wall_jacF + t_wall_quadF`` of the CVODES statistics, summed over the run's cycles) against the
+cycle loop (``integration_over_function_evaluations``: integrator calls, output functions, Python) and against the
+integrator calls alone (``integrator_over_function_evaluations``); ``floor_fraction``. CasADi times every
+evaluation with the process CPU clock (a system call, 2 per evaluation; profiled with ``perf``: about a fifth of
+the integrator's time on this machine), part of which falls inside the timed evaluations, so the floor includes
+some of CasADi's own bookkeeping: ``floor_check`` measures how much (the timed right-hand side against the compiled
+one alone).
 
 Also: the JIT gain (interpreted / compiled run time of the same run) and the compiler optimisation level
 (-O0..-O3: compile time of the lash integrator and its run time) that ``gearopt.compile_cache.JIT_FLAGS`` is picked
@@ -42,6 +48,7 @@ import numpy as np  # noqa: E402
 
 from gearopt import compile_cache  # noqa: E402
 from gearopt.dynamics import default_timing_model  # noqa: E402
+from gearopt.dynamics.buffered_call import BufferedFunction  # noqa: E402
 
 OUT = Path(__file__).resolve().parent / "results"
 SPEED = 2500.0
@@ -92,12 +99,60 @@ def z_scores(stats: dict, ref: dict) -> dict:
     return out
 
 
-def floor_fraction(simulator) -> dict:
-    st = simulator.integrator.stats()
-    evals = sum(float(st.get(k, 0.0)) for k in ("t_wall_daeF", "t_wall_jacF", "t_wall_quadF"))
-    return {"function_evaluation_time_s": evals, "rhs_evaluations": int(st.get("nfevals", 0)),
-            "jacobian_evaluations": int(st.get("n_call_jacF", 0)), "steps": int(st.get("nsteps", 0)),
-            "error_test_failures": int(st.get("netfails", 0))}
+def floor_fraction(simulator, sim) -> dict:
+    """The run's time against its own function evaluations (the floor). Per cycle (totals of the run divided by the
+    cycles integrated): ``function_evaluation_time_s`` = the CVODES timers ``t_wall_daeF + t_wall_jacF +
+    t_wall_quadF`` (right-hand side, Jacobian, quadratures), ``integrator_time_s`` (the integrator calls: steps,
+    linear algebra, interpolation to the output grid), ``output_time_s`` (output function on the grid), and
+    ``integration_time_s`` (the whole cycle loop). Counters: the last cycle's CVODES statistics."""
+    st, rs = simulator.last_cycle_stats, sim.stats
+    cycles = rs["cycles_integrated"]
+    evals = rs["function_evaluation_time_s"] / cycles
+    return {"function_evaluation_time_s": evals, "integrator_time_per_cycle_s": rs["integrator_time_s"] / cycles,
+            "output_time_per_cycle_s": rs["output_time_s"] / cycles,
+            "integration_time_per_cycle_s": rs["integration_time_s"] / cycles,
+            "integration_over_function_evaluations": rs["integration_time_s"] / max(rs["function_evaluation_time_s"],
+                                                                                     1e-12),
+            "integrator_over_function_evaluations": rs["integrator_time_s"] / max(rs["function_evaluation_time_s"],
+                                                                                   1e-12),
+            # the same in process CPU time (CasADi's t_proc_* timers): not inflated by other processes' load
+            "cpu_integration_over_function_evaluations":
+                rs["integration_cpu_time_s"] / max(rs["function_evaluation_cpu_time_s"], 1e-12),
+            "cpu_integrator_over_function_evaluations":
+                rs["integrator_cpu_time_s"] / max(rs["function_evaluation_cpu_time_s"], 1e-12),
+            "rhs_evaluations": int(st.get("nfevals", 0)), "jacobian_evaluations": int(st.get("n_call_jacF", 0)),
+            "linear_solver_setups": int(st.get("nlinsetups", 0)), "newton_iterations": int(st.get("nniters", 0)),
+            "steps": int(st.get("nsteps", 0)), "error_test_failures": int(st.get("netfails", 0))}
+
+
+def floor_check(model, kw, repeats) -> dict:
+    """Does the floor measure the evaluations? Per right-hand-side call: CasADi's timer inside CVODES
+    (``t_wall_daeF / n_call_daeF`` of one cycle from the static state) against the compiled right-hand side alone,
+    evaluated over that cycle's 2880 output states in one mapped call (no per-call bookkeeping), medians of
+    ``repeats``. Their difference is CasADi's own work around each evaluation (argument set-up, a finiteness check
+    of the result, a process-CPU-clock system call), which the floor counts as evaluation time."""
+    simulator = model.simulator(backlash=True, **kw)
+    params = model.parameters_at(SPEED)
+    p, x0, n = simulator.parameter_vector(SPEED, params), simulator.static_state(SPEED, params), simulator.n_out
+    integrate = BufferedFunction(simulator.integrator, ["x0", "p"], ["xf"])
+    rhs = BufferedFunction(simulator.integrator.get_function("daeF").map(n), ["t", "x", "p"], ["ode"])
+    timed, alone, timed_cpu, alone_cpu = [], [], [], []
+    for _ in range(repeats):
+        xs = integrate(x0, p)[0]
+        st = integrate.stats()
+        timed.append(st["t_wall_daeF"] / st["n_call_daeF"])
+        timed_cpu.append(st["t_proc_daeF"] / st["n_call_daeF"])
+        t0, c0 = time.perf_counter(), time.process_time()
+        rhs(simulator.grid_rad, xs, np.tile(p, n))
+        alone.append((time.perf_counter() - t0) / n)
+        alone_cpu.append((time.process_time() - c0) / n)
+    out = {"rhs_timed_per_call_us": 1e6 * statistics.median(timed),
+           "rhs_alone_per_call_us": 1e6 * statistics.median(alone),
+           "rhs_timed_per_call_cpu_us": 1e6 * statistics.median(timed_cpu),
+           "rhs_alone_per_call_cpu_us": 1e6 * statistics.median(alone_cpu)}
+    out["timed_over_alone"] = out["rhs_timed_per_call_us"] / out["rhs_alone_per_call_us"]
+    out["timed_over_alone_cpu"] = out["rhs_timed_per_call_cpu_us"] / out["rhs_alone_per_call_cpu_us"]
+    return out
 
 
 def run_setting(models, name, setting, stat_cycles, repeats, timed_cycles=10):
@@ -113,10 +168,7 @@ def run_setting(models, name, setting, stat_cycles, repeats, timed_cycles=10):
         sim = model.simulate(SPEED, cycles=timed_cycles, backlash=True, reuse=False, **kw)
         times.append(time.perf_counter() - t0)
         cpu.append(time.process_time() - c0)
-    floor = floor_fraction(simulator)  # CVODES statistics of the last cycle of the timed run
-    one_cycle = sim.stats["integration_time_s"] / sim.stats["cycles_integrated"]
-    floor["integration_time_per_cycle_s"] = one_cycle
-    floor["integration_over_function_evaluations"] = one_cycle / max(floor["function_evaluation_time_s"], 1e-12)
+    floor = floor_fraction(simulator, sim)  # of the last timed run
     long = (sim if stat_cycles is None else
             model.simulate(SPEED, cycles=stat_cycles + 1, backlash=True, reuse=False, **kw))
     row = {"setting": name, **{k: v for k, v in setting.items() if k != "model"}, **setting.get("model", {}),
@@ -220,12 +272,14 @@ def main(argv=None):
     print("acceptance run", flush=True)
     kw = {k: v for k, v in SETTINGS[pick["setting"]].items() if k != "model"}
     model = models[repr([])]
-    times, cpu = [], []
+    times, cpu, floors = [], [], []
+    simulator = model.simulator(backlash=True, **kw)
     for _ in range(1 if quick else ACCEPTANCE_REPEATS):
         t0, c0 = time.perf_counter(), time.process_time()
-        model.simulate(SPEED, cycles=timed, backlash=True, reuse=False, **kw)
+        sim = model.simulate(SPEED, cycles=timed, backlash=True, reuse=False, **kw)
         times.append(time.perf_counter() - t0)
         cpu.append(time.process_time() - c0)
+        floors.append(floor_fraction(simulator, sim))
     result["acceptance_run"] = {
         "call": f"default_timing_model('spur').simulate(2500, cycles={timed}, backlash=True, "
                 + ", ".join(f"{k}={v!r}" for k, v in kw.items()) + ")",
@@ -234,7 +288,20 @@ def main(argv=None):
         "statistics": pick["statistics"], "reference_statistics": result["reference"]["statistics"],
         "against_reference": pick["against_reference"],
         "speed_up_over_default": base["cpu_time_s"] / pick["cpu_time_s"],
-        "integration_over_function_evaluations": pick["floor"]["integration_over_function_evaluations"]}
+        # medians over the repeats of this run: the whole cycle loop and the integrator calls alone against the
+        # function evaluations of the same run, and where a cycle's time goes
+        "integration_over_function_evaluations": statistics.median(
+            f["integration_over_function_evaluations"] for f in floors),
+        "integrator_over_function_evaluations": statistics.median(
+            f["integrator_over_function_evaluations"] for f in floors),
+        "cpu_integration_over_function_evaluations": statistics.median(
+            f["cpu_integration_over_function_evaluations"] for f in floors),
+        "cpu_integrator_over_function_evaluations": statistics.median(
+            f["cpu_integrator_over_function_evaluations"] for f in floors),
+        "per_cycle_s": {k: statistics.median(f[k] for f in floors) for k in (
+            "integration_time_per_cycle_s", "integrator_time_per_cycle_s", "function_evaluation_time_s",
+            "output_time_per_cycle_s")}}
+    result["floor_check"] = floor_check(model, kw, 3 if quick else 9)
     print("JIT gain", flush=True)
     result["jit_gain"] = jit_gain(ref_model, 1 if quick else 3, 0.25)
     result["cache"] = compile_cache.cache_stats()

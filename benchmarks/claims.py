@@ -101,7 +101,19 @@ def dynamics_speed(d) -> str:
             f"({acc['cpu_time_s']:.3g} s CPU; load average {acc['load_average'][0]:.1f} on "
             f"{d['machine']['cpus']} cores), {acc['speed_up_over_default']:.2g}x less CPU than the default rtol "
             f"1e-6, {acc['steps_per_cycle_mean']:.0f} steps per cycle, integration "
-            f"{acc['integration_over_function_evaluations']:.2g}x its own function-evaluation time. Per-cycle RMS "
+            f"{acc['integration_over_function_evaluations']:.2g}x its own function-evaluation time"
+            + (f" (the integrator calls alone {acc['integrator_over_function_evaluations']:.2g}x; per cycle "
+               f"{1e3 * acc['per_cycle_s']['integration_time_per_cycle_s']:.3g} ms, of which "
+               f"{1e3 * acc['per_cycle_s']['function_evaluation_time_s']:.3g} ms right-hand side and Jacobian, "
+               f"{1e3 * acc['per_cycle_s']['output_time_per_cycle_s']:.2g} ms outputs)"
+               if "per_cycle_s" in acc else "")
+            + (f", in CPU time {acc['cpu_integration_over_function_evaluations']:.2g}x (integrator "
+               f"{acc['cpu_integrator_over_function_evaluations']:.2g}x)"
+               if "cpu_integration_over_function_evaluations" in acc else "")
+            + (f"; the floor counts CasADi's bookkeeping: its timers put "
+               f"{d['floor_check']['rhs_timed_per_call_cpu_us']:.2g} us on a right-hand side that evaluates in "
+               f"{d['floor_check']['rhs_alone_per_call_cpu_us']:.2g} us alone (CPU)" if "floor_check" in d else "")
+            + f". Per-cycle RMS "
             f"crank-cam force {acc['statistics']['rms_force_N']:.0f} +- {acc['statistics']['rms_force_se_N']:.0f} N "
             f"against the reference's {ref['statistics']['rms_force_N']:.0f} +- "
             f"{ref['statistics']['rms_force_se_N']:.0f} N (rtol {ref['rtol']:g}, {ref['statistics']['cycles']} "

@@ -11,6 +11,7 @@ divided by the step limit ``max_step_deg`` if that is smaller. Both limits are o
 
 from __future__ import annotations
 
+import contextlib
 import math
 import time
 
@@ -75,11 +76,12 @@ def check_wall_time(t_start: float, max_wall_time_s: float, cycle: int) -> None:
                                   value=max_wall_time_s, hint="raise max_wall_time_s or simulate fewer cycles")
 
 
-def integrate(integrator, x0, p, max_num_steps: int):
-    """Call a CasADi integrator; its step-limit failure (CVODES/IDAS ``max_num_steps``) becomes a
-    :class:`BudgetExceededError` naming the limit."""
+@contextlib.contextmanager
+def step_limit_errors(max_num_steps: int):
+    """Turn the step-limit failure (CVODES/IDAS ``max_num_steps``) of an integrator call inside the block into a
+    :class:`BudgetExceededError` naming the limit; other errors pass unchanged."""
     try:
-        return integrator(x0=x0, p=p)
+        yield
     except RuntimeError as exc:
         text = str(exc)
         if "TOO_MUCH_WORK" in text or "max_num_steps" in text or "mxstep" in text.lower():
@@ -89,6 +91,13 @@ def integrate(integrator, x0, p, max_num_steps: int):
         raise
 
 
+def integrate(integrator, x0, p, max_num_steps: int):
+    """Call a CasADi integrator; its step-limit failure (CVODES/IDAS ``max_num_steps``) becomes a
+    :class:`BudgetExceededError` naming the limit (:func:`step_limit_errors`)."""
+    with step_limit_errors(max_num_steps):
+        return integrator(x0=x0, p=p)
+
+
 __all__ = ["MAX_CYCLES", "DEFAULT_MAX_STEPS_PER_CYCLE", "DEFAULT_MAX_WALL_TIME_S", "STEPS_PER_PERIOD",
            "check_budget_settings",
-           "estimated_steps_per_cycle", "check_step_budget", "check_wall_time", "integrate"]
+           "estimated_steps_per_cycle", "check_step_budget", "check_wall_time", "integrate", "step_limit_errors"]

@@ -18,6 +18,7 @@ from .. import compile_cache
 from ..errors import GearoptInputError
 from ..validation import check_range
 from . import budget
+from .buffered_call import BufferedFunction
 from .network import ANGLE_UNIT_RAD, TorsionalNetwork
 
 INTEGRATORS = ("cvodes", "idas", "collocation", "rk")
@@ -100,6 +101,8 @@ class IntegratorBuild:
             "check", args, [check_expr["check"]], dict({"cse": True}, **extra)).map(self.n_out),
             repr(("map", self.n_out)))
         self.build_time_s = time.perf_counter() - t0
+        self._torque_map = None  # nominal torques over the static state's samples (static_state)
+        self.last_cycle_stats: dict = {}  # integrator statistics of the last cycle run (Simulator.run)
         self.cycle_rad = cycle_rad
 
     def _build(self, name: str, expressions: dict, build, options_repr: str):
@@ -144,7 +147,9 @@ class IntegratorBuild:
         pvec = self.parameter_vector(speed_rpm, parameters)
         samples = 720
         tau = np.linspace(0.0, self.cycle_rad, samples, endpoint=False)
-        torques = np.array(self.eq.nominal_torques.map(samples)(tau[None, :], np.repeat(pvec[:, None], samples, 1)))
+        if self._torque_map is None:  # CasADi keeps a map only weakly: rebuilt on every call otherwise
+            self._torque_map = self.eq.nominal_torques.map(samples, "serial")
+        torques = np.ascontiguousarray(BufferedFunction(self._torque_map, [0, 1], [0])(tau, np.tile(pvec, samples))[0])
         mats = self.network.linear_matrices(parameters=parameters, speed_rpm=speed_rpm)
         # least squares: a node coupled only viscously (damper ring) has no static stiffness; it starts at zero
         x0[:n] = np.linalg.lstsq(mats["K"], torques.mean(axis=1), rcond=None)[0] / ANGLE_UNIT_RAD

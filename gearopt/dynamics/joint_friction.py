@@ -88,6 +88,7 @@ from .. import compile_cache
 from .. import numerics as nm
 from ..errors import GearoptInputError, SolveError
 from ..validation import check_range
+from .buffered_call import BufferedFunction
 from .joint_element import (  # noqa: F401 -- the element's names are part of this module's interface
     DEMAND_FLOOR_N,
     STICK_DAMPING_FADE_M_S,
@@ -366,6 +367,8 @@ class JointSimulator:
                 raise GearoptInputError(f"x0 has {x.size} entries, the joint network has {self.eq.x.numel()} states")
         i_off = self.eq.parameter_names.index(OFFSET_PARAMETER)
         t0 = time.perf_counter()
+        integrate = BufferedFunction(self.integrator, ["x0", "p"], ["xf"])  # no DM conversions (buffered_call)
+        outputs = BufferedFunction(self.output_function, [0, 1, 2], [0])
         recorded, starts = [], []
         for c in range(run_in_cycles + cycles):
             p = pvec.copy()
@@ -373,7 +376,7 @@ class JointSimulator:
             if c >= run_in_cycles:
                 starts.append(x.copy())
             try:
-                xs = np.array(self.integrator(x0=x, p=p)["xf"])
+                xs = integrate(x, p)[0]
             except RuntimeError as exc:
                 raise JointIntegrationError(
                     f"friction-joint integration at {speed_rpm:g} rpm failed in cycle {c + 1}: CVODES could not "
@@ -386,16 +389,16 @@ class JointSimulator:
                                             f"{c + 1} (non-finite state)", status="non-finite")
             if c >= run_in_cycles:
                 recorded.append((xs, p))
-            x = xs[:, -1]
-        outs = np.concatenate([np.array(self.output_function(self.grid_rad[None, :], xs,
-                                                             np.repeat(p[:, None], self.n_out, 1)))
-                               for xs, p in recorded], axis=1)
+            x = xs[:, -1].copy()
+        outs = np.concatenate([outputs(self.grid_rad, xs, np.tile(p, self.n_out))[0] for xs, p in recorded], axis=1)
         angle = np.concatenate([c * self.cycle_rad + self.grid_rad for c in range(cycles)])
         index = pd.Index(np.degrees(angle), name="crank_angle_deg")
-        frames = {q: {} for q in JOINT_OUTPUTS}
+        groups: dict = {q: ([], []) for q in JOINT_OUTPUTS}
         for i, (q, name) in enumerate(self.eq.output_names):
-            frames[q][name] = outs[i]
-        frames = {q: pd.DataFrame(v, index=index) for q, v in frames.items()}
+            groups[q][0].append(i)
+            groups[q][1].append(name)
+        frames = {q: pd.DataFrame(outs[rows].T, index=index, columns=cols) if rows else pd.DataFrame({}, index=index)
+                  for q, (rows, cols) in groups.items()}
         rows = []
         for i, j in enumerate(self.joints):
             k = n_net + STATES_PER_JOINT * i

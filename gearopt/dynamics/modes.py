@@ -25,6 +25,7 @@ import scipy.linalg
 
 from ..errors import GearoptInputError
 from ..validation import check_range
+from .buffered_call import BufferedFunction
 
 _DEFAULT_SAMPLES = 720
 
@@ -47,9 +48,11 @@ def _mean_effective_inertias(net, pvec: np.ndarray) -> np.ndarray:
     if not any(t.acceleration_dependent for t in net.torques.values()):
         return np.array([net.inertias[nd].inertia_kgm2 for nd in eq.free_nodes])
     tau = np.linspace(0.0, math.radians(net.cycle_deg), _DEFAULT_SAMPLES, endpoint=False)
-    f = eq.effective_inertias.map(tau.size)
-    j = np.array(f(tau[None, :], np.zeros((2 * n, tau.size)), np.repeat(pvec[:, None], tau.size, axis=1)))
-    return j.mean(axis=1)
+    key = ("effective_inertias_map", tau.size)  # CasADi keeps a map only weakly: rebuilt on every call otherwise
+    if key not in net._cache:
+        net._cache[key] = eq.effective_inertias.map(tau.size, "serial")
+    j = BufferedFunction(net._cache[key], [0, 1, 2], [0])(tau, np.zeros(2 * n * tau.size), np.tile(pvec, tau.size))[0]
+    return np.ascontiguousarray(j).mean(axis=1)  # C order: the rounding of the sum as before
 
 
 def linear_matrices(net, boundary: str = "network", parameters: dict | None = None,

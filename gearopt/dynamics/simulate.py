@@ -29,6 +29,12 @@ changes of every cycle are reported); or single shooting (``steady_state="shooti
 sensitivities, reporting residual and iterations, and a typed error (:class:`PeriodicStateError`) when no periodic
 state is found (the rattling lash model).
 
+Each cycle calls the integrator and the output function through :mod:`~gearopt.dynamics.buffered_call` (numpy
+arrays handed to CasADi as they are: converting the 46 x 2880 states and the outputs of a cycle of the default
+train to and from ``casadi.DM`` cost more than the integrator's own function evaluations); the run's
+``Simulation.stats`` split its time into integrator calls, output evaluations and the integrator's function
+evaluations, and :attr:`Simulator.last_cycle_stats` holds the CVODES statistics of the last cycle.
+
 Modules: :mod:`~gearopt.dynamics.integrator_build` (settings, integrator and output functions, static state),
 :mod:`~gearopt.dynamics.shooting` (periodic state by shooting), :mod:`~gearopt.dynamics.simulation` (the result
 record); this module runs the cycles and holds the entry points, and re-exports the public names of the others.
@@ -47,10 +53,17 @@ from .. import compile_cache
 from ..errors import GearoptInputError
 from ..validation import check_int, check_range
 from . import budget
+from .buffered_call import BufferedFunction
 from .integrator_build import INTEGRATORS, IntegratorBuild
 from .network import OFFSET_PARAMETER, SPEED_PARAMETER, TorsionalNetwork
 from .shooting import PeriodicStateError, Shooting
 from .simulation import QUANTITIES, Simulation
+
+#: CasADi integrator statistics that time function evaluations: right-hand side, Jacobian, quadratures (CVODES;
+#: IDAS and the fixed-step integrators report what they have).
+EVALUATION_TIMERS = ("t_wall_daeF", "t_wall_jacF", "t_wall_quadF")
+#: The same evaluations in process CPU time (what they cost when other processes share the cores).
+EVALUATION_CPU_TIMERS = ("t_proc_daeF", "t_proc_jacF", "t_proc_quadF")
 
 
 class Simulator(IntegratorBuild, Shooting):
@@ -70,6 +83,8 @@ class Simulator(IntegratorBuild, Shooting):
     default train -- without them only the sampled contact counts are reported), the budgets ``max_steps_per_cycle``
     (estimated steps per cycle before a run; also CVODES/IDAS ``max_num_steps``) and ``max_wall_time_s`` (checked
     between cycles), each raising :class:`~gearopt.errors.BudgetExceededError` (:mod:`gearopt.dynamics.budget`).
+    ``last_cycle_stats``: the integrator statistics (CasADi's, e.g. ``nsteps``, ``nfevals``, ``t_wall_daeF``) of the
+    last cycle :meth:`run` integrated.
     """
 
     def run(self, speed_rpm: float, cycles: int = 10, *, parameters: dict | None = None, x0=None,
@@ -105,12 +120,21 @@ class Simulator(IntegratorBuild, Shooting):
         if x.size != self.eq.x.numel():
             raise GearoptInputError(f"x0 has {x.size} entries, the network has {self.eq.x.numel()} states")
         method, shooting = "run-in", {}
+        # numpy in and out without DM conversions (buffered_call module docstring); one memory per run
+        integrate = BufferedFunction(self.integrator, ["x0", "p"], ["xf", "qf"] if self.contact_quadratures
+                                     else ["xf"])
+        outputs = BufferedFunction(self.output_function, [0, 1, 2], [0])
+        checks = BufferedFunction(self.check_function, [0, 1, 2], [0])
+        max_num_steps = self.options.get("max_num_steps", 0)
+        evaluation_time, t_integrator, t_outputs = 0.0, 0.0, 0.0
+        evaluation_cpu, cpu_integrator = 0.0, 0.0
         if steady_state == "shooting":
             x_start = x
             for c in range(run_in_cycles):
                 p = pvec.copy()
                 p[i_off] = c * self.cycle_rad
-                x = np.array(self.integrator(x0=x, p=p)["xf"])[:, -1]
+                with budget.step_limit_errors(max_num_steps):
+                    x = integrate(x, p)[0][:, -1].copy()
             try:
                 shooting = self.periodic_state(speed_rpm, parameters, x0=x, tol=shooting_tol,
                                                max_iter=shooting_max_iter, jacobian=shooting_jacobian)
@@ -123,7 +147,7 @@ class Simulator(IntegratorBuild, Shooting):
                 steady_state_tol = 1e-4 if steady_state_tol is None else steady_state_tol
         changes, recorded, quads, previous = [], [], [], None
         cycle, run_in_done = 0, 0
-        nsteps, t_loop = [], time.perf_counter()
+        nsteps, t_loop, cpu_loop = [], time.perf_counter(), time.process_time()
         recording = False
         while True:
             recording = recording or (run_in_done >= run_in_cycles and (
@@ -134,16 +158,23 @@ class Simulator(IntegratorBuild, Shooting):
             p = pvec.copy()
             p[i_off] = cycle * self.cycle_rad
             budget.check_wall_time(t_start, self.max_wall_time_s, cycle)
-            res = budget.integrate(self.integrator, x, p, self.options.get("max_num_steps", 0))
-            xs = res["xf"].full()
-            stats = self.integrator.stats()
+            t0, c0 = time.perf_counter(), time.process_time()
+            with budget.step_limit_errors(max_num_steps):
+                res = integrate(x, p)
+            t1, cpu_integrator = time.perf_counter(), cpu_integrator + time.process_time() - c0
+            xs = res[0]
+            stats = integrate.stats()
+            self.last_cycle_stats = stats
             nsteps.append(stats.get("nsteps", stats.get("n_step", 0)))
-            pmat = np.repeat(p[:, None], self.n_out, 1)
+            evaluation_time += sum(float(stats.get(k, 0.0)) for k in EVALUATION_TIMERS)
+            evaluation_cpu += sum(float(stats.get(k, 0.0)) for k in EVALUATION_CPU_TIMERS)
+            pmat = np.tile(p, self.n_out)  # p repeated per output point, column-major
             if recording:  # the recorded cycle's outputs hold the checked quantities: evaluate once
-                outs = self.output_function(self.grid_rad[None, :], xs, pmat).full()
+                outs = outputs(self.grid_rad, xs, pmat)[0]
                 check = outs[self._check_rows]
             else:
-                check = self.check_function(self.grid_rad[None, :], xs, pmat).full()
+                check = checks(self.grid_rad, xs, pmat)[0]
+            t_integrator, t_outputs = t_integrator + t1 - t0, t_outputs + time.perf_counter() - t1
             if previous is not None and check.size:
                 scale = max(float(np.max(np.abs(check))), 1e-9)
                 changes.append(float(np.max(np.abs(check - previous)) / scale))
@@ -153,17 +184,20 @@ class Simulator(IntegratorBuild, Shooting):
             if recording:
                 recorded.append((cycle, xs, p, outs))
                 if self.contact_quadratures:
-                    quads.append(np.array(res["qf"])[:, -1])
+                    quads.append(res[1][:, -1].copy())
             else:
                 run_in_done += 1
-            x = xs[:, -1]
+            x = xs[:, -1].copy()
             cycle += 1
             if not math.isfinite(float(np.max(np.abs(x)))):
                 raise GearoptInputError(f"simulation diverged at cycle {cycle} (speed {speed_rpm} rpm): check the "
                                         f"parameters (negative stiffness? unbounded free system?)")
         stats = {"integration_time_s": time.perf_counter() - t_loop, "cycles_integrated": cycle,
-                 "steps_per_cycle": nsteps, "build_time_s": self.build_time_s, "method": self.method,
-                 "rtol": self.rtol, "atol": self.atol, "max_step_deg": self.max_step_deg}
+                 "steps_per_cycle": nsteps, "integrator_time_s": t_integrator, "output_time_s": t_outputs,
+                 "function_evaluation_time_s": evaluation_time,
+                 "integration_cpu_time_s": time.process_time() - cpu_loop, "integrator_cpu_time_s": cpu_integrator,
+                 "function_evaluation_cpu_time_s": evaluation_cpu, "build_time_s": self.build_time_s,
+                 "method": self.method, "rtol": self.rtol, "atol": self.atol, "max_step_deg": self.max_step_deg}
         result = self._result(speed_rpm, pvec, recorded, quads, changes, run_in_done, steady_state_tol, x, stats)
         result.steady_state_method, result.shooting = method, shooting
         stats["run_time_s"] = time.perf_counter() - t_start  # static state + integration + outputs
@@ -177,16 +211,20 @@ class Simulator(IntegratorBuild, Shooting):
         outs = np.concatenate([o for _, _, _, o in recorded], axis=1)
         time_s = tau / omega
         index = pd.Index(time_s, name="time_s")
-        frames = {q: {} for q in QUANTITIES}
+        groups: dict = {q: ([], []) for q in QUANTITIES}
         for i, (q, element) in enumerate(self.output_names):
-            frames[q][element] = outs[i]
-        frames = {q: pd.DataFrame(cols, index=index) for q, cols in frames.items()}
+            groups[q][0].append(i)
+            groups[q][1].append(element)
+        # one 2-D block per quantity (a dict of columns would be stacked into one by pandas, column by column)
+        frames = {q: pd.DataFrame(outs[rows].T, index=index, columns=cols) if rows else pd.DataFrame({}, index=index)
+                  for q, (rows, cols) in groups.items()}
         free = self.eq.free_nodes
         n = len(free)
         ratios = self.network.speed_ratios()
-        frames["node_angle_mrad"] = pd.DataFrame({nd: xs[i] for i, nd in enumerate(free)}, index=index)
-        frames["node_speed_rpm"] = pd.DataFrame(
-            {nd: (ratios[nd] * omega + xs[n + i]) * 30.0 / math.pi for i, nd in enumerate(free)}, index=index)
+        frames["node_angle_mrad"] = pd.DataFrame(xs[:n].T, index=index, columns=list(free))
+        ratio = np.array([ratios[nd] for nd in free])
+        frames["node_speed_rpm"] = pd.DataFrame(((ratio[:, None] * omega + xs[n:]) * 30.0 / math.pi).T,
+                                                index=index, columns=list(free))
         if quads:
             total = np.sum(quads, axis=0)
             tv = {}
@@ -202,6 +240,10 @@ class Simulator(IntegratorBuild, Shooting):
                           stats=stats, parameters=dict(zip(names, pvec.tolist())), cycles=len(recorded),
                           mesh_base_radii_mm={m.name: m.base_radii_mm for m in self.network.meshes.values()},
                           angle_offset_rad=float(recorded[0][0] * self.cycle_rad))
+
+
+#: Samples per call of the acceleration function in :func:`node_accelerations`.
+ACCELERATION_CHUNK = 2048
 
 
 def node_accelerations(network: TorsionalNetwork, sim: Simulation) -> pd.DataFrame:
@@ -227,8 +269,18 @@ def node_accelerations(network: TorsionalNetwork, sim: Simulation) -> pd.DataFra
                   + [sim.node_speed_rpm[nd].to_numpy() * math.pi / 30.0 - ratios[nd] * omega
                      for nd in eq.free_nodes])
     tau = np.radians(sim.crank_angle_deg) + sim.angle_offset_rad
-    acc = np.array(fun.map(tau.size)(tau[None, :], x, np.repeat(pvec[:, None], tau.size, 1)))
-    return pd.DataFrame({nd: acc[i] for i, nd in enumerate(eq.free_nodes)}, index=pd.Index(sim.time_s, name="time_s"))
+    # a map over fixed chunks, kept with the network: CasADi holds a map only weakly and building one over all the
+    # samples of a long run took 0.2 s (28 800 samples), more than evaluating it
+    key_map = ("accelerations_map", sim.backlash, ACCELERATION_CHUNK)
+    if key_map not in network._cache:
+        network._cache[key_map] = fun.map(ACCELERATION_CHUNK, "serial")
+    chunk = BufferedFunction(network._cache[key_map], [0, 1, 2], [0])
+    size, pad = tau.size, -tau.size % ACCELERATION_CHUNK
+    tau, x = np.concatenate([tau, np.repeat(tau[-1:], pad)]), np.hstack([x, np.repeat(x[:, -1:], pad, axis=1)])
+    ptile = np.tile(pvec, ACCELERATION_CHUNK)
+    acc = np.hstack([chunk(tau[i:i + ACCELERATION_CHUNK], x[:, i:i + ACCELERATION_CHUNK], ptile)[0]
+                     for i in range(0, tau.size, ACCELERATION_CHUNK)])[:, :size]
+    return pd.DataFrame(acc.T, index=pd.Index(sim.time_s, name="time_s"), columns=list(eq.free_nodes))
 
 
 def simulator(network: TorsionalNetwork, **options) -> Simulator:

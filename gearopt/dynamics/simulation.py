@@ -28,7 +28,11 @@ class Simulation:
     ``external_torque_Nm`` in each node's own sense, ``boundary_torque_Nm`` reaction torques of the speed boundary,
     ``node_angle_mrad`` angle deviations, ``node_speed_rpm`` absolute speeds. ``time_s`` and ``crank_angle_deg``
     (reference-node angle) arrays; ``cycle_change`` per simulated cycle (run-in first); ``contact_variation``
-    integrated contact-indicator variations per mesh; ``stats`` run time and integrator counters; ``cycles``
+    integrated contact-indicator variations per mesh; ``stats`` run time and integrator counters (``integration_time_s``
+the cycle loop, of it ``integrator_time_s`` in the integrator calls and ``output_time_s`` in the output functions,
+``function_evaluation_time_s`` the integrator's own right-hand-side, Jacobian and quadrature evaluations as CasADi
+times them, all summed over ``cycles_integrated``; the same in process CPU time: ``integration_cpu_time_s``,
+``integrator_cpu_time_s``, ``function_evaluation_cpu_time_s``; ``steps_per_cycle``); ``cycles``
     recorded cycles; ``mesh_base_radii_mm`` (r_b1, r_b2) per mesh; ``angle_offset_rad`` the reference-node angle
     [rad] at the start of the first recorded cycle (so ``crank_angle_deg`` + it is the integration's own angle);
     ``steady_state_method`` ``"run-in"`` or ``"shooting"`` and ``shooting`` (residual, iterations, ...; see

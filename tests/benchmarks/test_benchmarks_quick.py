@@ -66,6 +66,8 @@ def check_dynamics_speed(result, out):
     assert picked["steps_per_cycle_mean"] < default["steps_per_cycle_mean"]   # fewer steps ...
     assert result["acceptance_run"]["speed_up_over_default"] > 1.0            # ... and faster
     assert result["jit_gain"]["interpreted_over_compiled"] > 1.0
+    acc = result["acceptance_run"]                                             # the floor is below the run:
+    assert acc["integration_over_function_evaluations"] >= acc["integrator_over_function_evaluations"] > 1.0
     assert (out / "dynamics_speed.json").exists() and (out / "dynamics_speed.png").exists()
 
 
