@@ -319,7 +319,7 @@ def dynamic_design_torques(data: dict, dyn: dict) -> pd.DataFrame:
 
 
 def write_dynamics(out: Path, dyn: dict, design_torques: pd.DataFrame | None = None) -> tuple[list[str], dict]:
-    from gearopt.report.dynamics_figures import campbell_data, campbell_table, plot_campbell_data, plot_force_traces
+    from gearopt.report.dynamics_figures import campbell_data, plot_campbell_data, plot_force_traces
 
     lines = ["## Timing-train dynamics: contact forces, helical vs spur, without and with backlash", ""]
     speeds = dyn["speeds_rpm"]
@@ -351,10 +351,12 @@ def write_dynamics(out: Path, dyn: dict, design_torques: pd.DataFrame | None = N
         result["design_torques"] = design_torques.to_dict(orient="records")
     speeds_c = dyn["campbell_speeds_rpm"]
     for kind, model in dyn["models"].items():
-        path = plot_later(plot_campbell_data, out / "figures" / f"campbell_{kind}.png",
-                          campbell_data(model, np.linspace(speeds_c[0], speeds_c[1], 50)),
+        campbell = campbell_data(model, np.linspace(speeds_c[0], speeds_c[1], 50))
+        path = plot_later(plot_campbell_data, out / "figures" / f"campbell_{kind}.png", campbell,
                           title=f"{kind} train: Campbell diagram")
-        crossings = campbell_table(model, speeds_c)
+        # the figure's crossings are campbell_table(model, speeds_c): every crossing in the speed range lies below
+        # the figure's frequency cap (1.1 x the top order at the top speed), so computed once for both
+        crossings = campbell["crossings"]
         write_table(crossings, out, f"campbell_crossings_{kind}")
         lines += [f"### Campbell diagram ({kind})", "", f"![Campbell]({path.relative_to(out)})", "",
                   f"{len(crossings)} crossings of natural frequencies with engine orders between {speeds_c[0]:g} and "
