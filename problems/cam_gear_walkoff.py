@@ -46,6 +46,7 @@ from gearopt.design.shift_distribution import optimise_shift_split
 from gearopt.data import values as data_values
 from gearopt.report import contact_headlines as headlines
 from gearopt.report import ltca_figures as figs
+from gearopt.report.failure_figures import plot_failure_creep_map
 from gearopt.report.figure_writer import background_figures, plot_later
 from gearopt.studies.background import side_process
 from gearopt.report import to_markdown, write_table
@@ -515,8 +516,10 @@ def failure_reproduction_stage(data: dict, quick: bool = False) -> dict:
                                 executor="serial" if quick else "processes", workers=2)
 
 
-def write_failure(out: Path, failure: dict) -> tuple[list[str], dict]:
-    """Report section and ``result.json["failure_reproduction"]`` of :func:`failure_reproduction_stage`."""
+def write_failure(out: Path, failure: dict, figures: list | None = None) -> tuple[list[str], dict]:
+    """Report section and ``result.json["failure_reproduction"]`` of :func:`failure_reproduction_stage`; the creep
+    map drawn by :func:`plot_failure_map`, or, given ``figures`` (a list), appended to it as ``(builder, path,
+    args)`` for another process's figure writer (the side process hands it to the main one)."""
     a = failure["assumptions"]
     envelope = pd.concat(list(failure["envelopes"].values()), ignore_index=True)
     write_table(envelope, out, "failure_reproduction_envelope")
@@ -602,7 +605,7 @@ def write_failure(out: Path, failure: dict) -> tuple[list[str], dict]:
              f"the source study because it did not fit the cover) cannot walk beyond its retainer's clearance while "
              f"the retainer holds the peak off-nose thrust, {cam['max_off_nose_thrust_N'] * 1e-3:.2f} kN here.", "",
              "The crank gear: " + _crank_sentence(failure["summary"]), "",
-             to_markdown(table), "", f"![creep map]({plot_failure_map(out, envelope).relative_to(out)})", "",
+             to_markdown(table), "", f"![creep map]({_creep_map(out, envelope, figures).relative_to(out)})", "",
              "### Cam joint map: peak slip utilisation / axial creep [um per cycle]", "",
              "Columns: fit cases (and 0.5, 0.75 x the weakest fit's capacity, below the tolerance range); the "
              "envelope CSV has every capacity level and the crank joint.", "", to_markdown(cam_map), ""]
@@ -612,45 +615,20 @@ def write_failure(out: Path, failure: dict) -> tuple[list[str], dict]:
     return lines, json.loads(json.dumps(result, default=float).replace("NaN", "null"))
 
 
+CREEP_MAP = Path("figures") / "failure_reproduction_creep_map.png"
+
+
+def _creep_map(out: Path, envelope: pd.DataFrame, figures: list | None) -> Path:
+    if figures is None:
+        return plot_failure_map(out, envelope)
+    figures.append((plot_failure_creep_map, out / CREEP_MAP, (envelope,)))
+    return out / CREEP_MAP
+
+
 def plot_failure_map(out: Path, envelope: pd.DataFrame) -> Path:
-    """Cam and crank joints: axial creep per cycle against the fit's capacity for the helical train, colour by
-    speed, line style by damper state; the weakest..strongest toleranced range shaded. The spur train's creep is
-    drawn only where it is not zero (it has no thrust), and the panel title says so."""
-    import matplotlib.pyplot as plt
-    fig, axes = plt.subplots(1, 2, figsize=(11, 4.2), layout="constrained")
-    styles = {"nominal": "-", "degraded": "--", "seized": ":"}
-    for ax, joint in zip(axes, ("cam", "crank")):
-        rows = envelope[(envelope["joint"] == joint) & envelope["train"].isin(["helical", "spur"])]
-        if rows.empty:
-            ax.set_visible(False)                  # no such joint in the envelope: no empty panel
-            continue
-        tol = rows[rows["fit_case"].isin(["weakest", "strongest"])]["capacity_N"]
-        ax.axvspan(tol.min() * 1e-3, tol.max() * 1e-3, color="0.92", label="toleranced fits")
-        speeds = sorted(rows["speed_rpm"].unique())
-        colours = dict(zip(speeds, plt.cm.viridis(np.linspace(0.0, 0.85, len(speeds)))))
-        spur_zero = bool((rows[rows["train"] == "spur"]["axial_creep_um_per_cycle"].abs() < 1e-9).all())
-        for (train, speed, state), g in rows.groupby(["train", "speed_rpm", "damper_state"]):
-            if train == "spur" and spur_zero:
-                continue
-            g = g.sort_values("capacity_N")
-            ax.plot(g["capacity_N"] * 1e-3, g["axial_creep_um_per_cycle"].clip(lower=0.0),
-                    styles.get(state, "-."), marker="." if train == "helical" else "x",
-                    color=colours[speed] if train == "helical" else "0.5", lw=1.2,
-                    label=f"{train} {speed:g} rpm, damper {state}")
-        ax.set_xscale("log")
-        ax.set_yscale("symlog", linthresh=1e-2)
-        ax.set_ylim(bottom=0.0)
-        ax.set_xlabel("friction capacity C [kN]")
-        ax.set_ylabel("axial creep off the nose [µm per engine cycle]")
-        ax.set_title(f"{joint} gear" + (" (spur: zero creep everywhere)" if spur_zero else ""))
-        ax.grid(alpha=0.3, which="both")
-    handles = {}                                   # one legend for both panels (the same speeds and damper states)
-    for ax in axes:
-        handles.update(zip(*reversed(ax.get_legend_handles_labels())))
-    fig.legend(list(handles.values()), list(handles), loc="outside lower center", fontsize=7,
-               ncol=min(len(handles), 4))
-    fig.suptitle("Failure reproduction: axial creep of the joints against the fit's friction capacity")
-    return figs.save(fig, out / "figures" / "failure_reproduction_creep_map.png")
+    """The creep map (:func:`gearopt.report.failure_figures.plot_failure_creep_map`) written to
+    ``out/figures`` (by the figure writer's worker inside its block, else at once)."""
+    return plot_later(plot_failure_creep_map, out / CREEP_MAP, envelope)
 
 
 def _minutes(v) -> str:
@@ -902,9 +880,23 @@ def _side_stage(stage: str, run):
 
 
 def side_failure(data: dict, out: Path, quick: bool = False) -> dict:
-    """Side-process stage: the failure reproduction and its report section (tables and creep map written here)."""
-    return _side_stage("failure_reproduction",
-                       lambda: write_failure(out, failure_reproduction_stage(data, quick=quick)))
+    """Side-process stage: the failure reproduction and its report section (tables written here); the creep map is
+    handed back (``plot_later``: builder, path, arguments) for the main process's figure writer to draw, off the
+    side process's time (:func:`plot_side_figures`)."""
+    later: list = []
+    done = _side_stage("failure_reproduction",
+                       lambda: write_failure(out, failure_reproduction_stage(data, quick=quick), figures=later))
+    return {**done, "plot_later": later}
+
+
+def plot_side_figures(side_runs: dict, plotted: set) -> None:
+    """Hand the figures of the side stages finished so far (their ``plot_later`` entries) to this process's figure
+    writer, once per stage (``plotted``: the stages already handed)."""
+    for stage, run in side_runs.items():
+        if stage not in plotted and run.done() and run.exception() is None:
+            plotted.add(stage)
+            for builder, path, args in run.result().get("plot_later", ()):
+                plot_later(builder, path, *args)
 
 
 def side_codesign(data: dict, out: Path, quick: bool = False) -> dict:
@@ -952,6 +944,7 @@ def main(argv: list[str] | None = None) -> int:
     with one_thread_per_process(args.quick), side_process(enabled=not args.serial, workers=workers) as side, \
             background_figures(dpi=QUICK_DPI if args.quick else None):
         side_runs = {stage: side.submit(fn, data, args.out, quick=args.quick) for stage, fn in SIDE_STAGES.items()}
+        plotted: set = set()                     # side stages whose figures went to the figure writer
 
         t0 = time.perf_counter()
         macro = macro_design(data, thesis)
@@ -972,6 +965,7 @@ def main(argv: list[str] | None = None) -> int:
         t0 = time.perf_counter()                 # each section written as its stage ends: its figures render now
         sections = {"dynamics": write_dynamics(args.out, dynamics, design_torques)}
         timings["write_dynamics"] = time.perf_counter() - t0
+        plot_side_figures(side_runs, plotted)
 
         t0 = time.perf_counter()
         sizing = joint_sizing_stage(data, macro["trains"], dynamics)
@@ -980,6 +974,7 @@ def main(argv: list[str] | None = None) -> int:
         t0 = time.perf_counter()
         contact = contact_stage(data, macro["trains"], quick=args.quick)
         timings["contact_ltca_and_microgeometry_nlp"] = time.perf_counter() - t0
+        plot_side_figures(side_runs, plotted)
         t0 = time.perf_counter()
         sections["contact"] = write_contact(args.out, contact, quick=args.quick)
         timings["write_contact"] = time.perf_counter() - t0
@@ -992,6 +987,7 @@ def main(argv: list[str] | None = None) -> int:
         t0 = time.perf_counter()
         joints = joint_stage(data)
         timings["joints_blanks_webs"] = time.perf_counter() - t0
+        plot_side_figures(side_runs, plotted)
 
         t0 = time.perf_counter()
         sections.update(rating=write_rating(args.out, ratings), joints=write_joints(args.out, joints))
@@ -1000,6 +996,7 @@ def main(argv: list[str] | None = None) -> int:
         t0 = time.perf_counter()
         side_results = {stage: run.result() for stage, run in side_runs.items()}
         timings["side_process_wait"] = time.perf_counter() - t0
+        plot_side_figures(side_runs, plotted)
         for r in side_results.values():
             timings.update(r["timings"])
 
