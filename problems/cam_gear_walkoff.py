@@ -389,8 +389,10 @@ def write_dynamics(out: Path, dyn: dict, design_torques: pd.DataFrame | None = N
 CONTACT_MESHES = {"crank-cam": "crank_cam_torque_Nm", "cam-ac": "cam_ac_torque_Nm", "cam-fp": "cam_fp_torque_Nm"}
 
 
-def contact_stage(data: dict, trains: dict, quick: bool = False) -> dict:
-    """Stage 3: helical vs unmodified spur vs optimised spur for the three meshes of the thesis' chapter 4."""
+def contact_stage(data: dict, trains: dict, quick: bool = False, on_study=None) -> dict:
+    """Stage 3: helical vs unmodified spur vs optimised spur for the three meshes of the thesis' chapter 4;
+    ``on_study(mesh, study)`` is called as each mesh's study ends (the main job writes its section and hands its
+    figures to the figure writer then, so they render while the next mesh is solved)."""
     loads = data_values(data)["design_loads"]
     lub = data_values(data)["lubrication"]
     limits = data_values(data)["design_limits"]
@@ -401,7 +403,12 @@ def contact_stage(data: dict, trains: dict, quick: bool = False) -> dict:
                    min_loaded_contact_ratio=limits["min_loaded_contact_ratio"])
     if quick:
         options.update(positions=80, nlp_positions=20, harris_points=4, helical_slices=5, starts=1, max_refinements=1)
-    return {mesh: mesh_contact_study(trains, mesh, loads[key], **options) for mesh, key in CONTACT_MESHES.items()}
+    studies = {}
+    for mesh, key in CONTACT_MESHES.items():
+        studies[mesh] = mesh_contact_study(trains, mesh, loads[key], **options)
+        if on_study is not None:
+            on_study(mesh, studies[mesh])
+    return studies
 
 
 def codesign_stage(data: dict, quick: bool = False):
@@ -417,65 +424,75 @@ def codesign_stage(data: dict, quick: bool = False):
                                                            "max_helical_slices": 7})
 
 
+CONTACT_HEADER = ["## Contact: helical baseline vs unmodified spur vs optimised spur", ""]
+
+
 def write_contact(out: Path, studies: dict, *, quick: bool = False) -> tuple[list[str], dict]:
     """Contact tables and figures; returns the report lines and the result.json entries. ``quick``: the flank maps
     and the per-load-case change chart of the first mesh only (the largest figures)."""
-    lines, result = ["## Contact: helical baseline vs unmodified spur vs optimised spur", ""], {}
+    lines, result = list(CONTACT_HEADER), {}
     for index, (mesh, st) in enumerate(studies.items()):
-        every_figure = not quick or index == 0
-        tag = mesh.replace("-", "_")
-        write_table(st.summary, out, f"contact_{tag}")
-        opt = st.optimisation
-        margins = opt.solve.constraints
-        write_table(opt.table, out, f"microgeometry_{tag}_exact_ltca")
-        # built and rendered by the figure writer's worker (plot_later) while this process goes on
-        fig_te = plot_later(figs.plot_transmission_error, out / "figures" / f"te_{tag}.png",
-                            {d: st.ltca[d] for d in DESIGNS}, title=f"{mesh}: static TE at {st.torque_Nm:g} N m")
-        fig_tt = plot_later(figs.plot_transmission_error, out / "figures" / f"te_torques_{tag}.png",
-                            {f"{t:g} N m": r for t, r in sorted(opt.exact["optimised"].items())},
-                            title=f"{mesh}: optimised spur, static TE at the load cases")
-        fig_h = plot_later(figs.plot_harris_map, out / "figures" / f"harris_{tag}.png", st.harris,
-                           title=f"{mesh}: Harris map", design_range_Nm=(min(opt.torques_Nm), max(opt.torques_Nm)),
-                           design_torque_Nm=st.torque_Nm)
-        fig_maps = plot_later(figs.plot_flank_grid, out / "figures" / f"flank_maps_{tag}.png",
-                              {d: st.ltca[d] for d in DESIGNS},
-                              title=f"{mesh}: load intensity, contact stress, contact temperature, root stress of "
-                                    f"gear 1 over its flank") if every_figure else None
-        change = st.summary.set_index("design").drop(columns=["loaded_contact_ratio"])
-        fig_c = plot_later(figs.plot_percentage_change, out / "figures" / f"change_{tag}.png", change, "helical",
-                           title=f"{mesh}: change against helical")
-        fig_cl = plot_later(figs.plot_percentage_change, out / "figures" / f"change_load_cases_{tag}.png",
-                            opt.table.set_index("design"), "unmodified", by="torque_Nm",
-                            title=f"{mesh}: change against the unmodified spur pair at every load case (exact LTCA)"
-                            ) if every_figure else None
-        lines += [f"### {mesh} at {st.torque_Nm:g} N m on the driving gear, {st.speed_rpm:g} rpm", "",
-                  to_markdown(st.summary), "",
-                  "Optimised microgeometry (linear tip relief blended over "
-                  f"{opt.microgeometry.relief_smoothing_deg:g} deg at its start): "
-                  + ", ".join(f"{k} {v:.3f}" for k, v in opt.values.items()), "",
-                  f"Ipopt: {opt.solve.status}, {opt.solve.iterations} iterations, {opt.solve.solve_time_s:.3f} s; "
-                  f"load cases {', '.join(f'{t:g}' for t in opt.torques_Nm)} N m. Exact-LTCA check of the designs:",
-                  "", to_markdown(opt.table), "",
-                  f"![TE]({fig_te.relative_to(out)}) ![TE over torque]({fig_tt.relative_to(out)}) "
-                  f"![Harris]({fig_h.relative_to(out)}) ![change]({fig_c.relative_to(out)})"
-                  + (f" ![change at every load case]({fig_cl.relative_to(out)})" if fig_cl else ""), ""]
-        lines += [f"![flank maps]({fig_maps.relative_to(out)})", ""] if fig_maps else []
-        entry = st.headline()
-        entry["optimised_microgeometry"] = {k: v for k, v in opt.values.items()}
-        entry["optimised_microgeometry"]["relief_shape"] = opt.microgeometry.relief_shape
-        entry["optimised_microgeometry"]["relief_smoothing_deg"] = opt.microgeometry.relief_smoothing_deg
-        entry["constraint_margins"] = headlines.nlp_constraint_margins(margins)
-        entry["verified_margins"] = headlines.verified_margins(opt)
-        entry["ppte_over_range"] = headlines.ppte_over_range(opt)
-        entry["smooth_exact_gap"] = headlines.smooth_exact_gap(opt)
-        entry["tip_relief_drawing"] = headlines.tip_relief_drawing(st.ltca["spur_unmodified"].layout.pair,
-                                                                 opt.values)
-        lines += headlines_markdown(entry)
-        entry["design_torque_Nm"] = st.torque_Nm
-        entry["driving_gear_speed_rpm"] = st.speed_rpm
-        entry["stage_time_s"] = st.times_s
-        result[mesh] = entry
+        mesh_lines, result[mesh] = write_contact_mesh(out, mesh, st, every_figure=not quick or index == 0)
+        lines += mesh_lines
     return lines, result
+
+
+def write_contact_mesh(out: Path, mesh: str, st, *, every_figure: bool = True) -> tuple[list[str], dict]:
+    """One mesh's part of :func:`write_contact`: its tables, its figures (handed to the figure writer) and its report
+    lines and ``result.json`` entry; ``every_figure=False``: no flank maps and no per-load-case change chart."""
+    lines = []
+    tag = mesh.replace("-", "_")
+    write_table(st.summary, out, f"contact_{tag}")
+    opt = st.optimisation
+    margins = opt.solve.constraints
+    write_table(opt.table, out, f"microgeometry_{tag}_exact_ltca")
+    # built and rendered by the figure writer's worker (plot_later) while this process goes on
+    fig_te = plot_later(figs.plot_transmission_error, out / "figures" / f"te_{tag}.png",
+                        {d: st.ltca[d] for d in DESIGNS}, title=f"{mesh}: static TE at {st.torque_Nm:g} N m")
+    fig_tt = plot_later(figs.plot_transmission_error, out / "figures" / f"te_torques_{tag}.png",
+                        {f"{t:g} N m": r for t, r in sorted(opt.exact["optimised"].items())},
+                        title=f"{mesh}: optimised spur, static TE at the load cases")
+    fig_h = plot_later(figs.plot_harris_map, out / "figures" / f"harris_{tag}.png", st.harris,
+                       title=f"{mesh}: Harris map", design_range_Nm=(min(opt.torques_Nm), max(opt.torques_Nm)),
+                       design_torque_Nm=st.torque_Nm)
+    fig_maps = plot_later(figs.plot_flank_grid, out / "figures" / f"flank_maps_{tag}.png",
+                          {d: st.ltca[d] for d in DESIGNS},
+                          title=f"{mesh}: load intensity, contact stress, contact temperature, root stress of "
+                                f"gear 1 over its flank") if every_figure else None
+    change = st.summary.set_index("design").drop(columns=["loaded_contact_ratio"])
+    fig_c = plot_later(figs.plot_percentage_change, out / "figures" / f"change_{tag}.png", change, "helical",
+                       title=f"{mesh}: change against helical")
+    fig_cl = plot_later(figs.plot_percentage_change, out / "figures" / f"change_load_cases_{tag}.png",
+                        opt.table.set_index("design"), "unmodified", by="torque_Nm",
+                        title=f"{mesh}: change against the unmodified spur pair at every load case (exact LTCA)"
+                        ) if every_figure else None
+    lines += [f"### {mesh} at {st.torque_Nm:g} N m on the driving gear, {st.speed_rpm:g} rpm", "",
+              to_markdown(st.summary), "",
+              "Optimised microgeometry (linear tip relief blended over "
+              f"{opt.microgeometry.relief_smoothing_deg:g} deg at its start): "
+              + ", ".join(f"{k} {v:.3f}" for k, v in opt.values.items()), "",
+              f"Ipopt: {opt.solve.status}, {opt.solve.iterations} iterations, {opt.solve.solve_time_s:.3f} s; "
+              f"load cases {', '.join(f'{t:g}' for t in opt.torques_Nm)} N m. Exact-LTCA check of the designs:",
+              "", to_markdown(opt.table), "",
+              f"![TE]({fig_te.relative_to(out)}) ![TE over torque]({fig_tt.relative_to(out)}) "
+              f"![Harris]({fig_h.relative_to(out)}) ![change]({fig_c.relative_to(out)})"
+              + (f" ![change at every load case]({fig_cl.relative_to(out)})" if fig_cl else ""), ""]
+    lines += [f"![flank maps]({fig_maps.relative_to(out)})", ""] if fig_maps else []
+    entry = st.headline()
+    entry["optimised_microgeometry"] = {k: v for k, v in opt.values.items()}
+    entry["optimised_microgeometry"]["relief_shape"] = opt.microgeometry.relief_shape
+    entry["optimised_microgeometry"]["relief_smoothing_deg"] = opt.microgeometry.relief_smoothing_deg
+    entry["constraint_margins"] = headlines.nlp_constraint_margins(margins)
+    entry["verified_margins"] = headlines.verified_margins(opt)
+    entry["ppte_over_range"] = headlines.ppte_over_range(opt)
+    entry["smooth_exact_gap"] = headlines.smooth_exact_gap(opt)
+    entry["tip_relief_drawing"] = headlines.tip_relief_drawing(st.ltca["spur_unmodified"].layout.pair,
+                                                             opt.values)
+    lines += headlines_markdown(entry)
+    entry["design_torque_Nm"] = st.torque_Nm
+    entry["driving_gear_speed_rpm"] = st.speed_rpm
+    entry["stage_time_s"] = st.times_s
+    return lines, entry
 
 
 def write_rating(out: Path, ratings: dict) -> tuple[list[str], dict]:
@@ -971,13 +988,20 @@ def main(argv: list[str] | None = None) -> int:
         sizing = joint_sizing_stage(data, macro["trains"], dynamics)
         timings["joint_sizing_nlp"] = time.perf_counter() - t0
 
-        t0 = time.perf_counter()
-        contact = contact_stage(data, macro["trains"], quick=args.quick)
-        timings["contact_ltca_and_microgeometry_nlp"] = time.perf_counter() - t0
+        t0, written = time.perf_counter(), {}
+
+        def write_mesh(mesh, study):             # each mesh's section as its study ends: its figures render
+            t1 = time.perf_counter()             # while the next mesh is solved
+            written[mesh] = write_contact_mesh(args.out, mesh, study, every_figure=not args.quick or not written)
+            written[mesh] += (time.perf_counter() - t1,)
+
+        contact = contact_stage(data, macro["trains"], quick=args.quick, on_study=write_mesh)
+        write_s = sum(w[2] for w in written.values())
+        timings["contact_ltca_and_microgeometry_nlp"] = time.perf_counter() - t0 - write_s
+        timings["write_contact"] = write_s
+        sections["contact"] = (CONTACT_HEADER + [line for w in written.values() for line in w[0]],
+                               {mesh: w[1] for mesh, w in written.items()})
         plot_side_figures(side_runs, plotted)
-        t0 = time.perf_counter()
-        sections["contact"] = write_contact(args.out, contact, quick=args.quick)
-        timings["write_contact"] = time.perf_counter() - t0
 
         t0 = time.perf_counter()
         ratings = rating_stage(data, macro["trains"])
