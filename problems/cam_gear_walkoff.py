@@ -892,7 +892,7 @@ def _side_stage(stage: str, run):
     section = run()
     after, timings = cache_stats(), StageTimings()
     timings[stage] = time.perf_counter() - t0                       # logged as it ends ("[side] stage ...")
-    return {"section": section, "timings": dict(timings),
+    return {"section": section, "timings": dict(timings), "pid": os.getpid(), "process_cpu_s": time.process_time(),
             "compile_cache": {k: v - before.get(k, 0) for k, v in after.items() if isinstance(v, (int, float))}}
 
 
@@ -1036,6 +1036,11 @@ def main(argv: list[str] | None = None) -> int:
     result["stage_time_s"] = dict(timings)                          # every stage, the ones after write_outputs too
     result["side_process_stages"] = list(SIDE_STAGES) if side.enabled else []
     result["wall_time_s"] = time.perf_counter() - wall0            # less than the stages' sum: two chains overlap
+    # CPU time of each process since it started (imports included; the side process's at the end of its last
+    # stage): less disturbed by other load on the machine than the wall times, it shows which chain is longer
+    result["process_cpu_s"] = {"main": time.process_time(), **{
+        f"side_{pid}": max(r["process_cpu_s"] for r in side_results.values() if r["pid"] == pid)
+        for pid in sorted({r["pid"] for r in side_results.values()}) if pid != os.getpid()}}
     stats = {k: v - stats0.get(k, 0) if isinstance(v, (int, float)) else v    # this run's kernels in this
              for k, v in cache_stats().items()}                               # process: compiled, loaded, interpreted
     for other in (r["compile_cache"] for r in side_results.values()) if side.enabled else ():
