@@ -46,6 +46,7 @@ from gearopt.design.shift_distribution import optimise_shift_split
 from gearopt.data import values as data_values
 from gearopt.report import contact_headlines as headlines
 from gearopt.report import ltca_figures as figs
+from gearopt.report.failure_figures import plot_failure_creep_map
 from gearopt.report.figure_writer import background_figures, plot_later
 from gearopt.studies.background import side_process
 from gearopt.report import to_markdown, write_table
@@ -319,7 +320,7 @@ def dynamic_design_torques(data: dict, dyn: dict) -> pd.DataFrame:
 
 
 def write_dynamics(out: Path, dyn: dict, design_torques: pd.DataFrame | None = None) -> tuple[list[str], dict]:
-    from gearopt.report.dynamics_figures import campbell_data, campbell_table, plot_campbell_data, plot_force_traces
+    from gearopt.report.dynamics_figures import campbell_data, plot_campbell_data, plot_force_traces
 
     lines = ["## Timing-train dynamics: contact forces, helical vs spur, without and with backlash", ""]
     speeds = dyn["speeds_rpm"]
@@ -351,10 +352,12 @@ def write_dynamics(out: Path, dyn: dict, design_torques: pd.DataFrame | None = N
         result["design_torques"] = design_torques.to_dict(orient="records")
     speeds_c = dyn["campbell_speeds_rpm"]
     for kind, model in dyn["models"].items():
-        path = plot_later(plot_campbell_data, out / "figures" / f"campbell_{kind}.png",
-                          campbell_data(model, np.linspace(speeds_c[0], speeds_c[1], 50)),
+        campbell = campbell_data(model, np.linspace(speeds_c[0], speeds_c[1], 50))
+        path = plot_later(plot_campbell_data, out / "figures" / f"campbell_{kind}.png", campbell,
                           title=f"{kind} train: Campbell diagram")
-        crossings = campbell_table(model, speeds_c)
+        # the figure's crossings are campbell_table(model, speeds_c): every crossing in the speed range lies below
+        # the figure's frequency cap (1.1 x the top order at the top speed), so computed once for both
+        crossings = campbell["crossings"]
         write_table(crossings, out, f"campbell_crossings_{kind}")
         lines += [f"### Campbell diagram ({kind})", "", f"![Campbell]({path.relative_to(out)})", "",
                   f"{len(crossings)} crossings of natural frequencies with engine orders between {speeds_c[0]:g} and "
@@ -386,8 +389,10 @@ def write_dynamics(out: Path, dyn: dict, design_torques: pd.DataFrame | None = N
 CONTACT_MESHES = {"crank-cam": "crank_cam_torque_Nm", "cam-ac": "cam_ac_torque_Nm", "cam-fp": "cam_fp_torque_Nm"}
 
 
-def contact_stage(data: dict, trains: dict, quick: bool = False) -> dict:
-    """Stage 3: helical vs unmodified spur vs optimised spur for the three meshes of the thesis' chapter 4."""
+def contact_stage(data: dict, trains: dict, quick: bool = False, on_study=None) -> dict:
+    """Stage 3: helical vs unmodified spur vs optimised spur for the three meshes of the thesis' chapter 4;
+    ``on_study(mesh, study)`` is called as each mesh's study ends (the main job writes its section and hands its
+    figures to the figure writer then, so they render while the next mesh is solved)."""
     loads = data_values(data)["design_loads"]
     lub = data_values(data)["lubrication"]
     limits = data_values(data)["design_limits"]
@@ -398,7 +403,12 @@ def contact_stage(data: dict, trains: dict, quick: bool = False) -> dict:
                    min_loaded_contact_ratio=limits["min_loaded_contact_ratio"])
     if quick:
         options.update(positions=80, nlp_positions=20, harris_points=4, helical_slices=5, starts=1, max_refinements=1)
-    return {mesh: mesh_contact_study(trains, mesh, loads[key], **options) for mesh, key in CONTACT_MESHES.items()}
+    studies = {}
+    for mesh, key in CONTACT_MESHES.items():
+        studies[mesh] = mesh_contact_study(trains, mesh, loads[key], **options)
+        if on_study is not None:
+            on_study(mesh, studies[mesh])
+    return studies
 
 
 def codesign_stage(data: dict, quick: bool = False):
@@ -414,65 +424,75 @@ def codesign_stage(data: dict, quick: bool = False):
                                                            "max_helical_slices": 7})
 
 
+CONTACT_HEADER = ["## Contact: helical baseline vs unmodified spur vs optimised spur", ""]
+
+
 def write_contact(out: Path, studies: dict, *, quick: bool = False) -> tuple[list[str], dict]:
     """Contact tables and figures; returns the report lines and the result.json entries. ``quick``: the flank maps
     and the per-load-case change chart of the first mesh only (the largest figures)."""
-    lines, result = ["## Contact: helical baseline vs unmodified spur vs optimised spur", ""], {}
+    lines, result = list(CONTACT_HEADER), {}
     for index, (mesh, st) in enumerate(studies.items()):
-        every_figure = not quick or index == 0
-        tag = mesh.replace("-", "_")
-        write_table(st.summary, out, f"contact_{tag}")
-        opt = st.optimisation
-        margins = opt.solve.constraints
-        write_table(opt.table, out, f"microgeometry_{tag}_exact_ltca")
-        # built and rendered by the figure writer's worker (plot_later) while this process goes on
-        fig_te = plot_later(figs.plot_transmission_error, out / "figures" / f"te_{tag}.png",
-                            {d: st.ltca[d] for d in DESIGNS}, title=f"{mesh}: static TE at {st.torque_Nm:g} N m")
-        fig_tt = plot_later(figs.plot_transmission_error, out / "figures" / f"te_torques_{tag}.png",
-                            {f"{t:g} N m": r for t, r in sorted(opt.exact["optimised"].items())},
-                            title=f"{mesh}: optimised spur, static TE at the load cases")
-        fig_h = plot_later(figs.plot_harris_map, out / "figures" / f"harris_{tag}.png", st.harris,
-                           title=f"{mesh}: Harris map", design_range_Nm=(min(opt.torques_Nm), max(opt.torques_Nm)),
-                           design_torque_Nm=st.torque_Nm)
-        fig_maps = plot_later(figs.plot_flank_grid, out / "figures" / f"flank_maps_{tag}.png",
-                              {d: st.ltca[d] for d in DESIGNS},
-                              title=f"{mesh}: load intensity, contact stress, contact temperature, root stress of "
-                                    f"gear 1 over its flank") if every_figure else None
-        change = st.summary.set_index("design").drop(columns=["loaded_contact_ratio"])
-        fig_c = plot_later(figs.plot_percentage_change, out / "figures" / f"change_{tag}.png", change, "helical",
-                           title=f"{mesh}: change against helical")
-        fig_cl = plot_later(figs.plot_percentage_change, out / "figures" / f"change_load_cases_{tag}.png",
-                            opt.table.set_index("design"), "unmodified", by="torque_Nm",
-                            title=f"{mesh}: change against the unmodified spur pair at every load case (exact LTCA)"
-                            ) if every_figure else None
-        lines += [f"### {mesh} at {st.torque_Nm:g} N m on the driving gear, {st.speed_rpm:g} rpm", "",
-                  to_markdown(st.summary), "",
-                  "Optimised microgeometry (linear tip relief blended over "
-                  f"{opt.microgeometry.relief_smoothing_deg:g} deg at its start): "
-                  + ", ".join(f"{k} {v:.3f}" for k, v in opt.values.items()), "",
-                  f"Ipopt: {opt.solve.status}, {opt.solve.iterations} iterations, {opt.solve.solve_time_s:.3f} s; "
-                  f"load cases {', '.join(f'{t:g}' for t in opt.torques_Nm)} N m. Exact-LTCA check of the designs:",
-                  "", to_markdown(opt.table), "",
-                  f"![TE]({fig_te.relative_to(out)}) ![TE over torque]({fig_tt.relative_to(out)}) "
-                  f"![Harris]({fig_h.relative_to(out)}) ![change]({fig_c.relative_to(out)})"
-                  + (f" ![change at every load case]({fig_cl.relative_to(out)})" if fig_cl else ""), ""]
-        lines += [f"![flank maps]({fig_maps.relative_to(out)})", ""] if fig_maps else []
-        entry = st.headline()
-        entry["optimised_microgeometry"] = {k: v for k, v in opt.values.items()}
-        entry["optimised_microgeometry"]["relief_shape"] = opt.microgeometry.relief_shape
-        entry["optimised_microgeometry"]["relief_smoothing_deg"] = opt.microgeometry.relief_smoothing_deg
-        entry["constraint_margins"] = headlines.nlp_constraint_margins(margins)
-        entry["verified_margins"] = headlines.verified_margins(opt)
-        entry["ppte_over_range"] = headlines.ppte_over_range(opt)
-        entry["smooth_exact_gap"] = headlines.smooth_exact_gap(opt)
-        entry["tip_relief_drawing"] = headlines.tip_relief_drawing(st.ltca["spur_unmodified"].layout.pair,
-                                                                 opt.values)
-        lines += headlines_markdown(entry)
-        entry["design_torque_Nm"] = st.torque_Nm
-        entry["driving_gear_speed_rpm"] = st.speed_rpm
-        entry["stage_time_s"] = st.times_s
-        result[mesh] = entry
+        mesh_lines, result[mesh] = write_contact_mesh(out, mesh, st, every_figure=not quick or index == 0)
+        lines += mesh_lines
     return lines, result
+
+
+def write_contact_mesh(out: Path, mesh: str, st, *, every_figure: bool = True) -> tuple[list[str], dict]:
+    """One mesh's part of :func:`write_contact`: its tables, its figures (handed to the figure writer) and its report
+    lines and ``result.json`` entry; ``every_figure=False``: no flank maps and no per-load-case change chart."""
+    lines = []
+    tag = mesh.replace("-", "_")
+    write_table(st.summary, out, f"contact_{tag}")
+    opt = st.optimisation
+    margins = opt.solve.constraints
+    write_table(opt.table, out, f"microgeometry_{tag}_exact_ltca")
+    # built and rendered by the figure writer's worker (plot_later) while this process goes on
+    fig_te = plot_later(figs.plot_transmission_error, out / "figures" / f"te_{tag}.png",
+                        {d: st.ltca[d] for d in DESIGNS}, title=f"{mesh}: static TE at {st.torque_Nm:g} N m")
+    fig_tt = plot_later(figs.plot_transmission_error, out / "figures" / f"te_torques_{tag}.png",
+                        {f"{t:g} N m": r for t, r in sorted(opt.exact["optimised"].items())},
+                        title=f"{mesh}: optimised spur, static TE at the load cases")
+    fig_h = plot_later(figs.plot_harris_map, out / "figures" / f"harris_{tag}.png", st.harris,
+                       title=f"{mesh}: Harris map", design_range_Nm=(min(opt.torques_Nm), max(opt.torques_Nm)),
+                       design_torque_Nm=st.torque_Nm)
+    fig_maps = plot_later(figs.plot_flank_grid, out / "figures" / f"flank_maps_{tag}.png",
+                          {d: st.ltca[d] for d in DESIGNS},
+                          title=f"{mesh}: load intensity, contact stress, contact temperature, root stress of "
+                                f"gear 1 over its flank") if every_figure else None
+    change = st.summary.set_index("design").drop(columns=["loaded_contact_ratio"])
+    fig_c = plot_later(figs.plot_percentage_change, out / "figures" / f"change_{tag}.png", change, "helical",
+                       title=f"{mesh}: change against helical")
+    fig_cl = plot_later(figs.plot_percentage_change, out / "figures" / f"change_load_cases_{tag}.png",
+                        opt.table.set_index("design"), "unmodified", by="torque_Nm",
+                        title=f"{mesh}: change against the unmodified spur pair at every load case (exact LTCA)"
+                        ) if every_figure else None
+    lines += [f"### {mesh} at {st.torque_Nm:g} N m on the driving gear, {st.speed_rpm:g} rpm", "",
+              to_markdown(st.summary), "",
+              "Optimised microgeometry (linear tip relief blended over "
+              f"{opt.microgeometry.relief_smoothing_deg:g} deg at its start): "
+              + ", ".join(f"{k} {v:.3f}" for k, v in opt.values.items()), "",
+              f"Ipopt: {opt.solve.status}, {opt.solve.iterations} iterations, {opt.solve.solve_time_s:.3f} s; "
+              f"load cases {', '.join(f'{t:g}' for t in opt.torques_Nm)} N m. Exact-LTCA check of the designs:",
+              "", to_markdown(opt.table), "",
+              f"![TE]({fig_te.relative_to(out)}) ![TE over torque]({fig_tt.relative_to(out)}) "
+              f"![Harris]({fig_h.relative_to(out)}) ![change]({fig_c.relative_to(out)})"
+              + (f" ![change at every load case]({fig_cl.relative_to(out)})" if fig_cl else ""), ""]
+    lines += [f"![flank maps]({fig_maps.relative_to(out)})", ""] if fig_maps else []
+    entry = st.headline()
+    entry["optimised_microgeometry"] = {k: v for k, v in opt.values.items()}
+    entry["optimised_microgeometry"]["relief_shape"] = opt.microgeometry.relief_shape
+    entry["optimised_microgeometry"]["relief_smoothing_deg"] = opt.microgeometry.relief_smoothing_deg
+    entry["constraint_margins"] = headlines.nlp_constraint_margins(margins)
+    entry["verified_margins"] = headlines.verified_margins(opt)
+    entry["ppte_over_range"] = headlines.ppte_over_range(opt)
+    entry["smooth_exact_gap"] = headlines.smooth_exact_gap(opt)
+    entry["tip_relief_drawing"] = headlines.tip_relief_drawing(st.ltca["spur_unmodified"].layout.pair,
+                                                             opt.values)
+    lines += headlines_markdown(entry)
+    entry["design_torque_Nm"] = st.torque_Nm
+    entry["driving_gear_speed_rpm"] = st.speed_rpm
+    entry["stage_time_s"] = st.times_s
+    return lines, entry
 
 
 def write_rating(out: Path, ratings: dict) -> tuple[list[str], dict]:
@@ -513,8 +533,10 @@ def failure_reproduction_stage(data: dict, quick: bool = False) -> dict:
                                 executor="serial" if quick else "processes", workers=2)
 
 
-def write_failure(out: Path, failure: dict) -> tuple[list[str], dict]:
-    """Report section and ``result.json["failure_reproduction"]`` of :func:`failure_reproduction_stage`."""
+def write_failure(out: Path, failure: dict, figures: list | None = None) -> tuple[list[str], dict]:
+    """Report section and ``result.json["failure_reproduction"]`` of :func:`failure_reproduction_stage`; the creep
+    map drawn by :func:`plot_failure_map`, or, given ``figures`` (a list), appended to it as ``(builder, path,
+    args)`` for another process's figure writer (the side process hands it to the main one)."""
     a = failure["assumptions"]
     envelope = pd.concat(list(failure["envelopes"].values()), ignore_index=True)
     write_table(envelope, out, "failure_reproduction_envelope")
@@ -600,7 +622,7 @@ def write_failure(out: Path, failure: dict) -> tuple[list[str], dict]:
              f"the source study because it did not fit the cover) cannot walk beyond its retainer's clearance while "
              f"the retainer holds the peak off-nose thrust, {cam['max_off_nose_thrust_N'] * 1e-3:.2f} kN here.", "",
              "The crank gear: " + _crank_sentence(failure["summary"]), "",
-             to_markdown(table), "", f"![creep map]({plot_failure_map(out, envelope).relative_to(out)})", "",
+             to_markdown(table), "", f"![creep map]({_creep_map(out, envelope, figures).relative_to(out)})", "",
              "### Cam joint map: peak slip utilisation / axial creep [um per cycle]", "",
              "Columns: fit cases (and 0.5, 0.75 x the weakest fit's capacity, below the tolerance range); the "
              "envelope CSV has every capacity level and the crank joint.", "", to_markdown(cam_map), ""]
@@ -610,45 +632,20 @@ def write_failure(out: Path, failure: dict) -> tuple[list[str], dict]:
     return lines, json.loads(json.dumps(result, default=float).replace("NaN", "null"))
 
 
+CREEP_MAP = Path("figures") / "failure_reproduction_creep_map.png"
+
+
+def _creep_map(out: Path, envelope: pd.DataFrame, figures: list | None) -> Path:
+    if figures is None:
+        return plot_failure_map(out, envelope)
+    figures.append((plot_failure_creep_map, out / CREEP_MAP, (envelope,)))
+    return out / CREEP_MAP
+
+
 def plot_failure_map(out: Path, envelope: pd.DataFrame) -> Path:
-    """Cam and crank joints: axial creep per cycle against the fit's capacity for the helical train, colour by
-    speed, line style by damper state; the weakest..strongest toleranced range shaded. The spur train's creep is
-    drawn only where it is not zero (it has no thrust), and the panel title says so."""
-    import matplotlib.pyplot as plt
-    fig, axes = plt.subplots(1, 2, figsize=(11, 4.2), layout="constrained")
-    styles = {"nominal": "-", "degraded": "--", "seized": ":"}
-    for ax, joint in zip(axes, ("cam", "crank")):
-        rows = envelope[(envelope["joint"] == joint) & envelope["train"].isin(["helical", "spur"])]
-        if rows.empty:
-            ax.set_visible(False)                  # no such joint in the envelope: no empty panel
-            continue
-        tol = rows[rows["fit_case"].isin(["weakest", "strongest"])]["capacity_N"]
-        ax.axvspan(tol.min() * 1e-3, tol.max() * 1e-3, color="0.92", label="toleranced fits")
-        speeds = sorted(rows["speed_rpm"].unique())
-        colours = dict(zip(speeds, plt.cm.viridis(np.linspace(0.0, 0.85, len(speeds)))))
-        spur_zero = bool((rows[rows["train"] == "spur"]["axial_creep_um_per_cycle"].abs() < 1e-9).all())
-        for (train, speed, state), g in rows.groupby(["train", "speed_rpm", "damper_state"]):
-            if train == "spur" and spur_zero:
-                continue
-            g = g.sort_values("capacity_N")
-            ax.plot(g["capacity_N"] * 1e-3, g["axial_creep_um_per_cycle"].clip(lower=0.0),
-                    styles.get(state, "-."), marker="." if train == "helical" else "x",
-                    color=colours[speed] if train == "helical" else "0.5", lw=1.2,
-                    label=f"{train} {speed:g} rpm, damper {state}")
-        ax.set_xscale("log")
-        ax.set_yscale("symlog", linthresh=1e-2)
-        ax.set_ylim(bottom=0.0)
-        ax.set_xlabel("friction capacity C [kN]")
-        ax.set_ylabel("axial creep off the nose [µm per engine cycle]")
-        ax.set_title(f"{joint} gear" + (" (spur: zero creep everywhere)" if spur_zero else ""))
-        ax.grid(alpha=0.3, which="both")
-    handles = {}                                   # one legend for both panels (the same speeds and damper states)
-    for ax in axes:
-        handles.update(zip(*reversed(ax.get_legend_handles_labels())))
-    fig.legend(list(handles.values()), list(handles), loc="outside lower center", fontsize=7,
-               ncol=min(len(handles), 4))
-    fig.suptitle("Failure reproduction: axial creep of the joints against the fit's friction capacity")
-    return figs.save(fig, out / "figures" / "failure_reproduction_creep_map.png")
+    """The creep map (:func:`gearopt.report.failure_figures.plot_failure_creep_map`) written to
+    ``out/figures`` (by the figure writer's worker inside its block, else at once)."""
+    return plot_later(plot_failure_creep_map, out / CREEP_MAP, envelope)
 
 
 def _minutes(v) -> str:
@@ -895,14 +892,28 @@ def _side_stage(stage: str, run):
     section = run()
     after, timings = cache_stats(), StageTimings()
     timings[stage] = time.perf_counter() - t0                       # logged as it ends ("[side] stage ...")
-    return {"section": section, "timings": dict(timings),
+    return {"section": section, "timings": dict(timings), "pid": os.getpid(), "process_cpu_s": time.process_time(),
             "compile_cache": {k: v - before.get(k, 0) for k, v in after.items() if isinstance(v, (int, float))}}
 
 
 def side_failure(data: dict, out: Path, quick: bool = False) -> dict:
-    """Side-process stage: the failure reproduction and its report section (tables and creep map written here)."""
-    return _side_stage("failure_reproduction",
-                       lambda: write_failure(out, failure_reproduction_stage(data, quick=quick)))
+    """Side-process stage: the failure reproduction and its report section (tables written here); the creep map is
+    handed back (``plot_later``: builder, path, arguments) for the main process's figure writer to draw, off the
+    side process's time (:func:`plot_side_figures`)."""
+    later: list = []
+    done = _side_stage("failure_reproduction",
+                       lambda: write_failure(out, failure_reproduction_stage(data, quick=quick), figures=later))
+    return {**done, "plot_later": later}
+
+
+def plot_side_figures(side_runs: dict, plotted: set) -> None:
+    """Hand the figures of the side stages finished so far (their ``plot_later`` entries) to this process's figure
+    writer, once per stage (``plotted``: the stages already handed)."""
+    for stage, run in side_runs.items():
+        if stage not in plotted and run.done() and run.exception() is None:
+            plotted.add(stage)
+            for builder, path, args in run.result().get("plot_later", ()):
+                plot_later(builder, path, *args)
 
 
 def side_codesign(data: dict, out: Path, quick: bool = False) -> dict:
@@ -950,6 +961,7 @@ def main(argv: list[str] | None = None) -> int:
     with one_thread_per_process(args.quick), side_process(enabled=not args.serial, workers=workers) as side, \
             background_figures(dpi=QUICK_DPI if args.quick else None):
         side_runs = {stage: side.submit(fn, data, args.out, quick=args.quick) for stage, fn in SIDE_STAGES.items()}
+        plotted: set = set()                     # side stages whose figures went to the figure writer
 
         t0 = time.perf_counter()
         macro = macro_design(data, thesis)
@@ -970,17 +982,26 @@ def main(argv: list[str] | None = None) -> int:
         t0 = time.perf_counter()                 # each section written as its stage ends: its figures render now
         sections = {"dynamics": write_dynamics(args.out, dynamics, design_torques)}
         timings["write_dynamics"] = time.perf_counter() - t0
+        plot_side_figures(side_runs, plotted)
 
         t0 = time.perf_counter()
         sizing = joint_sizing_stage(data, macro["trains"], dynamics)
         timings["joint_sizing_nlp"] = time.perf_counter() - t0
 
-        t0 = time.perf_counter()
-        contact = contact_stage(data, macro["trains"], quick=args.quick)
-        timings["contact_ltca_and_microgeometry_nlp"] = time.perf_counter() - t0
-        t0 = time.perf_counter()
-        sections["contact"] = write_contact(args.out, contact, quick=args.quick)
-        timings["write_contact"] = time.perf_counter() - t0
+        t0, written = time.perf_counter(), {}
+
+        def write_mesh(mesh, study):             # each mesh's section as its study ends: its figures render
+            t1 = time.perf_counter()             # while the next mesh is solved
+            written[mesh] = write_contact_mesh(args.out, mesh, study, every_figure=not args.quick or not written)
+            written[mesh] += (time.perf_counter() - t1,)
+
+        contact = contact_stage(data, macro["trains"], quick=args.quick, on_study=write_mesh)
+        write_s = sum(w[2] for w in written.values())
+        timings["contact_ltca_and_microgeometry_nlp"] = time.perf_counter() - t0 - write_s
+        timings["write_contact"] = write_s
+        sections["contact"] = (CONTACT_HEADER + [line for w in written.values() for line in w[0]],
+                               {mesh: w[1] for mesh, w in written.items()})
+        plot_side_figures(side_runs, plotted)
 
         t0 = time.perf_counter()
         ratings = rating_stage(data, macro["trains"])
@@ -990,6 +1011,7 @@ def main(argv: list[str] | None = None) -> int:
         t0 = time.perf_counter()
         joints = joint_stage(data)
         timings["joints_blanks_webs"] = time.perf_counter() - t0
+        plot_side_figures(side_runs, plotted)
 
         t0 = time.perf_counter()
         sections.update(rating=write_rating(args.out, ratings), joints=write_joints(args.out, joints))
@@ -998,6 +1020,7 @@ def main(argv: list[str] | None = None) -> int:
         t0 = time.perf_counter()
         side_results = {stage: run.result() for stage, run in side_runs.items()}
         timings["side_process_wait"] = time.perf_counter() - t0
+        plot_side_figures(side_runs, plotted)
         for r in side_results.values():
             timings.update(r["timings"])
 
@@ -1013,6 +1036,11 @@ def main(argv: list[str] | None = None) -> int:
     result["stage_time_s"] = dict(timings)                          # every stage, the ones after write_outputs too
     result["side_process_stages"] = list(SIDE_STAGES) if side.enabled else []
     result["wall_time_s"] = time.perf_counter() - wall0            # less than the stages' sum: two chains overlap
+    # CPU time of each process since it started (imports included; the side process's at the end of its last
+    # stage): less disturbed by other load on the machine than the wall times, it shows which chain is longer
+    result["process_cpu_s"] = {"main": time.process_time(), **{
+        f"side_{pid}": max(r["process_cpu_s"] for r in side_results.values() if r["pid"] == pid)
+        for pid in sorted({r["pid"] for r in side_results.values()}) if pid != os.getpid()}}
     stats = {k: v - stats0.get(k, 0) if isinstance(v, (int, float)) else v    # this run's kernels in this
              for k, v in cache_stats().items()}                               # process: compiled, loaded, interpreted
     for other in (r["compile_cache"] for r in side_results.values()) if side.enabled else ():

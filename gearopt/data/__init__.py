@@ -8,6 +8,7 @@ provenance; :func:`load_default_train` builds the spur redesign or the helical b
 
 from __future__ import annotations
 
+import copy
 import tomllib
 from importlib import resources
 from pathlib import Path
@@ -32,15 +33,32 @@ def load_thesis_tables() -> dict[str, Any]:
         return tomllib.load(fh)
 
 
+_LOADED: dict[tuple, dict[str, Any]] = {}
+"""Validated data of the files loaded in this process, by (resolved path, modification time [ns], size)."""
+
+
 def load_default_data(path: str | Path | None = None) -> dict[str, Any]:
     """Parse the default data file (or another file of the same schema) into nested dicts, provenance included.
 
     The file is validated against the data schema (``docs/data-schema.md``, :func:`validate_data`): a missing,
     empty, damaged or non-UTF-8 file, or one with unknown or missing keys, wrong types or values out of range,
-    raises one :class:`~gearopt.errors.DataFileError` naming the file and every offending key path."""
+    raises one :class:`~gearopt.errors.DataFileError` naming the file and every offending key path.
+
+    A file already loaded in this process, unchanged since (same modification time and size), is not parsed and
+    validated again: the caller gets its own deep copy of the validated data (a long run loads the default file
+    from many places; parsing and validating it takes ~50 ms each time)."""
     p = Path(path) if path is not None else default_data_path()
-    data = parse_data_file(p)
-    return validate_data(data, source=str(p))
+    try:
+        stat = p.stat()
+        key = (str(p.resolve()), stat.st_mtime_ns, stat.st_size)
+    except OSError:
+        key = None                                   # parse_data_file names the problem
+    if key in _LOADED:
+        return copy.deepcopy(_LOADED[key])
+    data = validate_data(parse_data_file(p), source=str(p))
+    if key is not None:
+        _LOADED[key] = copy.deepcopy(data)
+    return data
 
 
 def values(table: dict[str, Any]) -> dict[str, Any]:

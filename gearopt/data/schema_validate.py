@@ -6,7 +6,9 @@ raised together in one :class:`~gearopt.errors.DataFileError`."""
 from __future__ import annotations
 
 import difflib
+import hashlib
 import math
+import pickle
 import re
 
 from ..errors import DataFileError
@@ -14,12 +16,32 @@ from .schema_crossrefs import cross_checks
 from .schema_keys import MAX_MAGNITUDE, TRAIN_KINDS, default_range, rule_for, unit_of
 from .schema_tree import Node, schema
 
+_VALID: set[bytes] = set()
+"""Digests of the data contents found valid in this process (:func:`validate_data` checks each content once)."""
+_MAX_VALID = 1024
+
+
+def _content_digest(data: dict) -> bytes | None:
+    """SHA-256 of the pickled contents (keys, values and their types), or None when they do not pickle."""
+    try:
+        return hashlib.sha256(pickle.dumps(data, protocol=pickle.HIGHEST_PROTOCOL)).digest()
+    except Exception:  # noqa: BLE001 -- an unpicklable value: validated every time, as before
+        return None
+
+
 def validate_data(data: dict, source: str = "<data>") -> dict:
     """Check parsed data against the schema; return ``data`` unchanged or raise
-    :class:`~gearopt.errors.DataFileError` listing every problem as ``<source>: <key path>: <problem>``."""
+    :class:`~gearopt.errors.DataFileError` listing every problem as ``<source>: <key path>: <problem>``.
+
+    Contents found valid once in this process (same keys, values and value types, by digest) are not checked
+    again: the checks are a pure function of the contents, and a long run validates the same data at every
+    train it builds (~30 ms each). Data that fails is checked (and fails) every time."""
     problems: list[str] = []
     if not isinstance(data, dict):
         raise DataFileError(f"{source}: the data must be a table of sections (got {type(data).__name__})")
+    digest = _content_digest(data)
+    if digest is not None and digest in _VALID:
+        return data
     _check_table(data, schema(), "", problems)
     if not problems:
         cross_checks(data, problems)
@@ -27,6 +49,10 @@ def validate_data(data: dict, source: str = "<data>") -> dict:
         head = f"{source}: {len(problems)} problem{'s' if len(problems) > 1 else ''} in the data"
         raise DataFileError(head + "\n" + "\n".join(f"  - {source}: {p}" for p in problems[:40])
                             + (f"\n  ... and {len(problems) - 40} more" if len(problems) > 40 else ""))
+    if digest is not None:
+        if len(_VALID) >= _MAX_VALID:
+            _VALID.clear()
+        _VALID.add(digest)
     return data
 
 

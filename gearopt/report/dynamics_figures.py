@@ -54,8 +54,14 @@ def campbell_table(model, speeds_rpm, orders=DEFAULT_ORDERS, *, max_frequency_Hz
     """
     net = _network(model)
     camp = campbell_diagram(net, speeds_rpm, orders, boundary=boundary, max_frequency_Hz=max_frequency_Hz)
-    crossings = camp["crossings"].copy()
-    shapes = mode_shapes(net, boundary=boundary).drop(index="frequency_Hz")
+    return _crossing_table(net, camp["crossings"], mode_shapes(net, boundary=boundary), boundary)
+
+
+def _crossing_table(net, crossings: pd.DataFrame, shapes: pd.DataFrame, boundary: str) -> pd.DataFrame:
+    """:func:`campbell_table` from the crossings of :func:`~gearopt.dynamics.modes.campbell_diagram` and the
+    :func:`~gearopt.dynamics.modes.mode_shapes` of the same network and boundary."""
+    crossings = crossings.copy()
+    shapes = shapes.drop(index="frequency_Hz")
     crossings["dominant_node"] = [str(shapes[f"mode_{int(m)}"].abs().idxmax()) for m in crossings["mode"]]
     if boundary == "network" and len(crossings):
         strength = crossing_excitation_Nm(net, crossings)
@@ -88,10 +94,12 @@ def campbell_data(model, speeds_rpm, orders=DEFAULT_ORDERS, *, max_frequency_Hz:
     if orders.size == 0:
         raise GearoptInputError("orders must not be empty")
     f_top = max_frequency_Hz if max_frequency_Hz is not None else 1.1 * float(orders.max()) * speeds.max() / 60.0
-    table = campbell_table(model, speeds, orders, max_frequency_Hz=f_top)
     net = _network(model)
-    modes = campbell_diagram(net, speeds, orders, max_frequency_Hz=f_top)["modes"][["mode", "frequency_Hz"]]
-    shapes = mode_shapes(net).drop(index="frequency_Hz")
+    camp = campbell_diagram(net, speeds, orders, max_frequency_Hz=f_top)   # once: the table and the modes share it
+    all_shapes = mode_shapes(net)
+    table = _crossing_table(net, camp["crossings"], all_shapes, "network")
+    modes = camp["modes"][["mode", "frequency_Hz"]]
+    shapes = all_shapes.drop(index="frequency_Hz")
     nodes = {int(m): str(shapes[f"mode_{int(m)}"].abs().idxmax()) for m in modes["mode"]}
     return {"speeds_rpm": speeds, "orders": orders, "max_frequency_Hz": float(f_top), "crossings": table,
             "modes": modes.reset_index(drop=True), "dominant_node": nodes}

@@ -30,6 +30,9 @@ def test_every_stage_timed_and_kernels_compiled_or_loaded_never_silently_interpr
     result = json.loads((run / "result.json").read_text())
     assert {"dynamics", "contact_ltca_and_microgeometry_nlp", "failure_reproduction", "codesign_nlp",
             "write_outputs", "trade_off_study", "figure_files_wait"} <= set(result["stage_time_s"])
+    cpu = result["process_cpu_s"]               # each chain's CPU time: the main process and its side process
+    assert cpu["main"] > 0 and len(cpu) == 1 + bool(result["side_process_stages"])
+    assert all(0 < v < 10 * result["wall_time_s"] for v in cpu.values())
     stats = result["compile_cache"]
     assert stats["hits"] + stats["compiled"] + stats["interpreted"] > 0
     if compiler_available() and jit_enabled():
