@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import math
 import re
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field, fields, replace
 from functools import cached_property
 from typing import Any
 
@@ -32,6 +32,9 @@ from .tolerances import PairTolerances, transverse_backlash_mm
 Number = Any  # float, numpy scalar or CasADi expression
 
 
+NUMERIC_RECORD_CACHE_SIZE = 4096
+"""Geometry records of numeric pairs kept per process, keyed by the pair's defining values (oldest dropped first)."""
+_NUMERIC_RECORDS: dict[tuple, Any] = {}
 MAX_TEETH = 10000  # plausibility limit of a tooth count (large ring gears have a few hundred)
 
 
@@ -355,12 +358,28 @@ class GearPair:
 
     @cached_property
     def _record(self) -> PairGeometry:
-        record = PairGeometry(**self._geometry)
         if self.is_symbolic:
-            return record
-        record = record.map_values(nm.to_float)
-        check_result(f"{self._label()} geometry", record, self._inputs())
+            return PairGeometry(**self._geometry)
+        key = self._numeric_key()
+        record = _NUMERIC_RECORDS.get(key) if key is not None else None
+        if record is None:
+            record = PairGeometry(**self._geometry).map_values(nm.to_float)
+            check_result(f"{self._label()} geometry", record, self._inputs())
+            if key is not None:
+                if len(_NUMERIC_RECORDS) >= NUMERIC_RECORD_CACHE_SIZE:
+                    _NUMERIC_RECORDS.pop(next(iter(_NUMERIC_RECORDS)))
+                _NUMERIC_RECORDS[key] = record
         return record
+
+    def _numeric_key(self) -> tuple | None:
+        """The defining values of a numeric pair (every field), or None when one is unhashable: equal pairs built
+        separately (a train re-propagated, a dataclass ``replace``) share one geometry record."""
+        key = tuple(getattr(self, f.name) for f in fields(self))
+        try:
+            hash(key)
+        except TypeError:
+            return None
+        return key
 
     def _inputs(self) -> dict:
         """The defining numbers of a numeric pair, for error messages."""
