@@ -414,14 +414,16 @@ def contact_stage(data: dict, trains: dict, quick: bool = False, on_study=None) 
 def codesign_stage(data: dict, quick: bool = False):
     """Stage: co-design of the spur train and a low-helix alternative (profile shift, helix angle, per-flank tip
     relief, walk-off margins in one NLP) beside the sequential design (gearopt.design.scene_codesign); quick: the
-    spur option, one load case, no refinement. The main job caps the refinement at 1 re-solve and slices helical
-    faces 7 times without raising them (run time: the low-helix co-design solve alone takes minutes; the smooth-vs-
-    exact PPTE gap this leaves is reported per option); problems/codesign.py runs the study at its defaults."""
+    spur option, one load case, no refinement. The main job caps the co-design's refinement at 1 re-solve and slices
+    helical faces 7 times without raising them (run time: the low-helix co-design solve alone takes minutes; the
+    smooth-vs-exact PPTE gap this leaves is reported per option); the sequential design (lifted contact form, fast)
+    gets up to 3 re-solves. problems/codesign.py runs the study at its defaults."""
     from gearopt.design.scene_codesign import codesign_study
 
     return codesign_study(data, quick=quick, options=("spur",) if quick else ("spur", "low_helix"),
                           ltca_options=None if quick else {"max_refinements": 1, "helical_slices": 7,
-                                                           "max_helical_slices": 7})
+                                                           "max_helical_slices": 7},
+                          sequential_options=None if quick else {"max_refinements": 3})
 
 
 CONTACT_HEADER = ["## Contact: helical baseline vs unmodified spur vs optimised spur", ""]
