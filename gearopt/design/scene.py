@@ -96,6 +96,10 @@ class Scene:
         data: the data set of joints and blanks (default: the packaged default data).
         ltca_options: overrides of :data:`DEFAULT_LTCA_OPTIONS`; iso6336_options: keyword arguments of
             :func:`~gearopt.rating.contact_stress_iso6336` / :func:`~gearopt.rating.root_stress_iso6336` (K_A, ...).
+        objective_aggregate: how several objectives combine: ``"sum"`` (their weighted, scaled sum) or ``"max"``
+            (the largest of them, by an epigraph variable ``objectives.max``: e.g. the largest PPTE of several
+            meshes, each objective divided by its scale and multiplied by its weight). A pure minimax: the
+            objectives below the largest are left wherever its optimum puts them.
     """
 
     name: str
@@ -110,6 +114,7 @@ class Scene:
     data: dict | None = None
     ltca_options: Mapping[str, Any] = field(default_factory=dict)
     iso6336_options: Mapping[str, Any] = field(default_factory=dict)
+    objective_aggregate: str = "sum"
 
     def meshes(self) -> dict[str, GearPair]:
         out = dict(self.train.pairs) if self.train is not None else {}
@@ -168,6 +173,11 @@ class BuiltScene(ContactModels, TrainModels, QuantityTerms):
         unknown = set(scene.ltca_options) - set(DEFAULT_LTCA_OPTIONS)
         if unknown:
             raise GearoptInputError(f"ltca_options {sorted(unknown)} are unknown ({sorted(DEFAULT_LTCA_OPTIONS)})")
+        if scene.objective_aggregate not in ("sum", "max"):
+            raise GearoptInputError(f"objective_aggregate={scene.objective_aggregate!r} must be 'sum' or 'max'")
+        if scene.objective_aggregate == "max" and any(o.sense != "min" for o in scene.objectives):
+            raise GearoptInputError("objective_aggregate='max' takes objectives to be minimised (sense='min'): the "
+                                    "largest of them is minimised")
         if self._opts["approach"] not in ("lifted", "nested"):
             raise GearoptInputError(f"ltca_options approach={self._opts['approach']!r} must be 'lifted' or 'nested'")
         self._meshes = scene.meshes()
@@ -188,7 +198,14 @@ class BuiltScene(ContactModels, TrainModels, QuantityTerms):
             self._add_limit(lim)
         if not self._objective_terms:
             raise GearoptInputError(f"scene {scene.name!r} has no objective")
-        self.problem.minimize(sum(self._objective_terms[1:], self._objective_terms[0]))
+        terms = self._objective_terms
+        if scene.objective_aggregate == "max" and len(terms) > 1:
+            starts = [float(np.max(self._initial(t))) for t in terms]
+            z = self.problem.variable("objectives.max", init=max(starts))
+            self.problem.subject_to("objectives.max.epigraph", nm.vcat([z - t for t in terms]), lower=0.0)
+            self.problem.minimize(z)
+        else:
+            self.problem.minimize(sum(terms[1:], terms[0]))
 
     # -- what was built ----------------------------------------------------------------------------------------
 

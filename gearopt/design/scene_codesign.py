@@ -217,9 +217,10 @@ The main job keeps 0 for its run time; pass 0.02 to let the co-design trade cont
 
 SEQUENTIAL_OPTIONS = {"approach": "lifted"}
 """``ltca_options`` of the sequential design's scene (its meshes have fixed macro geometry): the lifted contact form.
-Measured on the default data (spur option, three meshes x three load cases, up to three re-solves): the lifted
-refinement converged to the 2 % agreement in 14 s (re-solves 2.4-4.6 s); the nested one ran 27 s and ended 6.8 %
-apart."""
+Measured on the default data (spur option, three meshes x three load cases, up to three re-solves, the meshes' PPTE
+summed): the lifted refinement converged to the 2 % agreement in 14 s (re-solves 2.4-4.6 s); the nested one ran 27 s
+and ended 6.8 % apart. With the largest PPTE minimised (the study's objective) the main job's spur sequential design
+verifies to 1.7 % after two re-solves."""
 
 
 def codesign_study(data: dict | None = None, *, options: Sequence[str] = ("spur", "low_helix"),
@@ -289,7 +290,7 @@ def codesign_study(data: dict | None = None, *, options: Sequence[str] = ("spur"
             seq_opts["max_refinements"] = 0
         seq_scene = Scene(f"{option} sequential (micro at fixed macro)", train=fixed, load_cases=load_cases,
                           variables=flank_vars, objectives=objective, limits=ltca_limits + margins,
-                          ltca_options=seq_opts, data=data)
+                          ltca_options=seq_opts, data=data, objective_aggregate="max")
         failures = {}
         try:
             sequential = seq_scene.build().solve()
@@ -301,7 +302,8 @@ def codesign_study(data: dict | None = None, *, options: Sequence[str] = ("spur"
         if helical:
             train_vars.append(DesignVariable("helix_angle_deg", "train", lower=0.0, upper=max_helix_angle_deg))
         co_scene = Scene(f"{option} co-design", train=fixed, load_cases=load_cases, variables=train_vars + flank_vars,
-                         objectives=objective, limits=ltca_limits + geometry + margins, ltca_options=opts, data=data)
+                         objectives=objective, limits=ltca_limits + geometry + margins, ltca_options=opts, data=data,
+                         objective_aggregate="max")
         start = {**(sequential.values if sequential else {}), "train.root_profile_shift": macro["root_profile_shift"],
                  "train.helix_angle_deg": macro["helix_angle_deg"]}
         t0 = time.perf_counter()

@@ -118,10 +118,11 @@ def _admissible(built, quantities, exact, tol: float) -> bool:
 
 
 def _verified_objective(built, quantities, exact) -> float:
-    """The scene's objective with every PPTE term taken from the exact LTCA."""
+    """The scene's objective with every PPTE term taken from the exact LTCA (summed, or their largest for
+    ``objective_aggregate="max"``)."""
     from .scene_terms import quantity_kind
 
-    total = 0.0
+    terms = []
     for obj in built.scene.objectives:
         q = quantities[(quantities["role"] == "objective") & (quantities["quantity"] == obj.quantity)
                        & (quantities["target"] == obj.target)]
@@ -130,8 +131,9 @@ def _verified_objective(built, quantities, exact) -> float:
             rows = exact[(exact["mesh"] == obj.target) & exact["load_case"].isin(q["load_case"])]
             vals = rows["ppte_um"].to_numpy()
         agg = float(vals.mean() if obj.aggregate == "mean" else vals.max())
-        total += obj.weight / (obj.scale or quantity_kind(obj.quantity).scale) * (agg if obj.sense == "min" else -agg)
-    return total
+        terms.append(obj.weight / (obj.scale or quantity_kind(obj.quantity).scale) * (agg if obj.sense == "min"
+                                                                                     else -agg))
+    return max(terms) if built.scene.objective_aggregate == "max" else sum(terms)
 
 
 def _remedies(current, ex, tol: float) -> dict:
