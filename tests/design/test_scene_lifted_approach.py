@@ -91,3 +91,29 @@ def test_a_start_of_another_design_gets_its_own_approaches():
 def test_unknown_approach_is_refused():
     with pytest.raises(GearoptInputError, match="approach"):
         scene("newton").build()
+
+
+def test_lifted_constraints_and_outputs_have_the_derivatives_of_central_differences(model):
+    # the force balance, the gap floor and the contact stress of the lifted form, differentiated by CasADi with
+    # respect to the relief amounts, starts and the approaches, against central differences (h = 1e-5)
+    x = ca.MX.sym("x", 4)
+    mods = Microgeometry(tip_relief_um=(x[0], x[1]), tip_relief_start_roll_deg=(x[2], x[3]))
+    x0 = np.array([12.0, 9.0, 23.0, 22.0])
+    d0 = model.approach_start(Microgeometry(tip_relief_um=(12.0, 9.0), tip_relief_start_roll_deg=(23.0, 22.0)),
+                              TORQUES) + 0.3            # off the balance: the residual's slope, not only at zero
+    d = ca.MX.sym("d", d0.size)
+    res = model.evaluate(mods, list(TORQUES), approach_um=d)
+    out = ca.vertcat(ca.vec(res.approach_residual_N) / 1e3, ca.vec(res.approach_floor_um),
+                     ca.vec(res.contact_stress_squared_MPa2) / 1e6)
+    z = ca.vertcat(x, d)
+    f = ca.Function("f", [z], [out])
+    J = ca.Function("J", [z], [ca.jacobian(out, z)])
+    z0 = np.concatenate([x0, d0])
+    jac = np.asarray(J(z0).full())
+    h = 1e-5
+    for k in list(range(4)) + [4, 4 + d0.size // 2, 3 + d0.size]:
+        e = np.zeros(z0.size)
+        e[k] = h
+        fd = (np.asarray(f(z0 + e)).ravel() - np.asarray(f(z0 - e)).ravel()) / (2 * h)
+        scale = max(np.max(np.abs(jac[:, k])), 1e-3)
+        assert np.max(np.abs(jac[:, k] - fd)) / scale < 1e-4, k
