@@ -76,9 +76,9 @@ engagement width (:class:`~gearopt.contact.ltca_macro.MacroLTCAModel`); the cran
 front (walk-off); and the semi-infinite refinement: relative PPTE agreement of smooth and exact model (with an absolute floor), the most
 re-solves, the most face slices it may raise a helical mesh to, the smallest contact smoothing it may halve down to
 and the grid neighbours added on either side of each worst position (:mod:`gearopt.design.scene_refine`);
-``approach``: ``"lifted"`` (a mesh at fixed macro geometry: each position's approach an NLP variable held by an
-equality constraint, the fast form) or ``"nested"`` (Newton's method inside the model, as the macro-symbolic LTCA
-does)."""
+``approach``: ``"nested"`` (Newton's method inside the model, as the macro-symbolic LTCA does) or ``"lifted"`` (a
+mesh at fixed macro geometry: each position's approach an NLP variable held by an equality constraint; cheaper
+iterations, same optima, but from the same start it may reach another local optimum, so it is opt-in)."""
 
 
 @dataclass

@@ -259,14 +259,19 @@ class ContactModels:
         """The lifted approaches consistent with the design variables of a start (``Problem.start_completion``):
         a start from other design values (a multi-start point, a neighbour of a front) would otherwise begin far
         from the force balance."""
-        scalars = {k: float(np.asarray(v).ravel()[0]) for k, v in values.items() if np.size(v) == 1}
         out = {}
-        for mesh, (model, numbers) in self._lifted.items():
+        for mesh in self._lifted:
             try:
-                out[f"{mesh}.approach_um"] = model.approach_start(self._microgeometry(mesh, scalars), numbers)
+                out[f"{mesh}.approach_um"] = self._approach_at(mesh, values)
             except GearoptInputError:     # a start outside the model's range: Ipopt restores the balance itself
                 continue
         return out
+
+    def _approach_at(self, mesh: str, values: Mapping[str, Any]) -> np.ndarray:
+        """Numeric approaches of a lifted mesh at the scalar variables of ``values`` (variable units)."""
+        model, numbers = self._lifted[mesh]
+        scalars = {k: float(np.asarray(v).ravel()[0]) for k, v in values.items() if np.size(v) == 1}
+        return model.approach_start(self._microgeometry(mesh, scalars), numbers)
 
     def _driver_speed_rpm(self, mesh: str, crank_speed_rpm: float) -> float:
         name = self._meshes[mesh].names[self._driving_gear(mesh) - 1]
@@ -299,13 +304,11 @@ class ContactModels:
         position, scaled by the largest mesh force), instead of Newton's method inside the model. Same optimum as
         the nested form; the NLP's graph is a few operations per spring, so its derivatives are cheap (measured
         in benchmarks/bench_studies.py)."""
-        values = {name: float(np.asarray(entry.init).ravel()[0]) for name, entry in self.problem._variables.items()
-                  if entry.size == 1}
-        start = model.approach_start(self._microgeometry(mesh, values), numbers)
         if not getattr(self, "_lifted", None):
             self._lifted = {}
             self.problem.start_completion = self._lifted_start
         self._lifted[mesh] = (model, numbers)
+        start = self._approach_at(mesh, {name: entry.init for name, entry in self.problem._variables.items()})
         force = max(max(numbers), 1e-6) * float(model.layout.force_per_torque_N_per_Nm)
         delta = self.problem.variable(f"{mesh}.approach_um", init=start, n=start.size, scale=APPROACH_SCALE_UM,
                                       unit="um")
