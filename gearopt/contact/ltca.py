@@ -44,7 +44,8 @@ class LTCAResult:
     ``transmission_error_um`` (positions,): loaded static TE along the line of action, + = driven gear lags.
     ``load_sharing`` (positions, pairs): fraction of the transmitted load carried by each tooth pair, pair 0 being
     the reference pair that enters at the first position.
-    ``load_intensity_N_per_mm`` (positions, pairs, slices): load per unit face width (the thesis' LID).
+    ``load_intensity_N_per_mm`` (positions, pairs, slices): load per unit face width (the thesis' LID) on the
+    part of each slice's contact line that lies on the path.
     ``contact_stress_MPa`` (positions, pairs, slices): Hertzian line-contact stress (the thesis' CSD).
     ``roll_length_1_mm`` (positions, pairs): contact position on the path, as roll length on gear 1.
 
@@ -191,7 +192,8 @@ def ltca(pair: GearPair, torque_Nm: float, *, driving_gear: int = 1, microgeomet
     ``positions`` may also be a sequence of fractions of the base pitch in [0, 1) (an arbitrary set of mesh
     positions, :func:`gearopt.contact.layout.position_fractions`). ``slices=None`` and ``positions=None`` choose a resolution that keeps PPTE within 1 % of the converged value
     (:func:`gearopt.contact.layout.default_slices`/``default_positions``: 1 slice and 1280 positions for a plain
-    spur pair, 11 slices for spur with lead modifications, 81 for helical, 160 positions when sliced). ``E_MPa``/``poisson`` are those of both gears (Hertzian stress).
+    spur pair, 11 slices for spur with lead modifications, at least 11 for helical
+    (:func:`~gearopt.contact.layout.default_slices`), 160 positions when sliced). ``E_MPa``/``poisson`` are those of both gears (Hertzian stress).
     ``speed_rpm`` (of the driving gear), ``bulk_temperature_C``, ``friction_coefficient`` (mean, Blok) and
     ``materials`` (name or 2-tuple of names in :mod:`gearopt.rating.materials`, for the thermal contact coefficient)
     are used only by the flash-temperature outputs, computed when first accessed.
@@ -218,11 +220,12 @@ def ltca(pair: GearPair, torque_Nm: float, *, driving_gear: int = 1, microgeomet
     spring = lay.spring_N_per_um
     delta = _solve_approach(np.where(lay.on_path, gap, np.inf).reshape(P, -1), spring.reshape(P, -1), force)
     closure = delta[:, None, None] - gap
-    w = np.where(lay.on_path, spring * np.maximum(closure, 0.0) / lay.slice_width_mm, 0.0)  # N/mm per slice
-    pair_load = w.sum(axis=2) * lay.slice_width_mm
+    spring_force = np.where(lay.on_path, spring * np.maximum(closure, 0.0), 0.0)             # N per spring
+    w = np.where(lay.on_path, spring_force / np.where(lay.on_path, lay.engaged_length_mm, 1.0), 0.0)  # N/mm
+    pair_load = spring_force.sum(axis=2)
     sharing = pair_load / force if force > 0 else np.zeros_like(pair_load)
     sigma = np.sqrt(w * hertz_stress_factor(lay, E_MPa, poisson))
-    loaded = (lay.on_path & (closure > 0.0)).sum(axis=(1, 2)) / lay.slices
+    loaded = np.where(lay.on_path & (closure > 0.0), lay.engaged_length_mm, 0.0).sum(axis=(1, 2)) / lay.face_width_mm
     check_result("ltca transmission_error_um / contact_stress_MPa", (delta, sigma),
                  dict(pair._inputs(), torque_Nm=torque_Nm, positions=positions, slices=slices, E_MPa=E_MPa))
     return LTCAResult(position_roll_deg=lay.position_roll_deg, transmission_error_um=delta,

@@ -14,7 +14,12 @@ graph is fixed whatever the values (inside the declared bounds):
 - engagement is smooth: each spring's stiffness is multiplied by
   ``sigmoid(rho1 - A, w_e) sigmoid(E - rho1, w_e)`` (``numerics.sigmoid``, width ``engagement_width_mm`` along the
   path) instead of the exact solver's on/off test, so moving the path ends A, E with the macro variables moves the
-  load smoothly. Where a pair still carries load when it reaches a path end (an under-relieved tip), the exact TE
+  load smoothly. For a helical model the weight is the mean of that smooth step over the slice's contact-line segment
+  ``rho1 +- h`` (``h = (b/J) tan(beta_b)/2 + w_e``; differences of ``numerics.softplus``), and the spring sits at
+  the middle of the segment's part on the path (``smooth_max``/``smooth_min``), as in the exact layout's partial
+  engagement (:mod:`gearopt.contact.layout`); the load intensity stays the slice mean (``c`` times the closure times
+  the engaged fraction), lower than the exact model's intensity on the engaged part only in a slice that straddles a
+  path end. Where a pair still carries load when it reaches a path end (an under-relieved tip), the exact TE
   jumps there and its peak-to-peak is a one-sided limit at the jump; the smooth model reproduces it at a position
   more than a few widths from the path end. The default width, 0.5 um along the path, is well below the 7 um spacing
   of the exact check's 1280 positions (a base pitch of ~9 mm), so the exact model's worst positions, added by the
@@ -318,15 +323,24 @@ class MacroLTCAModel:
             rho1 = A - 0.5 * b * tb + p_bt * (S + Kg) + (Y + 0.5) * b * tb
         else:
             rho1 = E + 0.5 * b * tb - p_bt * (S + Kg) - (Y + 0.5) * b * tb
+        w_e = self.engagement_width_mm
+        y_mm = Y * b
+        if self.helical:    # the slice's contact-line segment rho +- h, trimmed smoothly to A..E (see the layout)
+            direction = 1.0 if self.driving_gear == 1 else -1.0
+            h = 0.5 * (b / self.slices) * tb + w_e
+            engaged = ((nm.softplus(rho1 + h - A, w_e) - nm.softplus(rho1 - h - A, w_e))
+                       * (nm.softplus(E - rho1 + h, w_e) - nm.softplus(E - rho1 - h, w_e)) / (2.0 * h) ** 2)
+            mid = 0.5 * (nm.smooth_max(rho1 - h, A, w_e) + nm.smooth_min(rho1 + h, E, w_e))
+            y_mm = y_mm + direction * (mid - rho1) * 0.5 * (b / self.slices) / h
+            rho1 = mid
+        else:
+            engaged = nm.sigmoid(rho1 - A, w_e) * nm.sigmoid(E - rho1, w_e)
         rho2 = t1t2 - rho1
         u = nm.clip((rho1 - A) / (E - A), 0.0, 1.0)
         c = c_single * (1.0 - kappa * (2.0 * u - 1.0) ** 2)
-        w_e = self.engagement_width_mm
-        engaged = nm.sigmoid(rho1 - A, w_e) * nm.sigmoid(E - rho1, w_e)
         spring = c * (b / self.slices) * engaged
         mods = self._microgeometry(micro)
         roll1, roll2 = rho1 / (0.5 * d_b[0]) * RAD2DEG, rho2 / (0.5 * d_b[1]) * RAD2DEG
-        y_mm = Y * b
         gap = (profile_deviation_um(mods, 0, roll1, sap_roll_deg=sap1, eap_roll_deg=eap1, base_diameter_mm=d_b[0])
                + profile_deviation_um(mods, 1, roll2, sap_roll_deg=sap2, eap_roll_deg=eap2, base_diameter_mm=d_b[1])
                + lead_deviation_um(mods, 0, y_mm, b) + lead_deviation_um(mods, 1, y_mm, b)

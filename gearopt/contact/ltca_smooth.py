@@ -16,7 +16,7 @@ Convergence to the exact solver as ``w -> 0``: the smooth approach lies below th
 ``w`` (tested).
 
 Loaded contact ratio: the exact solver counts the loaded contact length over the face width
-(``sum (1/J) [delta - e > 0]``); the smooth form replaces the step by ``numerics.sigmoid`` with its own width
+(``sum (l_j / b) [delta - e_j > 0]`` with ``l_j`` each spring's engaged face length); the smooth form replaces the step by ``numerics.sigmoid`` with its own width
 ``count_width_um`` (a pair counts as half-loaded where its gap is exactly closed).
 
 Inputs: a numeric pair; microgeometry amounts/starts and the torque numeric or CasADi ``MX``. Outputs are numpy
@@ -144,6 +144,7 @@ class LTCAModel:
         P, N = lay.positions, lay.springs_per_position
         self._springs = lay.spring_N_per_um.reshape(P, N).T            # (N, P)
         self._on_path = lay.on_path.reshape(P, N).T.astype(float)        # (N, P)
+        self._engaged_length = np.where(lay.on_path, lay.engaged_length_mm, 1.0).reshape(P, N).T   # (N, P) mm
         self._stress_factor = hertz_stress_factor(lay, E_MPa, poisson).reshape(P, N).T
         self._stiffness_sum = self._springs.sum(axis=0)                 # (P,)
         if np.any(self._stiffness_sum <= 0):
@@ -308,14 +309,17 @@ class LTCAModel:
             delta = np.asarray(delta, dtype=float).reshape(-1)
         on_path = np.tile(self._on_path, (1, L))
         closure = nm.repeat_rows(nm.row(delta), e.shape[0]) - E_all
-        load = on_path * S_all * nm.softplus(closure, self.smoothing_um) / (lay.slice_width_mm * width)
+        load = (on_path / np.tile(self._engaged_length, (1, L))) * S_all * nm.softplus(closure, self.smoothing_um) \
+            / width
         stress_sq = load * np.tile(self._stress_factor, (1, L))
         if E_MPa is not None:
             stress_sq = stress_sq * (E_MPa / self.E_MPa)
         J, K = lay.slices, lay.shape[1]
-        pair_sum = np.kron(np.eye(K), np.ones((1, J))) * lay.slice_width_mm   # (K, N): slice loads -> pair load
-        sharing = nm.matmul(pair_sum, load) * width / nm.repeat_rows(F_all + 1e-12, K)
-        loaded = nm.column_sum(on_path * nm.sigmoid(closure, self.count_width_um)) / J
+        pair_sum = np.kron(np.eye(K), np.ones((1, J)))                        # (K, N): spring forces -> pair load
+        sharing = nm.matmul(pair_sum, load * np.tile(self._engaged_length, (1, L))) * width \
+            / nm.repeat_rows(F_all + 1e-12, K)
+        loaded = nm.column_sum(on_path * np.tile(self._engaged_length, (1, L))
+                               * nm.sigmoid(closure, self.count_width_um)) / lay.face_width_mm
         te = delta if (L == 1 and not symbolic) else nm.reshape(delta, P, L)
         if not symbolic:
             loaded = np.asarray(loaded, dtype=float).reshape(-1)

@@ -18,8 +18,8 @@ without a dense grid everywhere:
    smooth). Sampling error above half the tolerance: add the exact TE's peaks and troughs of every load case
    (:func:`extreme_fractions`) to the mesh's set. Discretisation error above half the tolerance on a helical mesh:
    raise the smooth model's face slices (``helical_slices`` to ``2 n - 1``, so the old slice centres stay, up to
-   ``max_helical_slices``; the exact check slices the face :func:`gearopt.contact.layout.default_slices` times, 81
-   for the default helical pairs). On a spur mesh (or with the slices at their cap): halve the contact smoothing
+   ``max_helical_slices``; the exact check slices the face :func:`gearopt.contact.layout.default_slices` times, at
+   least 11 and more as the overlap ratio grows). On a spur mesh (or with the slices at their cap): halve the contact smoothing
    width (not below ``min_smoothing_um``; the softplus contact law lowers the TE by up to ``w ln 2`` where gaps just
    close, which matters against a sub-micron optimum). Re-solve from the previous optimum (a primal warm start:
    the new NLP has more constraints, so its multipliers do not carry over);
