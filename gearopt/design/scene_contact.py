@@ -401,7 +401,9 @@ class ContactModels:
         """Exact LTCA (``check_positions``, the default slices) of every LTCA mesh at the optimum, per load case,
         beside the smooth model's values at the same design (``smooth_*``) and their relative differences
         (``*_error``, relative to the exact value). ``worst_fractions`` lists the mesh positions (fractions of a
-        base pitch) of the exact TE's peak and trough."""
+        base pitch) of the exact TE's peak and trough, ``stress_fractions`` those where the exact contact stress,
+        root stress and contact temperature peak (each a maximum over the mesh cycle: a semi-infinite limit like
+        PPTE, refined the same way)."""
         rows = []
         for mesh in self._ltca_meshes():
             mods = self.microgeometry_at(values, mesh)
@@ -422,10 +424,14 @@ class ContactModels:
                        "loaded_contact_ratio": r.loaded_contact_ratio,
                        "worst_fractions": extreme_fractions(te, fractions,
                                                             neighbours=int(self._opts["refine_neighbours"]))}
+                peaks = [r.contact_stress_MPa]
                 if model.root_stress:
                     row["max_root_stress_MPa"] = max(r.max_root_stress_MPa)
+                    peaks += list(r.root_stress_MPa)
                 if speed is not None:
                     row["max_contact_temperature_C"] = r.max_flash_temperature_C
+                    peaks.append(r.flash_temperature_rise_K)
+                row["stress_fractions"] = peak_fractions(peaks, fractions, int(self._opts["refine_neighbours"]))
                 if evaluate is not None:
                     row["smooth_dense_ppte_um"] = self._dense_smooth_ppte(mesh, values, lc, positions)
                     for q in ("ppte_um", "max_contact_stress_MPa", "max_root_stress_MPa", "max_contact_temperature_C"):
@@ -466,6 +472,20 @@ class ContactModels:
         if q == "ppte_um":
             return float(np.ptp(v))
         return float(np.sqrt(max(v.max(), 0.0))) if q == "max_contact_stress_MPa" else float(v.max())
+
+
+def peak_fractions(arrays, fractions: np.ndarray, neighbours: int) -> tuple:
+    """Mesh positions (``fractions``) where each of ``arrays`` (positions first, e.g. (P, K, J) stresses of every
+    spring; NaN off the path) peaks over the cycle, each with ``neighbours`` grid points either side (periodic)."""
+    out: list[float] = []
+    for a in arrays:
+        per_position = np.nanmax(np.asarray(a, dtype=float).reshape(len(fractions), -1), axis=1)
+        i = int(np.nanargmax(per_position))
+        for j in range(i - neighbours, i + neighbours + 1):
+            f = float(fractions[j % len(fractions)])
+            if f not in out:
+                out.append(f)
+    return tuple(out)
 
 
 def _on_path(matrix, model: LTCAModel, l_idx: int):
