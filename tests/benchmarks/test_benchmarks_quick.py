@@ -94,7 +94,8 @@ def check_robustness(result, out):
 def check_codesign(result, out):
     err = {r["positions"]: r["ppte_error"] for r in result["sweeps"]["positions"]}
     assert err[40] < err[20]                                   # more mesh positions: a smaller smooth-vs-exact gap
-    assert result["time_to_2_percent"]["uniform_160"]["ppte_error"] < err[40]
+    dense = {k: r for k, r in result["time_to_2_percent"].items() if k.startswith("uniform_")}   # quick: 80
+    assert dense and all(int(k.split("_")[1]) > 40 and r["ppte_error"] < err[40] for k, r in dense.items())
     assert (out / "codesign.json").exists() and (out / "codesign.png").exists()
 
 
