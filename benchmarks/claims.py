@@ -79,7 +79,8 @@ def microgeometry_nlp(d) -> str:
             f"exact PPTE {ip['ppte_um']:.3g} um at the {d['problem']['positions']} positions it optimises over, "
             f"{ip['ppte_converged_um']:.3g} um converged. SLSQP with finite differences on the same smooth NLP "
             f"takes {_x(r['slsqp_fd_smooth_nlp'])} Ipopt's build + solve ({a['iterations']} iterations, PPTE "
-            f"{a['ppte_um']:.3g} um){reach}; on the exact LTCA {_x(r['slsqp_fd_exact_ltca'])} and stalls at "
+            f"{a['ppte_um']:.3g} um){reach}; on the exact LTCA {_x(r['slsqp_fd_exact_ltca'])} ({b['model_evaluations']} "
+            f"exact LTCA evaluations in {b['iterations']} iterations against Ipopt's {t['iterations']}) and stalls at "
             f"{b['ppte_um']:.3g} um. The {grid['method'].replace('grid_amounts_', '')} grid over the two relief "
             f"amounts: {grid['ppte_um']:.3g} um at {_x(grid['time_ratio_to_ipopt'])}. Random starts: "
             f"{st['successes']} of {st['starts']} solve (failures: {', '.join(st['failures']) or 'none'}).")

@@ -20,8 +20,29 @@ Q, OBJ, BETA = "axial_utilisation[cam]", "ppte_um[crank-cam]", "train.helix_angl
 
 
 @pytest.fixture(scope="module")
-def out(run_quick):
-    return run_quick("helix_front")
+def quick_run(tmp_path_factory):
+    """``problems/helix_front.py --quick --out <tmp>`` run in-process through its ``main`` (exit code 0), with what
+    its ``run`` returned (front, verification, merged table, settings) kept for the tests that start from the
+    traced front: the script module, the output directory and that tuple."""
+    script = load_script("helix_front")
+    traced = []
+    run = script.run
+
+    def kept(*args, **kwargs):
+        traced.append(run(*args, **kwargs))
+        return traced[-1]
+
+    out = tmp_path_factory.mktemp("helix_front")
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(script, "run", kept)
+        assert script.main(["--quick", "--out", str(out)]) == 0
+    assert len(traced) == 1
+    return script, out, traced[0]
+
+
+@pytest.fixture(scope="module")
+def out(quick_run):
+    return quick_run[1]
 
 
 @pytest.fixture(scope="module")
@@ -74,28 +95,29 @@ def test_reported_exact_ppte_is_the_exact_ltca_of_the_reported_design(table, out
             r["exact_objective"], rel=1e-9)
 
 
-def test_failed_points_are_reported_not_dropped(tmp_path):
+def test_failed_points_are_reported_not_dropped(quick_run, tmp_path):
     """A front point that failed stays as "front point failed"; a re-solve that fails (Ipopt stopped after one
-    iteration) is recorded with its typed error's name; both rows reach front.csv and the counts of summary.json."""
-    from gearopt.studies import pareto_front
+    iteration) is recorded with its typed error's name; both rows reach front.csv and the counts of summary.json.
+    Starts from the front the quick run traced (4 points), with point 1 marked failed."""
     from gearopt.studies.front_check import verify_front
 
-    script = load_script("helix_front")
+    script, _, (front, _, _, _) = quick_run
     scene, settings = script.build_scene(go.load_default_data(), quick=True)
-    front = pareto_front(scene, script.QUANTITY, script.JOINT, points=3, starts=1)
     table = front.table.copy()
     table.loc[1, "status"] = "InfeasibleProblemError"
     table.loc[1, "error"] = "injected: the ε point did not solve"
     failed = dataclasses.replace(front, table=table)
+    ok = (table["status"] == "ok").to_numpy()             # the two ends always (an end that fails raises)
     check = verify_front(failed, scene, ltca_options={"max_refinements": 0}, max_iter=1)
-    assert check["point"].tolist() == [0, 1, 2]
+    assert check["point"].tolist() == [0, 1, 2, 3]
     assert check.loc[1, "verification"] == "front point failed"
-    assert set(check.loc[[0, 2], "verification"]) == {"IterationLimitError"}
+    assert (check.loc[~ok, "verification"] == "front point failed").all()
+    assert set(check.loc[ok, "verification"]) == {"IterationLimitError"} and ok[[0, 3]].all()
     assert not check["verified"].any()
     merged = failed.table.merge(check.drop(columns=["status", "error"]), on="point", how="left")
     merged.insert(merged.columns.get_loc(failed.quantity_column) + 1, "axial_margin[cam]",
                   1.0 / merged[failed.quantity_column])
-    summary = script.write(failed, merged, {**settings, "points": 3}, tmp_path, 0.0)
+    summary = script.write(failed, merged, {**settings, "points": 4}, tmp_path, 0.0)
     written = pd.read_csv(tmp_path / "front.csv")
-    assert len(written) == 3 and written.loc[1, "status"] == "InfeasibleProblemError"
-    assert summary["failed"] == 1 and summary["verification_failed"] == 3
+    assert len(written) == 4 and written.loc[1, "status"] == "InfeasibleProblemError"
+    assert summary["failed"] == int((~ok).sum()) and summary["verification_failed"] == 4
