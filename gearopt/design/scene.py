@@ -66,14 +66,15 @@ DEFAULT_LTCA_OPTIONS: dict[str, Any] = {
     "bulk_temperature_C": 100.0, "friction_coefficient": 0.06, "check_positions": 1280, "start_margin_deg": 0.25,
     "helical_slices": 11, "engagement_width_mm": DEFAULT_ENGAGEMENT_WIDTH_MM, "root_rotation": "cw",
     "refine_tolerance": 0.02, "max_refinements": 6, "max_helical_slices": 41, "min_smoothing_um": 0.005,
-    "refine_abs_tolerance_um": 0.01,
+    "refine_abs_tolerance_um": 0.01, "refine_stress_tolerance": 0.01,
     "refine_neighbours": 3, "approach": "nested"}
 """LTCA settings of a scene (override per scene with ``ltca_options``): the NLP's initial uniform positions and
 contact smoothing (:class:`~gearopt.contact.ltca_smooth.LTCAModel`), the relief-start blend of the design, the oil
 temperature and friction of the flash temperature, the positions of the exact-LTCA check of the optimum
 (benchmarks/results/ltca.json); for free macro geometry the face slices of a possibly helical mesh and the
 engagement width (:class:`~gearopt.contact.ltca_macro.MacroLTCAModel`); the crank's sense of rotation seen from the
-front (walk-off); and the semi-infinite refinement: relative PPTE agreement of smooth and exact model (with an absolute floor), the most
+front (walk-off); and the semi-infinite refinement: relative PPTE agreement of smooth and exact model (with an absolute floor) and of their
+stress and temperature maxima (``refine_stress_tolerance``), the most
 re-solves, the most face slices it may raise a helical mesh to, the smallest contact smoothing it may halve down to
 and the grid neighbours added on either side of each worst position (:mod:`gearopt.design.scene_refine`);
 ``approach``: ``"nested"`` (Newton's method inside the model, as the macro-symbolic LTCA does) or ``"lifted"`` (a

@@ -95,8 +95,9 @@ class CodesignStudy:
                  f"option, the joints' axial margins >= {s['min_axial_margin']:g} at {s['overspeed_rpm']:g} rpm. "
                  "Sequential = macro first (the data's root shift; the largest helix angle meeting the walk-off "
                  "margins), then the flank reliefs; co-design = all in one NLP, started from the sequential answer. "
-                 "PPTE and stresses from the exact LTCA of each optimum; smooth = exact: the NLP's PPTE and "
-                 f"stresses agree with the exact LTCA's within {100 * s.get('refine_tolerance', 0.02):g} % (else "
+                 "PPTE and stresses from the exact LTCA of each optimum; smooth = exact: the NLP's largest PPTE "
+                 f"agrees with the exact LTCA's within {100 * s.get('refine_tolerance', 0.02):g} % and its "
+                 f"stresses within {100 * s.get('refine_stress_tolerance', 0.01):g} % (else "
                  "the PPTE shown, the exact one, is what the design has, but the NLP optimised a model that missed "
                  "it).", "",
                  "| option | design | root shift | helix [deg] | max PPTE [um] | min axial margin | refinements | "
@@ -162,6 +163,8 @@ def design_entry(result: SceneResult, flanks: dict[str, list[str]], macro: dict 
         meshes[mesh] = {"ppte_um": float(rows["ppte_um"].max()),
                         "ppte_um_per_load_case": {str(r["load_case"]): float(r["ppte_um"]) for _, r in rows.iterrows()},
                         "smooth_ppte_error": float(rows["ppte_um_error"].max()),
+                        "smooth_stress_error": {c[:-len("_error")]: float(rows[c].max()) for c in rows.columns
+                                                if c.endswith("_error") and c != "ppte_um_error"},
                         "max_contact_stress_MPa": float(rows["max_contact_stress_MPa"].max()),
                         "max_root_stress_MPa": float(rows["max_root_stress_MPa"].max()),
                         "max_contact_temperature_C": float(rows["max_contact_temperature_C"].max()),
@@ -326,7 +329,8 @@ def codesign_study(data: dict | None = None, *, options: Sequence[str] = ("spur"
                 "overspeed_rpm": overspeed, "overspeed_torques_Nm": over_torques, "min_axial_margin": min_axial_margin,
                 "max_helix_angle_deg": max_helix_angle_deg, "root_shift_bounds": list(root_shift_bounds),
                 "contact_stress_limit_MPa": stress_limit, "contact_stress_allowance": contact_stress_allowance,
-                "refine_tolerance": float(opts.get("refine_tolerance", DEFAULT_LTCA_OPTIONS["refine_tolerance"])),
+                **{k: float(opts.get(k, DEFAULT_LTCA_OPTIONS[k])) for k in ("refine_tolerance",
+                                                                            "refine_stress_tolerance")},
                 "quick": quick}
     return CodesignStudy(out, flanks, settings)
 

@@ -24,7 +24,7 @@ without a dense grid everywhere:
    close, which matters against a sub-micron optimum). Re-solve from the previous optimum (a primal warm start:
    the new NLP has more constraints, so its multipliers do not carry over). The maximum contact stress, root
    stress and contact temperature are maxima over the same continuum: where one differs from the exact value by
-   more than the tolerance, the exact model's peak positions of each (``stress_fractions`` of the exact check)
+   more than ``refine_stress_tolerance`` (1 %), the exact model's peak positions of each (``stress_fractions`` of the exact check)
    join the set; if the NLP already samples them (a helical mesh), the face slices are raised instead;
 4. stop when all agree (PPTE and stresses; for a minimax PPTE objective -- the largest PPTE of several meshes or
    load cases -- the smooth and the exact objective agree, :func:`ppte_agrees`), after ``max_refinements`` re-solves, when no remedy applies, or when a re-solve fails or
@@ -107,7 +107,8 @@ def ppte_disagreement(ex: pd.DataFrame, smooth_column: str, tol: float, abs_tol_
 
 def _admissible(built, quantities, exact, tol: float) -> bool:
     """Every limit met (smooth quantities, as the NLP states them) and the exact model agreeing with the smooth one
-    within ``tol`` on every limited or rated LTCA quantity other than an unlimited PPTE (whose exact value is used)."""
+    on every limited or rated LTCA quantity other than an unlimited PPTE (whose exact value is used): a PPTE limit
+    within ``tol``, stresses and temperatures within ``refine_stress_tolerance``."""
     lim = quantities[quantities["role"] == "limit"]
     bounds = np.maximum(1.0, np.abs(np.nan_to_num(lim["upper"].astype(float).fillna(lim["lower"].astype(float)))))
     if not bool((lim["margin"].astype(float) >= -1e-6 * bounds).all()):
@@ -117,8 +118,7 @@ def _admissible(built, quantities, exact, tol: float) -> bool:
     if (lim["quantity"] == "ppte_um").any() and float(ppte_disagreement(
             exact, "smooth_ppte_um", tol, float(built._opts["refine_abs_tolerance_um"])).max()) > 1.0:
         return False
-    columns = [c for c in exact.columns if c.endswith("_error") and c != "ppte_um_error"]
-    return bool(all(float(exact[c].max()) <= tol for c in columns))
+    return bool((_stress_errors(exact) <= float(built._opts["refine_stress_tolerance"])).all())
 
 
 def _minimax_ppte(built) -> bool:
@@ -199,6 +199,7 @@ def solve_refined(built, *, starts: int = 1, seed: int = 0, verbose: bool = Fals
     from .scene import BuiltScene
 
     tol, abs_tol = float(built._opts["refine_tolerance"]), float(built._opts["refine_abs_tolerance_um"])
+    stress_tol = float(built._opts["refine_stress_tolerance"])
     candidates = []                      # (exact objective, not verified, label, result or start tuple)
     keys = {f"{t}.{n}" for (t, n) in built._variables}
     built_positions = {m: built._positions_of(m) for m in built._ltca_meshes()}
@@ -229,7 +230,7 @@ def solve_refined(built, *, starts: int = 1, seed: int = 0, verbose: bool = Fals
         ex = result.exact_check
         err = float(ex["ppte_um_error"].max()) if len(ex) else 0.0
         stress_err = _stress_errors(ex)
-        agrees = ppte_agrees(current, result.quantities, ex, tol, abs_tol) and bool((stress_err <= tol).all())
+        agrees = ppte_agrees(current, result.quantities, ex, tol, abs_tol) and bool((stress_err <= stress_tol).all())
         worst = ex.loc[ex["ppte_um_error"].idxmax()] if len(ex) else None
         exact = ex["ppte_um"].abs().clip(lower=1e-12) if len(ex) else None
         smoothing_err = float(((ex["smooth_dense_ppte_um"] - ex["ppte_um"]).abs() / exact).max()) if len(ex) else 0.0
@@ -263,7 +264,7 @@ def solve_refined(built, *, starts: int = 1, seed: int = 0, verbose: bool = Fals
                                          "smooth_ppte_um", tol, abs_tol)
             worst_positions = [f for fr in ex.loc[rows_m, "worst_fractions"] for f in fr] \
                 if (sampling > 0.5).any() else []
-            stressed = rows_m & (stress_err > tol)
+            stressed = rows_m & (stress_err > stress_tol)
             stress_new = new_fractions(fractions, [f for fr in ex.loc[stressed, "stress_fractions"] for f in fr]) \
                 if "stress_fractions" in ex else []
             # a stress peak the NLP already samples and still misses: the face slicing (helical) is to blame

@@ -42,7 +42,7 @@ def test_a_stress_that_misses_its_exact_peak_is_refined_until_it_agrees(helical_
                   objectives=[Objective("ppte_um", MESH, aggregate="max")],
                   limits=[Limit("max_root_stress_MPa", MESH, upper=1000.0)],
                   ltca_options={"positions": 16, "helical_slices": 11, "max_refinements": 4,
-                                "refine_tolerance": 0.002, "refine_abs_tolerance_um": 1.0})
+                                "refine_stress_tolerance": 0.002, "refine_abs_tolerance_um": 1.0})
     result = scene.build().solve()
     ref = result.refinement
     assert ref["max_stress_error"].iloc[0] > 0.002 and not ref["admissible"].iloc[0]
