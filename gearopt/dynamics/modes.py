@@ -21,7 +21,6 @@ import math
 
 import numpy as np
 import pandas as pd
-import scipy.linalg
 
 from ..errors import GearoptInputError
 from ..validation import check_range
@@ -109,6 +108,8 @@ def linear_matrices(net, boundary: str = "network", parameters: dict | None = No
 def natural_frequencies_Hz(net, boundary: str = "network", parameters: dict | None = None) -> np.ndarray:
     """Undamped natural frequencies [Hz] of the linearised network, ascending: ``sqrt(eig(K, M)) / (2 pi)``
     (symmetric-definite generalized eigenproblem). Free-free networks start with ~0 (rigid-body mode)."""
+    import scipy.linalg   # here, not at module level: scipy.linalg takes 0.2 s to import
+
     mats = linear_matrices(net, boundary=boundary, parameters=parameters)
     lam = scipy.linalg.eigh(mats["K"], mats["M"], eigvals_only=True)
     return np.sqrt(np.clip(lam, 0.0, None)) / (2.0 * math.pi)
@@ -117,6 +118,8 @@ def natural_frequencies_Hz(net, boundary: str = "network", parameters: dict | No
 def mode_shapes(net, boundary: str = "network", parameters: dict | None = None) -> pd.DataFrame:
     """Undamped mode shapes: one column per mode (``mode_1``, ...; angles normalised to a largest |value| of 1,
     that entry positive), rows the nodes; ``frequency_Hz`` is the first row."""
+    import scipy.linalg
+
     mats = linear_matrices(net, boundary=boundary, parameters=parameters)
     lam, vec = scipy.linalg.eigh(mats["K"], mats["M"])
     freqs = np.sqrt(np.clip(lam, 0.0, None)) / (2.0 * math.pi)

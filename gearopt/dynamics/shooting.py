@@ -14,8 +14,6 @@ import time
 
 import casadi as ca
 import numpy as np
-from scipy.linalg import lu_factor as scipy_lu_factor
-from scipy.linalg import lu_solve as scipy_lu_solve
 
 from ..errors import GearoptInputError, SolveError
 from ..validation import check_range
@@ -179,6 +177,9 @@ class Shooting:
                 iterations = int(stats.get("iter_count", -1))
                 status, success = str(stats.get("return_status", "")), bool(stats.get("success", False))
             else:
+                from scipy.linalg import lu_factor as scipy_lu_factor   # here: scipy.linalg takes 0.2 s to import
+                from scipy.linalg import lu_solve as scipy_lu_solve
+
                 jac = self.linear_monodromy(speed_rpm, parameters) - np.eye(guess.size) + neutral @ neutral.T
                 lu = scipy_lu_factor(jac)
                 x, iterations, success, status = guess.copy(), 0, False, "max_iter"

@@ -98,19 +98,20 @@ def test_reported_exact_ppte_is_the_exact_ltca_of_the_reported_design(table, out
 def test_failed_points_are_reported_not_dropped(quick_run, tmp_path):
     """A front point that failed stays as "front point failed"; a re-solve that fails (Ipopt stopped after one
     iteration) is recorded with its typed error's name; both rows reach front.csv and the counts of summary.json.
-    Starts from the front the quick run traced (4 points), with point 1 marked failed."""
+    Starts from the front the quick run traced (4 points), with the interior points 1 and 2 marked failed (the two
+    ends are re-solved: two scene builds, not three)."""
     from gearopt.studies.front_check import verify_front
 
     script, _, (front, _, _, _) = quick_run
     scene, settings = script.build_scene(go.load_default_data(), quick=True)
     table = front.table.copy()
-    table.loc[1, "status"] = "InfeasibleProblemError"
-    table.loc[1, "error"] = "injected: the ε point did not solve"
+    table.loc[[1, 2], "status"] = "InfeasibleProblemError"
+    table.loc[[1, 2], "error"] = "injected: the ε point did not solve"
     failed = dataclasses.replace(front, table=table)
     ok = (table["status"] == "ok").to_numpy()             # the two ends always (an end that fails raises)
     check = verify_front(failed, scene, ltca_options={"max_refinements": 0}, max_iter=1)
     assert check["point"].tolist() == [0, 1, 2, 3]
-    assert check.loc[1, "verification"] == "front point failed"
+    assert (check.loc[[1, 2], "verification"] == "front point failed").all()
     assert (check.loc[~ok, "verification"] == "front point failed").all()
     assert set(check.loc[ok, "verification"]) == {"IterationLimitError"} and ok[[0, 3]].all()
     assert not check["verified"].any()
@@ -119,5 +120,5 @@ def test_failed_points_are_reported_not_dropped(quick_run, tmp_path):
                   1.0 / merged[failed.quantity_column])
     summary = script.write(failed, merged, {**settings, "points": 4}, tmp_path, 0.0)
     written = pd.read_csv(tmp_path / "front.csv")
-    assert len(written) == 4 and written.loc[1, "status"] == "InfeasibleProblemError"
+    assert len(written) == 4 and (written.loc[[1, 2], "status"] == "InfeasibleProblemError").all()
     assert summary["failed"] == int((~ok).sum()) and summary["verification_failed"] == 4
