@@ -126,3 +126,27 @@ def test_root_stress_and_temperature_limits_are_constraints_and_infeasibility_is
     assert "root_stress" in str(info.value)
     with pytest.raises(GearoptInputError, match="speed_rpm"):
         optimise_microgeometry(crank_cam, 300.0, max_flash_temperature_C=130.0)
+
+
+def test_exact_limit_violations_name_what_the_exact_ltca_breaks_and_by_how_much():
+    """The refinement checks the NLP's limits on the exact LTCA (the smooth loaded contact ratio counts a pair whose
+    gap just closed as partly loaded, so an optimiser can sit on a limit the exact model breaks): each broken limit
+    is named with its shortfall or excess in its own unit; limits the exact results meet are not."""
+    from gearopt.contact.ltca import ltca
+    from gearopt.design.microgeometry_nlp import exact_limit_violations
+
+    pair = go.load_default_train("spur").pairs["crank-cam"]
+    exact = [ltca(pair, t, positions=160, speed_rpm=2500.0) for t in (150.0, 450.0)]
+    lcr = min(r.loaded_contact_ratio for r in exact)
+    stress = max(r.max_contact_stress_MPa for r in exact)
+    root = max(max(r.max_root_stress_MPa) for r in exact)
+    temp = max(r.max_flash_temperature_C for r in exact)
+    spec = dict(min_loaded_contact_ratio=lcr + 0.05, max_contact_stress_MPa=stress - 10.0,
+                max_root_stress_MPa=root + 50.0, max_flash_temperature_C=temp - 1.0)
+    got = exact_limit_violations(spec, exact)
+    assert set(got) == {"loaded_contact_ratio", "contact_stress", "flash_temperature"}
+    assert got["loaded_contact_ratio"] == pytest.approx(0.05)
+    assert got["contact_stress"] == pytest.approx(10.0)
+    assert got["flash_temperature"] == pytest.approx(1.0)
+    assert exact_limit_violations(dict(spec, min_loaded_contact_ratio=lcr, max_contact_stress_MPa=stress,
+                                       max_flash_temperature_C=temp), exact) == {}
