@@ -166,6 +166,8 @@ class QuantityTerms:
             if kind.shape == "ppte":
                 expr = self._ppte(expr, label)
             lower, upper, scale, unit = lim.lower, lim.upper, kind.scale, kind.unit
+            if lower is not None:   # tightened by the refinement where the exact LTCA broke it (scene_refine)
+                lower = lower + float(self._opts.get("limit_backoff", {}).get(label, 0.0))
             if kind.squared:
                 upper, scale, unit = upper ** 2, upper ** 2 / 100.0, f"({unit})^2"
             if nm.is_numeric(expr) or not nm.depends_on(expr, self.problem.opti.x):   # data only (parametric)

@@ -25,7 +25,9 @@ without a dense grid everywhere:
    the new NLP has more constraints, so its multipliers do not carry over). The maximum contact stress, root
    stress and contact temperature are maxima over the same continuum: where one differs from the exact value by
    more than ``refine_stress_tolerance`` (1 %), the exact model's peak positions of each (``stress_fractions`` of the exact check)
-   join the set; if the NLP already samples them (a helical mesh), the face slices are raised instead;
+   join the set; if the NLP already samples them (a helical mesh), the face slices are raised instead. A lower
+   limit the exact LTCA breaks (the loaded contact ratio: :func:`exact_lower_limit_shortfalls`) is tightened by
+   1.25 times the shortfall for the re-solve, and a solve that breaks one is not admissible;
 4. stop when all agree (PPTE and stresses; for a minimax PPTE objective -- the largest PPTE of several meshes or
    load cases -- the smooth and the exact objective agree, :func:`ppte_agrees`), after ``max_refinements`` re-solves, when no remedy applies, or when a re-solve fails or
    overruns its wall-time budget (:data:`RESOLVE_BUDGET_FACTOR`; reported);
@@ -115,6 +117,8 @@ def _admissible(built, quantities, exact, tol: float) -> bool:
         return False
     if not len(exact):
         return True
+    if exact_lower_limit_shortfalls(built, exact):
+        return False
     if (lim["quantity"] == "ppte_um").any() and float(ppte_disagreement(
             exact, "smooth_ppte_um", tol, float(built._opts["refine_abs_tolerance_um"])).max()) > 1.0:
         return False
@@ -164,6 +168,29 @@ def _verified_objective(built, quantities, exact, column: str = "ppte_um") -> fl
         terms.append(obj.weight / (obj.scale or quantity_kind(obj.quantity).scale) * (agg if obj.sense == "min"
                                                                                      else -agg))
     return max(terms) if built.scene.objective_aggregate == "max" else sum(terms)
+
+
+EXACT_LIMIT_TOLERANCE = 1e-3
+"""Relative slack of a lower limit on the exact LTCA before the refinement calls it broken."""
+
+
+def exact_lower_limit_shortfalls(built, exact: pd.DataFrame) -> dict[str, float]:
+    """Lower limits on an LTCA quantity of the exact check (the loaded contact ratio) that the exact LTCA breaks:
+    limit label -> shortfall in the quantity's unit. The smooth model's loaded contact ratio counts a pair whose
+    gap has just closed as partly loaded, so an optimum can sit on the limit while the exact count lies below it."""
+    out: dict[str, float] = {}
+    if not len(exact):
+        return out
+    for lim in built.scene.limits:
+        if lim.quantity not in exact.columns or lim.lower is None:
+            continue
+        for _, row in exact[exact["mesh"] == lim.target].iterrows():
+            if lim.load_cases is not None and row["load_case"] not in lim.load_cases:
+                continue
+            value = float(row[lim.quantity])
+            if value < lim.lower - EXACT_LIMIT_TOLERANCE * abs(lim.lower):
+                out[f"{lim.quantity}[{lim.target}]@{row['load_case']}"] = lim.lower - value
+    return out
 
 
 def _stress_errors(ex: pd.DataFrame) -> pd.Series:
@@ -230,7 +257,9 @@ def solve_refined(built, *, starts: int = 1, seed: int = 0, verbose: bool = Fals
         ex = result.exact_check
         err = float(ex["ppte_um_error"].max()) if len(ex) else 0.0
         stress_err = _stress_errors(ex)
-        agrees = ppte_agrees(current, result.quantities, ex, tol, abs_tol) and bool((stress_err <= stress_tol).all())
+        shortfalls = exact_lower_limit_shortfalls(current, ex)
+        agrees = ppte_agrees(current, result.quantities, ex, tol, abs_tol) and bool((stress_err <= stress_tol).all()) \
+            and not shortfalls
         worst = ex.loc[ex["ppte_um_error"].idxmax()] if len(ex) else None
         exact = ex["ppte_um"].abs().clip(lower=1e-12) if len(ex) else None
         smoothing_err = float(((ex["smooth_dense_ppte_um"] - ex["ppte_um"]).abs() / exact).max()) if len(ex) else 0.0
@@ -245,6 +274,7 @@ def solve_refined(built, *, starts: int = 1, seed: int = 0, verbose: bool = Fals
                      "objective": float(result.solve.objective), "exact_objective": exact_objective,
                      "admissible": admissible, "max_ppte_error": err,
                      "max_stress_error": float(stress_err.max()) if len(ex) else 0.0,
+                     "exact_limit_shortfalls": ", ".join(f"{k} {v:.4g}" for k, v in shortfalls.items()),
                      "smoothing_error": smoothing_err,
                      "sampling_error": float(sampling_err.max()) if sampling_err is not None else 0.0,
                      "worst_mesh": "" if worst is None else str(worst["mesh"]),
@@ -273,6 +303,11 @@ def solve_refined(built, *, starts: int = 1, seed: int = 0, verbose: bool = Fals
             added += len(new)
             sets[mesh] = np.sort(np.concatenate([fractions, new]))
         options = _remedies(current, ex, tol, raise_slices=stress_sliced)
+        if shortfalls:      # tighten each broken lower limit by 1.25x its exact shortfall for the re-solve
+            backoff = dict(current._opts.get("limit_backoff", {}))
+            for label, amount in shortfalls.items():
+                backoff[label] = backoff.get(label, 0.0) + 1.25 * amount
+            options["limit_backoff"] = backoff
         if not added and not options:
             status = "stalled: the exact worst positions are in the NLP's sets and the discretisation at its limits"
             break

@@ -84,3 +84,25 @@ def test_a_minimax_objective_is_verified_by_its_largest_ppte():
     built, quantities, exact = _agreement_case("max")
     exact.loc[1, "ppte_um"] = 3.5                     # cam-ac is the largest after all: the objectives disagree
     assert not ppte_agrees(built, quantities, exact, tol=0.02, abs_tol_um=0.01)
+
+
+def test_a_lower_limit_the_exact_ltca_breaks_is_named_with_its_shortfall():
+    """The smooth loaded contact ratio counts a pair whose gap has just closed as partly loaded, so an optimum can
+    meet the limit smoothly while the exact count lies below it (seen on the default spur crank-cam mesh: exact 1.165
+    against a limit of 1.2): the refinement names each broken (mesh, load case) with its shortfall; a value within
+    the relative slack of 1e-3 is not broken, nor is a load case the limit does not cover."""
+    from types import SimpleNamespace
+
+    import pandas as pd
+
+    from gearopt.design.scene import Limit
+    from gearopt.design.scene_refine import exact_lower_limit_shortfalls
+
+    limits = [Limit("loaded_contact_ratio", "crank-cam", lower=1.2),
+              Limit("loaded_contact_ratio", "cam-ac", lower=1.2, load_cases=("1x",))]
+    built = SimpleNamespace(scene=SimpleNamespace(limits=limits))
+    exact = pd.DataFrame({"mesh": ["crank-cam", "crank-cam", "cam-ac", "cam-ac"],
+                          "load_case": ["0.5x", "1x", "0.5x", "1x"],
+                          "loaded_contact_ratio": [1.165, 1.1995, 1.0, 1.25]})
+    got = exact_lower_limit_shortfalls(built, exact)
+    assert got == {"loaded_contact_ratio[crank-cam]@0.5x": pytest.approx(0.035)}
