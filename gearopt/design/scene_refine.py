@@ -26,7 +26,8 @@ without a dense grid everywhere:
    stress and contact temperature are maxima over the same continuum: where one differs from the exact value by
    more than ``refine_stress_tolerance`` (1 %), the exact model's peak positions of each (``stress_fractions`` of the exact check)
    join the set; if the NLP already samples them (a helical mesh), the face slices are raised instead. A lower
-   limit the exact LTCA breaks (the loaded contact ratio: :func:`exact_lower_limit_shortfalls`) is tightened by
+   limit the exact LTCA breaks by more than ``refine_stress_tolerance`` (the loaded contact ratio:
+   :func:`exact_lower_limit_shortfalls`) is tightened by
    1.25 times the shortfall for the re-solve, and a solve that breaks one is not admissible;
 4. stop when all agree (PPTE and stresses; for a minimax PPTE objective -- the largest PPTE of several meshes or
    load cases -- the smooth and the exact objective agree, :func:`ppte_agrees`), after ``max_refinements`` re-solves, when no remedy applies, or when a re-solve fails or
@@ -117,7 +118,7 @@ def _admissible(built, quantities, exact, tol: float) -> bool:
         return False
     if not len(exact):
         return True
-    if exact_lower_limit_shortfalls(built, exact):
+    if exact_lower_limit_shortfalls(built, exact, float(built._opts["refine_stress_tolerance"])):
         return False
     if (lim["quantity"] == "ppte_um").any() and float(ppte_disagreement(
             exact, "smooth_ppte_um", tol, float(built._opts["refine_abs_tolerance_um"])).max()) > 1.0:
@@ -170,14 +171,12 @@ def _verified_objective(built, quantities, exact, column: str = "ppte_um") -> fl
     return max(terms) if built.scene.objective_aggregate == "max" else sum(terms)
 
 
-EXACT_LIMIT_TOLERANCE = 1e-3
-"""Relative slack of a lower limit on the exact LTCA before the refinement calls it broken."""
-
-
-def exact_lower_limit_shortfalls(built, exact: pd.DataFrame) -> dict[str, float]:
-    """Lower limits on an LTCA quantity of the exact check (the loaded contact ratio) that the exact LTCA breaks:
-    limit label -> shortfall in the quantity's unit. The smooth model's loaded contact ratio counts a pair whose
-    gap has just closed as partly loaded, so an optimum can sit on the limit while the exact count lies below it."""
+def exact_lower_limit_shortfalls(built, exact: pd.DataFrame, tolerance: float) -> dict[str, float]:
+    """Lower limits on an LTCA quantity of the exact check (the loaded contact ratio) that the exact LTCA breaks by
+    more than ``tolerance`` (relative; the refinement uses ``refine_stress_tolerance``, the agreement it asks of
+    stresses): limit label -> shortfall in the quantity's unit. The smooth model's loaded contact ratio counts a pair
+    whose gap has just closed as partly loaded, so an optimum can sit on the limit while the exact count lies
+    below it."""
     out: dict[str, float] = {}
     if not len(exact):
         return out
@@ -188,7 +187,7 @@ def exact_lower_limit_shortfalls(built, exact: pd.DataFrame) -> dict[str, float]
             if lim.load_cases is not None and row["load_case"] not in lim.load_cases:
                 continue
             value = float(row[lim.quantity])
-            if value < lim.lower - EXACT_LIMIT_TOLERANCE * abs(lim.lower):
+            if value < lim.lower - tolerance * abs(lim.lower):
                 out[f"{lim.quantity}[{lim.target}]@{row['load_case']}"] = lim.lower - value
     return out
 
@@ -257,7 +256,7 @@ def solve_refined(built, *, starts: int = 1, seed: int = 0, verbose: bool = Fals
         ex = result.exact_check
         err = float(ex["ppte_um_error"].max()) if len(ex) else 0.0
         stress_err = _stress_errors(ex)
-        shortfalls = exact_lower_limit_shortfalls(current, ex)
+        shortfalls = exact_lower_limit_shortfalls(current, ex, stress_tol)
         agrees = ppte_agrees(current, result.quantities, ex, tol, abs_tol) and bool((stress_err <= stress_tol).all()) \
             and not shortfalls
         worst = ex.loc[ex["ppte_um_error"].idxmax()] if len(ex) else None
