@@ -34,7 +34,7 @@ from ..contact.ltca_smooth import LTCAModel
 from ..contact.microgeometry import Microgeometry
 from ..errors import GearoptInputError
 from .microgeometry_nlp import _start_bounds, min_tip_relief_design
-from .scene_refine import extreme_fractions
+from .scene_refine import extreme_fractions, peak_fractions
 from .scene_spec import LoadCase
 from .scene_terms import FLANKS, quantity_kind
 
@@ -472,20 +472,6 @@ class ContactModels:
         if q == "ppte_um":
             return float(np.ptp(v))
         return float(np.sqrt(max(v.max(), 0.0))) if q == "max_contact_stress_MPa" else float(v.max())
-
-
-def peak_fractions(arrays, fractions: np.ndarray, neighbours: int) -> tuple:
-    """Mesh positions (``fractions``) where each of ``arrays`` (positions first, e.g. (P, K, J) stresses of every
-    spring; NaN off the path) peaks over the cycle, each with ``neighbours`` grid points either side (periodic)."""
-    out: list[float] = []
-    for a in arrays:
-        per_position = np.nanmax(np.asarray(a, dtype=float).reshape(len(fractions), -1), axis=1)
-        i = int(np.nanargmax(per_position))
-        for j in range(i - neighbours, i + neighbours + 1):
-            f = float(fractions[j % len(fractions)])
-            if f not in out:
-                out.append(f)
-    return tuple(out)
 
 
 def _on_path(matrix, model: LTCAModel, l_idx: int):

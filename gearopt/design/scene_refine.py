@@ -80,10 +80,24 @@ def extreme_fractions(te: np.ndarray, fractions: np.ndarray, per_side: int = 3, 
     peaks = [i for i in np.argsort(-te) if te[i] >= prev[i] and te[i] >= nxt[i] and te[i] >= hi - band * span]
     troughs = [i for i in np.argsort(te) if te[i] <= prev[i] and te[i] <= nxt[i] and te[i] <= lo + band * span]
     idx = [int(np.argmax(te)), int(np.argmin(te))] + peaks[:per_side] + troughs[:per_side]
-    out = []
-    for i in idx:
+    return _with_neighbours(idx, fractions, neighbours)
+
+
+def peak_fractions(arrays, fractions: np.ndarray, neighbours: int) -> tuple:
+    """Mesh positions (``fractions``) where each of ``arrays`` (positions first, e.g. (P, K, J) stresses of every
+    spring; NaN off the path) peaks over the cycle, each with ``neighbours`` grid points either side (periodic)."""
+    idx = [int(np.nanargmax(np.nanmax(np.asarray(a, dtype=float).reshape(len(fractions), -1), axis=1)))
+           for a in arrays]
+    return _with_neighbours(idx, fractions, neighbours)
+
+
+def _with_neighbours(indices, fractions, neighbours: int) -> tuple:
+    """The grid fractions at ``indices`` and ``neighbours`` points either side of each (periodic), each once, in
+    order."""
+    out: list[float] = []
+    for i in indices:
         for j in range(i - neighbours, i + neighbours + 1):
-            f = float(fractions[j % te.size])
+            f = float(fractions[j % len(fractions)])
             if f not in out:
                 out.append(f)
     return tuple(out)
@@ -336,4 +350,4 @@ def solve_refined(built, *, starts: int = 1, seed: int = 0, verbose: bool = Fals
     return result
 
 
-__all__ = ["solve_refined", "ppte_disagreement", "ppte_agrees", "extreme_fractions", "new_fractions", "REUSED_MODELS"]
+__all__ = ["solve_refined", "ppte_disagreement", "ppte_agrees", "extreme_fractions", "peak_fractions", "new_fractions", "REUSED_MODELS"]
