@@ -47,7 +47,7 @@ FRACTIONS = (1.0, 0.5, 1.5)
 
 
 def scene(train, data_loads, meshes, cases, options):
-    load_cases = [LoadCase(f"{f:g}x", {m: data_loads[MESHES[m]] * f for m in meshes}) for f in FRACTIONS[:cases]]
+    load_cases = [LoadCase(f"{f:g}x", {m: data_loads[m] * f for m in meshes}) for f in FRACTIONS[:cases]]
     flanks = sorted({f for fl in loaded_flanks(train, meshes).values() for f in fl})
     variables = [DesignVariable("root_profile_shift", "train", lower=0.0, upper=0.6)] + [
         DesignVariable(n, f) for f in flanks for n in ("tip_relief_um", "tip_relief_start_roll_deg")]
@@ -92,7 +92,7 @@ def main(argv=None) -> dict:
     mode = "quick" if args.quick else ("full" if args.full else "default")
     warnings.simplefilter("ignore")
     data = go.load_default_data()
-    loads = values(data)["design_loads"]
+    loads = go.load_system().design_torques_Nm()
     train = go.load_default_train("spur")
     names = list(MESHES)
     t_all = time.perf_counter()
@@ -110,7 +110,7 @@ def main(argv=None) -> dict:
     to_2pct = {f"uniform_{p}": point(train, loads, names[:1], 1, p) for p in dense}
     if mode != "quick":
         t0 = time.perf_counter()
-        micro = Scene("micro", train=train, load_cases=[LoadCase("1x", {"crank-cam": loads[MESHES["crank-cam"]]})],
+        micro = Scene("micro", train=train, load_cases=[LoadCase("1x", {"crank-cam": loads["crank-cam"]})],
                       variables=[DesignVariable(n, f) for f in ("crank:driving", "cam:driven")
                                  for n in ("tip_relief_um", "tip_relief_start_roll_deg")],
                       objectives=[Objective("ppte_um", "crank-cam")],

@@ -5,7 +5,7 @@ LTCA and coarse-to-fine grids; time to a verified PPTE within 2 % of the best kn
 Problem (as ``problems/cam_gear_walkoff.py`` ``contact_stage`` -> ``gearopt.studies.contact_study.mesh_contact_study``
 sets it up for the crank-cam mesh, with the variables of the brief of issue 16: ``groups=("tip_relief",)``, linear
 tip relief amount and start roll angle of both gears, 4 variables): the default spur crank-cam pair, torques on the
-crank gear = ``crank_cam_torque_Nm`` x ``torque_range_fractions`` of the default data (design torque first:
+crank gear = the mesh's ``design_torque_Nm`` x ``torque_range_fractions`` of the default data (design torque first:
 300, 150, 450 N m), crank speed ``speed_rpm``; minimise the largest PPTE over the three torques subject to, at every
 torque: LTCA contact stress <= the unmodified pair's exact maximum at the largest torque (the library default), root
 stress of both gears <= ``max_root_stress_MPa``, contact (bulk + flash) temperature <= ``max_contact_temperature_C``
@@ -93,7 +93,7 @@ def problem_of_data():
     loads, lub, lim = v["design_loads"], v["lubrication"], v["design_limits"]
     train = go.load_default_train("spur")
     pair = train.pairs[MESH]
-    design = float(loads["crank_cam_torque_Nm"])
+    design = go.load_system().design_torque_Nm(MESH)
     torques = [design * f for f in loads["torque_range_fractions"]]
     torques = [design] + [t for t in torques if t != design]        # as mesh_contact_study orders them
     speed = float(train.gear_speed_rpm(pair.names[0], loads["speed_rpm"]))

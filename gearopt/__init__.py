@@ -3,10 +3,10 @@
 from . import numerics
 from .errors import (GearoptError, GearoptInputError, GeometryError, SolveError, InfeasibleProblemError,
                      IterationLimitError, NumericalSolveError, BadInitialGuessError, NonFiniteResultError,
-                     BudgetExceededError, DataFileError)
+                     BudgetExceededError, DataFileError, MissingSectionError)
 from .geometry import (GearPair, GearSpec, GearTrain, MeshSpec, PairTolerances, RackSpec, iso_tr_4467_shift_limits,
                        shift_split_iso_tr_4467)
-from .data import load_default_train, load_default_data
+from .data import load_default_train, load_default_data, load_system, System
 
 __version__ = "0.1.0"
 from .contact import LTCAModel, Microgeometry, harris_map, iso6336_stiffness, ltca, min_tip_relief_um

@@ -93,6 +93,11 @@ class DataFileError(GearoptInputError):
     problems, every offending key path (``docs/data-schema.md``)."""
 
 
+class MissingSectionError(DataFileError):
+    """A study needs a section (or key) the data file does not have: the message names the file, the section and
+    what needs it."""
+
+
 class BadInitialGuessError(GearoptInputError):
     """The pre-solve check found NaN/Inf or inverted bounds at the initial guess (names listed in the message)."""
 

@@ -41,7 +41,7 @@ import numpy as np
 import pandas as pd
 
 import gearopt as go
-from gearopt.data import load_default_data, load_thesis_tables, train_from_data
+from gearopt.data import load_default_data, load_thesis_tables, system_from_data, train_from_data
 from gearopt.design.shift_distribution import optimise_shift_split
 from gearopt.data import values as data_values
 from gearopt.report import contact_headlines as headlines
@@ -119,8 +119,7 @@ def shift_split_study(spur: go.GearTrain, mesh: str = "crank-cam") -> dict:
     return optimise_shift_split(spur.pairs[mesh], min_contact_ratio=1.2, objective="max_min_tip_thickness")
 
 
-RATED_MESHES = {"crank-cam": "crank_cam_torque_Nm", "cam-ac": "cam_ac_torque_Nm", "cam-fp": "cam_fp_torque_Nm",
-                "crank-lpi": "crank_lpi_torque_Nm", "lpi-lpg": "lpi_lpg_torque_Nm"}
+RATED_MESHES = ("crank-cam", "cam-ac", "cam-fp", "crank-lpi", "lpi-lpg")
 
 
 def rating_at_dynamic_peaks(data: dict, trains: dict, design_torques: pd.DataFrame) -> dict:
@@ -155,7 +154,8 @@ def rating_stage(data: dict, trains: dict) -> dict:
     from gearopt.rating import iso6336_train_table
 
     loads = data_values(data)["design_loads"]
-    torques = {mesh: loads[key] for mesh, key in RATED_MESHES.items()}
+    design = system_from_data(data).design_torques_Nm()
+    torques = {mesh: design[mesh] for mesh in RATED_MESHES}
     out = {kind: rating_table(trains[kind], torques, K_A=loads["application_factor_K_A"])
            for kind in ("helical", "spur")}
     grades = {g: v["accuracy_grade_iso1328"] for g, v in data_values(data)["gears"].items()}
@@ -302,9 +302,10 @@ def dynamic_design_torques(data: dict, dyn: dict) -> pd.DataFrame:
     response)."""
     loads = data_values(data)["design_loads"]
     top = max(loads["torque_range_fractions"])
+    design = system_from_data(data).design_torques_Nm()
     rows = []
     for (kind, speed, lash), sim in dyn["runs"].items():
-        for mesh, key in RATED_MESHES.items():
+        for mesh in RATED_MESHES:
             if mesh not in sim.mesh_force_N.columns:
                 continue
             radius_m = sim.mesh_base_radii_mm[mesh][0] * 1e-3
@@ -312,8 +313,8 @@ def dynamic_design_torques(data: dict, dyn: dict) -> pd.DataFrame:
             per_cycle = force[: force.size - force.size % sim.cycles].reshape(sim.cycles, -1).max(axis=1) * radius_m
             torque = float(np.max(force) * radius_m)
             rows.append({"train": kind, "speed_rpm": speed, "backlash": lash, "mesh": mesh,
-                         "design_torque_Nm": loads[key], "range_top_Nm": top * loads[key],
-                         "peak_dynamic_torque_Nm": torque, "ratio_to_range_top": torque / (top * loads[key]),
+                         "design_torque_Nm": design[mesh], "range_top_Nm": top * design[mesh],
+                         "peak_dynamic_torque_Nm": torque, "ratio_to_range_top": torque / (top * design[mesh]),
                          "cycles": int(sim.cycles), "cycle_peak_mean_Nm": float(per_cycle.mean()),
                          "cycle_peak_std_Nm": float(per_cycle.std(ddof=1)) if per_cycle.size > 1 else 0.0})
     return pd.DataFrame(rows)
@@ -386,7 +387,7 @@ def write_dynamics(out: Path, dyn: dict, design_torques: pd.DataFrame | None = N
     return lines, result
 
 
-CONTACT_MESHES = {"crank-cam": "crank_cam_torque_Nm", "cam-ac": "cam_ac_torque_Nm", "cam-fp": "cam_fp_torque_Nm"}
+CONTACT_MESHES = ("crank-cam", "cam-ac", "cam-fp")
 
 
 def contact_stage(data: dict, trains: dict, quick: bool = False, on_study=None) -> dict:
@@ -404,8 +405,9 @@ def contact_stage(data: dict, trains: dict, quick: bool = False, on_study=None) 
     if quick:
         options.update(positions=80, nlp_positions=20, harris_points=4, helical_slices=5, starts=1, max_refinements=1)
     studies = {}
-    for mesh, key in CONTACT_MESHES.items():
-        studies[mesh] = mesh_contact_study(trains, mesh, loads[key], **options)
+    design = system_from_data(data).design_torques_Nm()
+    for mesh in CONTACT_MESHES:
+        studies[mesh] = mesh_contact_study(trains, mesh, design[mesh], **options)
         if on_study is not None:
             on_study(mesh, studies[mesh])
     return studies
@@ -798,7 +800,8 @@ def summary_inputs(data: dict, dynamics: dict | None, out: Path) -> dict:
     values = data_values(data)
     loads, limits = values["design_loads"], dict(values.get("design_limits", {}))
     basis = {"rating": ("ISO 6336 method B at the static design torques ("
-                        + ", ".join(f"{m} {loads[k]:g} N m" for m, k in RATED_MESHES.items())
+                        + ", ".join(f"{m} {t:g} N m" for m, t in system_from_data(data).design_torques_Nm().items()
+                                    if m in RATED_MESHES)
                         + f"), K_A {loads['application_factor_K_A']:g}; K_v, K_Hbeta, K_Fbeta, K_Halpha, K_Falpha and the "
                           "life, lubrication, roughness and size factors computed (gearopt.rating.rate_iso6336) "
                           "for endurance, N_L = 1e10 load cycles; and again at the largest dynamic mesh torque "

@@ -57,7 +57,7 @@ matplotlib.use("Agg")
 import numpy as np
 import pandas as pd
 
-from gearopt.data import load_default_data, train_from_data, values
+from gearopt.data import load_default_data, system_from_data, train_from_data, values
 from gearopt.design.scene import DesignVariable, Limit, LoadCase, Objective, Scene
 from gearopt.design.scene_codesign import GEOMETRY_LIMITS, MESHES
 from gearopt.studies import pareto_front, verify_front
@@ -76,8 +76,9 @@ def build_scene(data: dict, quick: bool) -> tuple[Scene, dict]:
     speed, overspeed = float(loads["speed_rpm"]), float(v["engine"]["overspeed_test_speed_rpm"])
     fractions = [1.0] if quick else [float(f) for f in loads["torque_range_fractions"]]
     top = max(float(f) for f in loads["torque_range_fractions"])
-    cases = [LoadCase(f"{f:g}x", {m: loads[k] * f for m, k in MESHES.items()}, speed_rpm=speed) for f in fractions]
-    over = LoadCase("overspeed", {m: loads[k] * top for m, k in MESHES.items()}, speed_rpm=overspeed)
+    design = system_from_data(data).design_torques_Nm()
+    cases = [LoadCase(f"{f:g}x", {m: design[m] * f for m in MESHES}, speed_rpm=speed) for f in fractions]
+    over = LoadCase("overspeed", {m: design[m] * top for m in MESHES}, speed_rpm=overspeed)
     names = tuple(c.name for c in cases)
     variables = [DesignVariable("helix_angle_deg", "train", lower=0.0, upper=MAX_HELIX_ANGLE_DEG),
                  DesignVariable("root_profile_shift", "train", lower=0.0, upper=0.6)]

@@ -32,7 +32,7 @@ from pathlib import Path
 
 import pandas as pd
 
-from gearopt.data import load_default_data, train_from_data
+from gearopt.data import load_default_data, system_from_data, train_from_data
 from gearopt.data import values as data_values
 from gearopt.design.joint_sizing import (JointDemand, PressFitSpec, TaperFitSpec, press_fit_margin_table, size_joint,
                                          taper_margin_table)
@@ -45,9 +45,8 @@ PROOF_STRENGTH_MPA = 830.0   # ISO 898-1 class 10.9 proof stress, as the data's 
 
 
 def design_mesh_torques_Nm(data: dict) -> dict[str, float]:
-    """Per-mesh torques on the driving gear from ``[design_loads]`` (``<g1>_<g2>_torque_Nm`` -> ``"g1-g2"``)."""
-    loads = data_values(data)["design_loads"]
-    return {k[:-len("_torque_Nm")].replace("_", "-"): float(v) for k, v in loads.items() if k.endswith("_torque_Nm")}
+    """Per-mesh design torques on the driving gear (``[meshes.<name>] design_torque_Nm``)."""
+    return system_from_data(data).design_torques_Nm()
 
 
 def joint_demands(data: dict, kind: str, overspeed_torque_factor: float = 1.0) -> dict[str, list[JointDemand]]:

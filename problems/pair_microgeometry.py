@@ -28,7 +28,7 @@ import numpy as np
 import pandas as pd
 
 from gearopt.contact.harris import harris_map
-from gearopt.data import load_default_data, train_from_data
+from gearopt.data import load_default_data, system_from_data, train_from_data
 from gearopt.data import values as data_values
 from gearopt.design import optimise_microgeometry
 from gearopt.report import ltca_figures as figs
@@ -37,13 +37,8 @@ DEFAULT_OUT = Path("out") / "pair_microgeometry"
 
 
 def design_torque_Nm(data: dict, mesh: str) -> float:
-    """Design torque of a mesh from ``[design_loads]`` (key ``<gear1>_<gear2>_torque_Nm``, driving gear) [N m]."""
-    loads = data_values(data)["design_loads"]
-    key = mesh.replace("-", "_") + "_torque_Nm"
-    if key not in loads:
-        raise SystemExit(f"[design_loads] has no {key}; meshes with design loads: "
-                         f"{[k[:-10].replace('_', '-') for k in loads if k.endswith('_torque_Nm')]}")
-    return float(loads[key])
+    """Design torque of a mesh on its driving gear (``[meshes.<mesh>] design_torque_Nm``) [N m]."""
+    return system_from_data(data).design_torque_Nm(mesh)
 
 
 def run(mesh: str, quick: bool, data_path: Path | None = None) -> dict:

@@ -2,7 +2,7 @@
 relief over its torque range.
 
 Scene: the spur crank-cam pair's four tip-relief variables (amounts and start roll angles of both gears), the
-largest PPTE over the data's torque range (``[design_loads] crank_cam_torque_Nm`` x ``torque_range_fractions``)
+largest PPTE over the data's torque range (``[meshes.crank-cam] design_torque_Nm`` x ``[design_loads] torque_range_fractions``)
 minimised, with the limits of the data (``[design_limits]``): loaded contact ratio >= ``min_loaded_contact_ratio``
 at every torque, and the largest contact stress not above the unmodified pair's own maximum (exact LTCA).
 

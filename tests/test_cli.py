@@ -54,7 +54,7 @@ def test_rate_reads_the_users_file_and_fails_on_a_low_safety(tmp_path, capsys):
     assert main(["rate"]) == 0                                         # packaged data: every S_H, S_F passes
     capsys.readouterr()
     # ten times the crank-cam torque: sigma_H grows with sqrt(T) (ISO 6336-2), S_H 1.95 -> ~0.62 < 1
-    path = _data_with(tmp_path, "crank_cam_torque_Nm = 300.0", "crank_cam_torque_Nm = 3000.0")
+    path = _data_with(tmp_path, "design_torque_Nm = 300.0", "design_torque_Nm = 3000.0")
     assert main(["rate", "--data", str(path)]) == 1
     out = capsys.readouterr().out
     line = next(l for l in out.splitlines() if l.startswith("S_H crank-cam"))

@@ -17,6 +17,8 @@ from typing import Any
 from ..errors import DataFileError, GearoptInputError
 from ..geometry.train import GearSpec, GearTrain, MeshSpec, RackSpec
 from .schema import parse_data_file, schema_markdown, validate_data
+from .system import (DesignLimits, DesignLoads, DrivingTorque, Gear, Joint, Lubrication, Mesh, System, TrainVariant,
+                     load_system, system_from_data)
 
 DEFAULT_FILE = "default_train.toml"
 TRAIN_KINDS = ("spur", "helical")
@@ -147,5 +149,6 @@ def load_default_train(kind: str = "spur", path: str | Path | None = None) -> Ge
     return train_from_data(load_default_data(path), kind, source=str(path or default_data_path()))
 
 
-__all__ = ["validate_data", "parse_data_file", "schema_markdown", "default_data_path", "load_default_data", "load_thesis_tables", "load_default_train", "train_from_data", "values",
+__all__ = ["System", "Gear", "Mesh", "TrainVariant", "Joint", "DesignLoads", "DesignLimits", "Lubrication",
+           "DrivingTorque", "load_system", "system_from_data", "validate_data", "parse_data_file", "schema_markdown", "default_data_path", "load_default_data", "load_thesis_tables", "load_default_train", "train_from_data", "values",
            "missing_provenance", "provenance_tags", "TRAIN_KINDS"]

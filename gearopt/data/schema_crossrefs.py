@@ -40,6 +40,13 @@ def cross_checks(data: dict, problems: list[str]) -> None:
     for name, j in data.get("joints", {}).items():
         if "gear" in j and j["gear"] not in gears:
             problems.append(f"joints.{name}.gear: {j['gear']!r} is not a key of gears")
+    exc = data.get("excitation", {})
+    if "gear" in exc and exc["gear"] not in gears:
+        problems.append(f"excitation.gear: {exc['gear']!r} is not a key of gears ({', '.join(gears)})")
+    lengths = {k: len(exc[k]) for k in ("harmonic_orders", "harmonic_amplitudes_Nm", "harmonic_phases_deg")
+               if k in exc}
+    if len(set(lengths.values())) > 1:
+        problems.append(f"excitation: the harmonic lists must have one entry per harmonic (lengths {lengths})")
     engine = data.get("engine", {})
     if "firing_order" in engine and "cylinders" in engine:
         if sorted(engine["firing_order"]) != list(range(1, engine["cylinders"] + 1)):

@@ -3,7 +3,7 @@ row per key with kind, unit, range, whether it is required, and its meaning."""
 
 from __future__ import annotations
 
-from .schema_keys import REQUIRED_SECTIONS, RULES, UNIT_SUFFIXES, default_range, unit_of
+from .schema_keys import REQUIRED_SECTIONS, SECTION_USES, RULES, UNIT_SUFFIXES, default_range, unit_of
 from .schema_tree import Node, schema
 
 def _rows(node: Node, path: str = ""):
@@ -49,7 +49,8 @@ SECTION_MEANINGS = {
     "microgeometry": "initial tooth modifications",
     "lubrication": "lubrication",
     "joints": "one entry per shaft-hub joint (press fit or nut-clamped taper)",
-    "design_loads": "design loads of the meshes",
+    "design_loads": "application factor, torque-range fractions and speed of the design loads",
+    "excitation": "a generic driving torque (mean plus harmonics) on one gear, for trains without an engine",
     "design_limits": "design limits",
     "thesis": "tables of the source study (comparison data)",
 }
@@ -75,12 +76,16 @@ def schema_markdown() -> str:
     lines = [
         "# Data-file schema",
         "",
-        "gearopt reads its engine and gear-train data from a TOML file: the packaged default",
-        "(`gearopt/data/default_train.toml`) or a file of yours (`gearopt.data.load_default_data(path)`).",
-        "Every file is validated on load (`gearopt.data.validate_data`): unknown keys (with the nearest valid key),",
-        "missing keys, types, ranges in the unit of the key's suffix, and cross-references. All problems of a file",
-        "are reported together in one `DataFileError` (a `GearoptInputError`), each line naming the file and the key",
-        "path; an empty, damaged or non-UTF-8 file gives one error naming the file.",
+        "gearopt reads a gear system from a TOML file: the packaged timing train",
+        "(`gearopt/data/default_train.toml`), the packaged minimal pair (`gearopt/data/minimal_train.toml`, a",
+        "complete two-gear example of every section a study of a pair needs) or a file of yours.",
+        "`gearopt.load_system(path)` parses and validates it once and returns a typed, frozen `System`: gears, meshes",
+        "(each with its own name, design torque and load range), train variants, materials, lubrication, joints,",
+        "design loads and limits, and the excitation (an `[engine]` or a generic `[excitation]` driving torque).",
+        "Every file is validated on load: unknown keys (with the nearest valid key), missing keys, types, ranges in",
+        "the unit of the key's suffix, and cross-references. All problems of a file are reported together in one",
+        "`DataFileError` (a `GearoptInputError`), each line naming the file and the key path; an empty, damaged or",
+        "non-UTF-8 file gives one error naming the file.",
         "",
         "Conventions: the unit of a number is the suffix of its key (`_mm` millimetres, `_um` micrometres, `_deg`",
         "degrees, `_Nm` newton metres, `_kgm2` kg m^2, `_MPa`, `_rpm` ...); keys without a unit suffix are",
@@ -88,13 +93,20 @@ def schema_markdown() -> str:
         "numbers given as strings are rejected everywhere. Named tables (`gears`, `meshes`, `materials`, `joints`)",
         "hold entries with names of your choice, shown as `*` below; `trains` holds `spur` and/or `helical`.",
         "",
-        f"Required sections: {', '.join('`' + s + '`' for s in REQUIRED_SECTIONS)}. The other sections are",
-        "optional; when present, their required keys must be there (the models that read them need them).",
-        "A minimal train file: `gearopt/data/minimal_train.toml`.",
+        "Meshes are named `<driving>-<driven>` by their gears' names, and each states its own design load:",
+        "`[meshes.<name>] design_torque_Nm` (the torque on the driving gear) and optionally `torque_range_Nm` (the",
+        "load cases of its design range; default: the design torque times `[design_loads] torque_range_fractions`).",
         "",
-        "Cross-checks: mesh gears, `trains.*.root_mesh`/`root_gear`, gear materials and joint gears must exist; a",
-        "mesh is named `<driving>-<driven>`; lower allowances do not exceed upper ones; `engine.firing_order` is a",
-        "permutation of 1..`engine.cylinders`; the camshaft and crankshaft station lists match their counts.",
+        f"Required sections: {', '.join('`' + s + '`' for s in REQUIRED_SECTIONS)}. The other sections are",
+        "optional; when present, their required keys must be there (the models that read them need them). A study",
+        "that needs a section the file lacks stops with a `MissingSectionError` naming the file and the section:",
+        "",
+        *[f"- `[{name}]`: {use}" for name, use in SECTION_USES.items()],
+        "",
+        "Cross-checks: mesh gears, `trains.*.root_mesh`/`root_gear`, gear materials, joint gears and the",
+        "excitation's gear must exist; a mesh is named `<driving>-<driven>`; lower allowances do not exceed upper",
+        "ones; `engine.firing_order` is a permutation of 1..`engine.cylinders`; the camshaft and crankshaft station",
+        "lists match their counts; the excitation's harmonic lists have one entry per harmonic.",
         "",
         "| key | kind | unit | range | required | meaning |",
         "| --- | --- | --- | --- | --- | --- |",

@@ -20,6 +20,19 @@ REQUIRED_ITEM_KEYS = {"gears": {"teeth", "face_width_mm"}, "meshes": {"gears", "
                       "trains": {"helix_angle_deg", "root_mesh", "root_gear"}}
 MAX_MAGNITUDE = 1e15
 
+SECTION_USES = {
+    "trains": "every study (the train's helix angle and profile-shift root)",
+    "design_loads": "rating at design load and the torque range of the microgeometry design",
+    "design_limits": "the stress, temperature and contact-ratio limits of the design NLPs",
+    "joints": "joint capacities, slip and walk-off margins",
+    "materials": "joint capacities and blank masses",
+    "lubrication": "flash and contact temperatures",
+    "excitation": "the torsional dynamics of a train without an engine",
+    "engine": "the torsional dynamics of an engine's train",
+    "dynamics": "mesh damping of the torsional dynamics",
+}
+"""What each optional section is for (the message of a missing one names it)."""
+
 #: Unit of a key, from its name's suffix (longest suffix first).
 UNIT_SUFFIXES = {
     "_N_per_mm_sqrt_s_K": "N/(mm s^0.5 K)", "_Nms_per_rad": "N m s/rad", "_Nm_per_rad": "N m/rad",
@@ -91,6 +104,12 @@ RULES: dict[str, Rule] = {
     "meshes.*.centre_distance_mm": Rule("working centre distance a", 0.0, 1e5, low_inclusive=False),
     "meshes.*.centre_distance_upper_allowance_mm": Rule("upper centre-distance allowance", -50.0, 50.0),
     "meshes.*.centre_distance_lower_allowance_mm": Rule("lower centre-distance allowance", -50.0, 50.0),
+    "meshes.*.design_torque_Nm": Rule("design torque on the driving gear of the mesh (rating at design load; the "
+                                      "microgeometry design range is this times design_loads.torque_range_fractions)",
+                                      0.0, 1e7, low_inclusive=False, required=False),
+    "meshes.*.torque_range_Nm": Rule("load cases of the mesh's design range, design torque first (default: "
+                                     "design_torque_Nm x design_loads.torque_range_fractions)", 0.0, 1e7,
+                                     low_inclusive=False, kind="list[float]", required=False),
     "meshes.*.sum_profile_shift": Rule("sum of profile shifts x1 + x2 (check value)", -6.0, 6.0),
     "meshes.*.standard_centre_distance_change_percent": Rule("a / a_d - 1 (check value)", -50.0, 50.0),
     "meshes.*.speed_ratio_error_percent": Rule("speed-ratio error against the target (check value)", -100.0, 100.0),
@@ -104,6 +123,7 @@ RULES: dict[str, Rule] = {
     "joints.*.gear": Rule("the gear held by the joint (a key of gears)"),
     "joints.*.friction_coefficient": Rule("friction coefficient of the joint surfaces", 0.0, 1.0,
                                           low_inclusive=False, high_inclusive=False),
+    "joints.*.torque_capacity_Nm": Rule("torque capacity computed by the source (a check value)", required=False),
     "joints.*.nut_factor": Rule("nut factor k of T = k F d", 0.0, 1.0, low_inclusive=False, required=False),
     "joints.*.taper_half_angle_deg": Rule("half angle of the taper", 0.0, 45.0, low_inclusive=False,
                                           high_inclusive=False, required=False),
@@ -127,11 +147,32 @@ RULES: dict[str, Rule] = {
     "engine.crankshaft.shaft_loss_factor": Rule("material loss factor of the crankshaft", 0.0, 1.0),
     "engine.crankshaft.mode_1_damping_ratio": Rule("damping ratio of the first crankshaft mode", 0.0, 1.0),
     "dynamics.mesh_damping_ratio": Rule("damping ratio of the gear meshes", 0.0, 1.0, high_inclusive=False),
+    "excitation.gear": Rule("the gear the driving torque acts on (a key of gears)"),
+    "excitation.mean_torque_Nm": Rule("mean driving torque on that gear", -1e7, 1e7),
+    "excitation.harmonic_orders": Rule("orders of the torque harmonics per revolution of the driving gear", 0.0,
+                                       1000.0, low_inclusive=False, kind="list[float]", required=False),
+    "excitation.harmonic_amplitudes_Nm": Rule("amplitudes of the torque harmonics", 0.0, 1e7, kind="list[float]",
+                                              required=False),
+    "excitation.harmonic_phases_deg": Rule("phases of the torque harmonics", -360.0, 360.0, kind="list[float]",
+                                           required=False),
+    "excitation.speed_rpm": Rule("default speed of the driving gear", 0.0, 1e6, low_inclusive=False,
+                                 required=False),
     "lubrication.mean_friction_coefficient": Rule("mean tooth friction coefficient (Blok)", 0.0, 1.0,
                                                   high_inclusive=False),
     "lubrication.oil_temperature_C": Rule("oil (bulk) temperature", -50.0, 300.0),
-    "design_loads.application_factor_K_A": Rule("ISO 6336-1 application factor", 1.0, 10.0),
-    "design_limits.min_loaded_contact_ratio": Rule("smallest admissible loaded contact ratio", 0.0, 5.0),
+    "design_loads.application_factor_K_A": Rule("ISO 6336-1 application factor (default 1)", 1.0, 10.0,
+                                                required=False),
+    "design_loads.torque_range_fractions": Rule("load cases of each mesh's design range as fractions of its design "
+                                                "torque (default [1.0])", 0.0, 100.0, low_inclusive=False,
+                                                kind="list[float]", required=False),
+    "design_loads.speed_rpm": Rule("speed of the reference shaft at which the design loads act", 0.0, 1e6,
+                                   low_inclusive=False, required=False),
+    "design_limits.max_root_stress_MPa": Rule("largest admissible LTCA root stress", 0.0, 1e5, low_inclusive=False,
+                                              required=False),
+    "design_limits.max_contact_temperature_C": Rule("largest admissible contact temperature (bulk + flash)", -50.0,
+                                                    1000.0, required=False),
+    "design_limits.min_loaded_contact_ratio": Rule("smallest admissible loaded contact ratio", 0.0, 5.0,
+                                                   required=False),
     "microgeometry.initial.tip_relief_shape": Rule("tip relief shape", choices=("linear", "parabolic", "arc")),
 }
 

@@ -86,11 +86,23 @@ def _merge(nodes: list[Node]) -> Node:
     return first
 
 
+def _load(name: str) -> dict:
+    with resources.files(__package__).joinpath(name).open("rb") as fh:
+        return tomllib.load(fh)
+
+
 @lru_cache(maxsize=1)
 def schema() -> Node:
-    """The schema tree (from the packaged default file plus :data:`RULES`)."""
-    with resources.files(__package__).joinpath("default_train.toml").open("rb") as fh:
-        reference = tomllib.load(fh)
+    """The schema tree: the packaged default file (the timing train) united with the packaged minimal example (the
+    sections and optional keys only it has), plus :data:`RULES`."""
+    reference = _load("default_train.toml")
+    for section, value in _load("minimal_train.toml").items():
+        # the minimal example adds the sections the timing train has no use for (a generic [excitation]) and the
+        # optional keys it alone shows (a mesh's torque_range_Nm)
+        if section not in reference:
+            reference[section] = value
+        elif section == "meshes":
+            reference[section] = {**value, **reference[section]}
     root = _build("", reference)
     for section in root.children:
         root.children[section].required = section in REQUIRED_SECTIONS

@@ -45,7 +45,7 @@ LTCA (Newton steps of every position unrolled, differentiated twice) took 52 % o
 time; with L-BFGS the same solve reached the same design (root shift 0.249188, largest exact PPTE 2.8271 um) in 59
 iterations instead of 65 and 55 s instead of 85 s of Ipopt time (default data, 11 slices, 2 cores)."""
 
-MESHES = {"crank-cam": "crank_cam_torque_Nm", "cam-ac": "cam_ac_torque_Nm", "cam-fp": "cam_fp_torque_Nm"}
+MESHES = ("crank-cam", "cam-ac", "cam-fp")
 WALK_OFF_JOINTS = ("crank", "cam", "ac", "fp")
 GEOMETRY_LIMITS = dict(min_contact_ratio=1.2, min_tip_thickness_ratio=0.2, worst_case=True, iso_tr_4467_limits=True,
                        min_backlash_mm=None)
@@ -254,7 +254,7 @@ def codesign_study(data: dict | None = None, *, options: Sequence[str] = ("spur"
     maximum by this fraction (:data:`CONTACT_STRESS_ALLOWANCE`). ``sequential_options``: ``ltca_options``
     overrides of the sequential design's scene only (fixed macro geometry; default :data:`SEQUENTIAL_OPTIONS`).
     ``codesign_ipopt``: Ipopt options of the co-design solves (default :data:`CODESIGN_IPOPT`)."""
-    from ..data import load_default_data, train_from_data, values
+    from ..data import load_default_data, system_from_data, train_from_data, values
 
     check_range("contact_stress_allowance", contact_stress_allowance, 0.0, 0.5)
     data = data or load_default_data()
@@ -264,11 +264,12 @@ def codesign_study(data: dict | None = None, *, options: Sequence[str] = ("spur"
     fractions = [1.0] if quick else list(loads["torque_range_fractions"])
     speed = float(loads["speed_rpm"])
     overspeed = float(v["engine"]["overspeed_test_speed_rpm"])
-    unknown = set(meshes) - set(MESHES)
+    design = system_from_data(data).design_torques_Nm()
+    unknown = set(meshes) - set(design)
     if unknown:
-        raise GearoptInputError(f"meshes {sorted(unknown)} have no design torque ({sorted(MESHES)})")
-    cases = [LoadCase(f"{f:g}x", {m: loads[MESHES[m]] * f for m in meshes}, speed_rpm=speed) for f in fractions]
-    over_torques = {m: loads[MESHES[m]] * max(loads["torque_range_fractions"]) for m in meshes}
+        raise GearoptInputError(f"meshes {sorted(unknown)} have no design torque ({sorted(design)})")
+    cases = [LoadCase(f"{f:g}x", {m: design[m] * f for m in meshes}, speed_rpm=speed) for f in fractions]
+    over_torques = {m: design[m] * max(loads["torque_range_fractions"]) for m in meshes}
     over = LoadCase("overspeed", over_torques, speed_rpm=overspeed)
     flanks = loaded_flanks(train, meshes)
     opts = {"refine_neighbours": 3, **(ltca_options or {})}

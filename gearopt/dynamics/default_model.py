@@ -47,7 +47,7 @@ import numpy as np
 import pandas as pd
 
 from ..rating.stiffness import mesh_stiffness_table
-from ..data import load_default_data, train_from_data, values
+from ..data import load_default_data, system_from_data, train_from_data, values
 from .. import compile_cache
 from ..errors import GearoptInputError
 from ..validation import check_range
@@ -273,14 +273,13 @@ def default_timing_model(kind: str = "spur", *, data: dict | None = None, load: 
     if mesh_stiffness == "ltca":
         from .ltca_stiffness import ltca_mesh_stiffness
         torques = dict(ltca_torques_Nm or {})
-        loads = d.get("design_loads", {})
+        design = system_from_data(raw).design_torques_Nm()
         for name in train.pairs:
             if name not in torques:
-                key = name.replace("-", "_") + "_torque_Nm"
-                if key not in loads:
+                if name not in design:
                     raise GearoptInputError(f"mesh_stiffness='ltca': no torque for mesh {name!r} (ltca_torques_Nm or "
-                                            f"[design_loads] {key})")
-                torques[name] = float(loads[key])
+                                            f"[meshes.{name}] design_torque_Nm)")
+                torques[name] = design[name]
     table = mesh_stiffness_table(train, inertias_kgm2=j_gear, blanks=blanks, damping_ratio=zeta, validity="ignore")
     rows = []
     for _, row in table.iterrows():

@@ -18,7 +18,7 @@ import pandas as pd
 from ..blank.blank import rim_thickness_factor
 from ..blank.catalogue import blank_from_data
 from ..blank.web import web_fatigue, web_stress
-from ..data import load_default_data, train_from_data, values
+from ..data import load_default_data, system_from_data, train_from_data, values
 from ..errors import GearoptInputError
 from ..geometry.train import GearTrain
 from ..joints.catalogue import accessory_load_torques_Nm, joint_capacity
@@ -29,14 +29,12 @@ QUASI_STATIC_CASE = ("quasi-static accessory peaks (valve train mean + amplitude
 
 
 def design_load_torques_Nm(data: dict) -> dict[str, float]:
-    """Per-mesh torques of the data's ``[design_loads]`` table (``<gear1>_<gear2>_torque_Nm`` -> mesh
-    ``"<gear1>-<gear2>"``, torque on the driving gear): the static design case of the main job."""
-    d = values(data)
-    if "design_loads" not in d:
-        raise GearoptInputError("the data have no [design_loads] table")
-    suffix = "_torque_Nm"
-    return {k[:-len(suffix)].replace("_", "-"): float(v) for k, v in d["design_loads"].items()
-            if k.endswith(suffix)}
+    """Per-mesh design torques of the data (``[meshes.<name>] design_torque_Nm``, torque on the driving gear): the
+    static design case."""
+    torques = system_from_data(data).design_torques_Nm()
+    if not torques:
+        raise GearoptInputError("the data state no design torque ([meshes.<name>] design_torque_Nm)")
+    return torques
 
 
 def _train(data: dict, train) -> GearTrain:

@@ -118,16 +118,17 @@ def scene_study(scene: Scene, quantity: str, target: str, *, points: int = 9, sa
 def relief_scene_from_data(data: dict, train, mesh: str = "crank-cam", *, positions: int | None = None,
                            ltca_options: dict | None = None) -> Scene:
     """The data's tip-relief scene of ``mesh``: the four relief variables, the largest PPTE over the design torque
-    range (``[design_loads]`` ``<mesh>_torque_Nm`` x ``torque_range_fractions``) minimised, the loaded contact ratio
+    range (``[meshes.<mesh>] design_torque_Nm`` x ``[design_loads] torque_range_fractions``) minimised, the loaded contact ratio
     >= ``[design_limits] min_loaded_contact_ratio`` and the largest contact stress not above the unmodified pair's
     own maximum over the range (exact LTCA). ``positions``: NLP positions of the smooth LTCA (default 40);
     ``ltca_options``: further scene LTCA options (e.g. ``max_refinements``, :data:`gearopt.design.scene.DEFAULT_LTCA_OPTIONS`)."""
     from ..contact.ltca import ltca
-    from ..data import values
+    from ..data import system_from_data, values
 
     d = values(data)
     loads, limits = d["design_loads"], d["design_limits"]
-    torques = [loads[f"{mesh.replace('-', '_')}_torque_Nm"] * f for f in loads["torque_range_fractions"]]
+    design = system_from_data(data).design_torque_Nm(mesh)
+    torques = [design * f for f in loads["torque_range_fractions"]]
     stress = max(ltca(train.pairs[mesh], t).max_contact_stress_MPa for t in torques)
     return Scene(f"{mesh} tip relief", train=train, load_cases=[LoadCase(f"T{t:g}", t) for t in torques],
                  variables=[DesignVariable(v, mesh) for v in RELIEF],

@@ -6,7 +6,7 @@ from gearopt.design.scene import DesignVariable, Limit, LoadCase, Objective, Sce
 
 MESH = "crank-cam"
 RELIEF = ("tip_relief_1_um", "tip_relief_2_um", "tip_relief_1_start_roll_deg", "tip_relief_2_start_roll_deg")
-TORQUES = (150.0, 450.0)      # [design_loads] crank_cam_torque_Nm 300 N m x torque_range_fractions 0.5, 1.5
+TORQUES = (150.0, 450.0)      # [meshes.crank-cam] design_torque_Nm 300 N m x torque_range_fractions 0.5, 1.5
 
 
 DATA_TORQUES = (150.0, 300.0, 450.0)     # the whole range: a smoother, single-branch optimum (sensitivity tests)
