@@ -4,25 +4,26 @@
     gearopt pair --teeth 12 24 --module-mm 3 --profile-shifts 0.6 0.36
     gearopt train spur [--data FILE]                  # or helical
     gearopt rate [--data FILE] [--train spur]         # ISO 6336 S_H / S_F of every mesh at the design loads
-    gearopt microgeometry --mesh crank-cam [--data FILE] [--quick]   # robust PPTE design over the torque range
-    gearopt dynamics [--data FILE] [--speeds 750 3000] # speed sweep: joint slip and walk-off margins
-    gearopt scene FILE [--scene NAME] [--data FILE]   # a scene declared in FILE ([scenes.NAME], docs/scenes.md)
+    gearopt microgeometry [--mesh MESH] [--data FILE] [--quick]   # robust PPTE design over the mesh's torque range
+    gearopt dynamics [--data FILE] [--speeds RPM ...] # speed sweep: joint slip and walk-off margins
+    gearopt scene FILE [--scene NAME] [--data FILE] [--mesh MESH]   # a scene declared in FILE (docs/scenes.md)
 
-Exit codes: 0 every requirement met, 1 a requirement fails (a check, a safety factor, a margin), 2 bad input or a
-failed solve. ``--data FILE``: a train data file in the format of ``gearopt/data/default_train.toml``.
+Exit codes: 0 every requirement met, 1 a requirement fails (a check, a safety factor, a margin), 2 bad input (the
+message names the file, the key path or section, and what to add) or a failed solve, 3 an internal error.
+``--data FILE``: a system data file (``docs/data-schema.md``; default: the packaged timing train).
 """
 
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 from pathlib import Path
 
 import pandas as pd
 
-from .data import load_default_data, train_from_data
-from .data import values as data_values
-from .errors import GearoptError, GearoptInputError, GeometryError
+from .data import load_system, system_from_data
+from .errors import GearoptError, GearoptInputError, GeometryError, InfeasibleProblemError, MissingSectionError
 from .geometry.pair import GearPair
 
 
@@ -52,8 +53,13 @@ def _pair_command(args) -> int:
     return 0
 
 
+def _system(args):
+    """The typed system of ``--data`` (default: the packaged timing train)."""
+    return load_system(args.data)
+
+
 def _train_command(args) -> int:
-    train = train_from_data(load_default_data(args.data), args.kind)
+    train = _system(args).train(args.kind)
     with pd.option_context("display.width", 200, "display.max_columns", 30):
         print(train.gear_table().round(4))
         print()
@@ -77,17 +83,21 @@ def _verdict(rows: list[tuple[str, float, float, str, str]]) -> int:
 def _rate_command(args) -> int:
     from .report.rating_tables import rating_table
 
-    data = load_default_data(args.data)
-    loads = data_values(data)["design_loads"]
-    train = train_from_data(data, args.train)
-    torques = {m: loads[m.replace("-", "_") + "_torque_Nm"] for m in train.pairs
-               if m.replace("-", "_") + "_torque_Nm" in loads}
-    table = rating_table(train, torques, K_A=loads.get("application_factor_K_A", 1.0))
+    system = _system(args)
+    train = system.train(args.train)
+    torques = {m: t for m, t in system.design_torques_Nm().items() if m in train.pairs}
+    if not torques:
+        raise MissingSectionError(f"{system.source}: no mesh states a design torque: gearopt rate needs "
+                                  f"design_torque_Nm in [meshes.<name>] (meshes: {', '.join(system.meshes)})")
+    K_A = system.design_loads.application_factor_K_A if system.design_loads is not None else 1.0
+    table = rating_table(train, torques, K_A=K_A)
     with pd.option_context("display.width", 200, "display.max_columns", 30):
         print(table[["mesh", "torque_Nm", "sigma_H_MPa", "S_H", "sigma_F_1_MPa", "sigma_F_2_MPa", "S_F_1",
                      "S_F_2"]].round(3).to_string(index=False))
-    print(f"ISO 6336-2/-3 method B at the [design_loads] torques, K_A {loads.get('application_factor_K_A', 1.0):g}, "
-          "other load factors and life factors 1")
+    print(f"ISO 6336-2/-3 method B at the meshes' design torques, K_A {K_A:g}, other load factors and life factors 1")
+    unrated = sorted(set(train.pairs) - set(torques))
+    if unrated:
+        print(f"not rated (no design_torque_Nm): {', '.join(unrated)}")
     rows = []
     for _, r in table.iterrows():
         rows.append((f"S_H {r['mesh']}", float(r["S_H"]), args.min_s_h, ">=", "-"))
@@ -95,30 +105,35 @@ def _rate_command(args) -> int:
     return _verdict(rows)
 
 
+def _default_mesh(system, train) -> str:
+    """The mesh a command acts on when none is named: the train's only mesh, else its root mesh."""
+    return next(iter(train.pairs)) if len(train.pairs) == 1 else train.root_mesh
+
+
 def _microgeometry_command(args) -> int:
     from .design.microgeometry_nlp import optimise_microgeometry
     from .report.contact_headlines import ppte_over_range, tip_relief_drawing, verified_margins
 
-    data = load_default_data(args.data)
-    v = data_values(data)
-    train = train_from_data(data, "spur")
-    if args.mesh not in train.pairs:
-        raise GearoptInputError(f"--mesh {args.mesh!r} is not a mesh of the spur train: {sorted(train.pairs)}")
-    key = args.mesh.replace("-", "_") + "_torque_Nm"
-    if key not in v["design_loads"]:
-        raise GearoptInputError(f"[design_loads] has no {key} (the design torque of mesh {args.mesh})")
-    t0 = float(v["design_loads"][key])
-    torques = [t0] + [t0 * f for f in v["design_loads"].get("torque_range_fractions", [1.0]) if f != 1.0]
-    limits = v.get("design_limits", {})
+    system = _system(args)
+    train = system.train(args.train)
+    mesh = args.mesh or _default_mesh(system, train)
+    if mesh not in train.pairs:
+        raise GearoptInputError(f"{system.source}: --mesh {mesh!r} is not a mesh of the {args.train} train "
+                                f"({', '.join(train.pairs)})")
+    torques = list(system.torque_range_Nm(mesh))
+    limits = system.design_limits
+    max_root = limits.max_root_stress_MPa if limits is not None else None
+    min_lcr = limits.min_loaded_contact_ratio if limits is not None and limits.min_loaded_contact_ratio is not None \
+        else 1.2
     opts = dict(positions=20, check_positions=160) if args.quick else {}
-    design = optimise_microgeometry(train.pairs[args.mesh], torques, max_root_stress_MPa=limits.get("max_root_stress_MPa"),
-                                    min_loaded_contact_ratio=limits.get("min_loaded_contact_ratio", 1.2), **opts)
+    design = optimise_microgeometry(train.pairs[mesh], torques, max_root_stress_MPa=max_root,
+                                    min_loaded_contact_ratio=min_lcr, **opts)
     rng = ppte_over_range(design)
     o, u = rng["by_design"]["optimised"], rng["by_design"]["unmodified"]
-    print(f"{args.mesh}: optimised microgeometry over {', '.join(f'{t:g}' for t in rng['torques_Nm'])} N m")
+    print(f"{mesh}: optimised microgeometry over {', '.join(f'{t:g}' for t in rng['torques_Nm'])} N m")
     for name, value in design.values.items():
         print(f"  {name:34s} {value:.3f}")
-    for gear, d in tip_relief_drawing(train.pairs[args.mesh], design.values).items():
+    for gear, d in tip_relief_drawing(train.pairs[mesh], design.values).items():
         print(f"  {gear}: tip relief {d.get('amount_um', 0):.1f} um from d = {d['start_diameter_mm']:.2f} mm, "
               f"length {d['relief_length_mm']:.2f} mm on the line of action")
     print(f"  PPTE worst over the range: optimised {o['worst_ppte_um']:.3g} um (at {o['worst_torque_Nm']:g} N m), "
@@ -130,26 +145,82 @@ def _microgeometry_command(args) -> int:
     return _verdict(rows)
 
 
-def _dynamics_command(args) -> int:
-    from .dynamics import default_timing_model, speed_sweep
+def _dynamics_model(system, kind: str):
+    """The torsional model of the system: a generic train model for an ``[excitation]``, the packaged timing-train
+    case's engine model for an ``[engine]``."""
+    if system.excitation == "engine":
+        from .cases.timing_train import timing_model
+        return timing_model(system, kind)
+    system.require("excitation", "gearopt dynamics (a driving torque: [excitation], or an [engine])")
+    from .dynamics import train_model
+    return train_model(system, kind)
 
-    data = load_default_data(args.data)
-    model = default_timing_model(args.train, data=data)
-    joints = tuple(args.joints)
-    sweep = speed_sweep(model, args.speeds, backlash=(args.backlash,), joints=joints, cycles=args.cycles,
-                        run_in_cycles=args.run_in_cycles)
+
+def _dynamics_command(args) -> int:
+    from .dynamics import speed_sweep
+
+    system = _system(args)
+    model = _dynamics_model(system, args.train)
+    joints = tuple(args.joints) if args.joints is not None else tuple(system.joints)
+    unknown = [j for j in joints if j not in system.joints]
+    if unknown:
+        raise GearoptInputError(f"{system.source}: --joints {' '.join(unknown)}: not a [joints.*] entry "
+                                f"({', '.join(system.joints) or 'the data has none'})")
+    speeds = args.speeds if args.speeds is not None else model.default_speeds_rpm
+    sweep = speed_sweep(model, speeds, backlash=(args.backlash,), joints=joints, cycles=args.cycles,
+                        run_in_cycles=args.run_in_cycles, shafts=())
     rows_j = sweep[sweep["element_type"] == "joint"]
     cols = [c for c in ("element", "speed_rpm", "peak_torque_Nm", "peak_axial_force_N", "min_torque_margin",
                         "min_axial_margin", "cycle_change") if c in rows_j.columns]
     with pd.option_context("display.width", 200, "display.max_columns", 30):
-        print(rows_j[cols].round(3).to_string(index=False))
+        if len(rows_j):
+            print(rows_j[cols].round(3).to_string(index=False))
+        meshes = sweep[sweep["element_type"] == "mesh"]
+        mcols = [c for c in ("element", "speed_rpm", "mean_force_N", "peak_drive_force_N", "rms_force_N",
+                             "drive_separations_per_cycle") if c in meshes.columns]
+        if len(meshes):
+            print(meshes[mcols].round(3).to_string(index=False))
     rows = []
     for _, r in rows_j.iterrows():
         rows.append((f"slip margin {r['element']} at {r['speed_rpm']:g} rpm", float(r["min_torque_margin"]),
                      args.min_margin, ">=", "-"))
         rows.append((f"walk-off margin {r['element']} at {r['speed_rpm']:g} rpm", float(r["min_axial_margin"]),
                      args.min_margin, ">=", "-"))
+    if not rows:
+        print("no joint to check: the data has no [joints.*] entry (the table above gives the mesh loads)")
+        return 0
     return _verdict(rows)
+
+
+def _retarget(spec: dict, where: str, mesh: str | None, system) -> tuple[dict, str | None]:
+    """The scene table with its mesh targets moved to ``mesh`` (``--mesh``), or -- when the scene names a mesh the
+    data lacks and the data's train has one mesh -- to that mesh; returns the table and a notice (None: unchanged)."""
+    from .design.scene_terms import quantity_kind, variable_kind
+
+    items = [("variables", v, variable_kind(v.get("name", "")).target_kind) for v in spec.get("variables", [])]
+    items += [(k, q, quantity_kind(q.get("quantity", "")).target_kind) for k in ("objectives", "limits")
+              for q in spec.get(k, [])]
+    targets = sorted({it.get("target") for _, it, kind in items if kind == "mesh"})
+    train = system.train(spec.get("train", "spur"))
+    if mesh is None:
+        missing = [t for t in targets if t not in train.pairs]
+        if not missing:
+            return spec, None
+        if len(train.pairs) != 1 or len(targets) != 1:
+            raise GearoptInputError(f"{where} names mesh {missing[0]!r}, which {system.source} does not have "
+                                    f"(meshes: {', '.join(train.pairs)}); give --mesh MESH")
+        mesh = next(iter(train.pairs))
+    elif mesh not in train.pairs:
+        raise GearoptInputError(f"{system.source}: --mesh {mesh!r} is not a mesh of the data "
+                                f"({', '.join(train.pairs)})")
+    if len(targets) > 1:
+        raise GearoptInputError(f"{where} names {len(targets)} meshes ({', '.join(targets)}): --mesh moves a scene "
+                                "of one mesh")
+    if targets == [mesh]:
+        return spec, None
+    out = {k: ([dict(it, target=mesh) if it.get("target") in targets else dict(it) for it in v]
+               if k in ("variables", "objectives", "limits") else v) for k, v in spec.items()}
+    return out, f"{where}: mesh {', '.join(targets)} of the scene file -> {mesh} of {system.source}"
 
 
 def _scene_command(args) -> int:
@@ -157,15 +228,33 @@ def _scene_command(args) -> int:
 
     from .design.scene_file import scene_from_data, scene_names
 
-    with open(args.file, "rb") as fh:
-        scenes = tomllib.load(fh)
+    try:
+        with open(args.file, "rb") as fh:
+            scenes = tomllib.load(fh)
+    except OSError as exc:
+        raise GearoptInputError(f"{args.file}: cannot read the scene file ({exc.strerror})") from None
+    except tomllib.TOMLDecodeError as exc:
+        raise GearoptInputError(f"{args.file}: not valid TOML: {exc}") from None
     names = scene_names(scenes)
     if not names:
         raise GearoptInputError(f"{args.file} declares no [scenes.<name>] table (docs/scenes.md)")
     name = args.scene or names[0]
-    train_data = scenes if "trains" in scenes else load_default_data(args.data)
-    scene = scene_from_data(scenes, name, train_data=train_data)
-    result = scene.build().solve(starts=args.starts)
+    if name not in names:
+        raise GearoptInputError(f"{args.file}: scene {name!r} is not declared ([scenes.*] holds {', '.join(names)})")
+    if "trains" in scenes:
+        system = system_from_data({k: v for k, v in scenes.items() if k != "scenes"}, source=str(args.file))
+    else:
+        system = _system(args)
+    spec, notice = _retarget(dict(scenes["scenes"][name]), f"{args.file} [scenes.{name}]", args.mesh, system)
+    if notice:
+        print(notice)
+    scene = scene_from_data({"scenes": {name: spec}}, name, train_data=system.data)
+    try:
+        result = scene.build().solve(starts=args.starts)
+    except InfeasibleProblemError as err:  # the limits cannot all be met: a requirement fails, not bad input
+        print(f"scene {name!r}: infeasible: {err}")
+        print("verdict: FAIL (the scene's limits cannot all be met)")
+        return 1
     print(f"scene {name!r}: {result.solve.status}")
     for key, value in result.values.items():
         print(f"  {key:44s} {value:.4g}")
@@ -212,14 +301,17 @@ def main(argv: list[str] | None = None) -> int:
     r.set_defaults(run=_rate_command)
     m = sub.add_parser("microgeometry", help="PPTE-minimising tip relief of one spur mesh over its torque range")
     _add_data(m)
-    m.add_argument("--mesh", default="crank-cam")
+    m.add_argument("--train", choices=["spur", "helical"], default="spur")
+    m.add_argument("--mesh", default=None, help="mesh name (default: the train's only mesh, else its root mesh)")
     m.add_argument("--quick", action="store_true", help="coarse NLP and check resolution")
     m.set_defaults(run=_microgeometry_command)
     d = sub.add_parser("dynamics", help="speed sweep of the timing train: joint slip and walk-off margins")
     _add_data(d)
     d.add_argument("--train", choices=["spur", "helical"], default="spur")
-    d.add_argument("--speeds", type=float, nargs="+", default=[750.0, 3000.0], help="crank speeds [rpm]")
-    d.add_argument("--joints", nargs="+", default=["crank", "cam", "ac", "fp"])
+    d.add_argument("--speeds", type=float, nargs="+", default=None,
+                   help="speeds of the driving shaft [rpm] (default: the model's, e.g. idle and overspeed of an "
+                        "engine, the [excitation] speed)")
+    d.add_argument("--joints", nargs="+", default=None, help="[joints.*] names (default: every joint of the data)")
     d.add_argument("--backlash", action=argparse.BooleanOptionalAction, default=True)
     d.add_argument("--cycles", type=int, default=1)
     d.add_argument("--run-in-cycles", type=int, default=1)
@@ -230,6 +322,7 @@ def main(argv: list[str] | None = None) -> int:
     s.add_argument("--scene", default=None, help="scene name (default: the first in the file)")
     _add_data(s)
     s.add_argument("--starts", type=int, default=1, help="multi-start count (default 1)")
+    s.add_argument("--mesh", default=None, help="run the scene on this mesh of the data (a scene of one mesh)")
     s.set_defaults(run=_scene_command)
     args = parser.parse_args(argv)
     try:
@@ -237,6 +330,12 @@ def main(argv: list[str] | None = None) -> int:
     except GearoptError as err:
         print(f"error: {err}", file=sys.stderr)
         return 2
+    except Exception as err:  # noqa: BLE001 -- a bug, not bad input: one line (the traceback on request), exit 3
+        if os.environ.get("GEAROPT_TRACEBACK"):
+            raise
+        print(f"internal error (a gearopt bug; GEAROPT_TRACEBACK=1 shows the traceback): {type(err).__name__}: {err}",
+              file=sys.stderr)
+        return 3
 
 
 if __name__ == "__main__":

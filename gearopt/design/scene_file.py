@@ -5,6 +5,8 @@ A scene table holds ``train`` (``"spur"`` or ``"helical"``: a train of the data'
 ``driving_gear``, ``ltca_options`` and ``iso6336_options`` tables, and arrays of tables ``load_cases``,
 ``variables``, ``objectives`` and ``limits`` whose keys are the arguments of :class:`LoadCase`,
 :class:`DesignVariable`, :class:`Objective` and :class:`Limit` (units in the key names). A load case may give
+``design_torque_fraction`` instead of ``torque_Nm``: that fraction of each mesh's ``design_torque_Nm`` (so one scene
+file serves any train). A load case may give
 ``dynamics = {kind = "spur", backlash = true, statistic = "peak", cycles = 1}`` (:meth:`LoadCase.from_dynamics`).
 Unknown keys are rejected with the nearest valid one. ``docs/scenes.md`` documents the format with an example.
 """
@@ -15,8 +17,9 @@ import difflib
 from dataclasses import fields
 from typing import Any, Mapping
 
-from ..data import train_from_data
+from ..data import system_from_data, train_from_data
 from ..errors import GearoptInputError
+from ..validation import check_range
 from .scene import Scene
 from .scene_spec import DesignVariable, Limit, LoadCase, Objective
 
@@ -77,6 +80,18 @@ def scene_from_data(data: Mapping[str, Any], name: str, *, train_data: Mapping[s
             dyn = dict(lc["dynamics"])
             _check_keys(f"{where} load_cases[{i}].dynamics", dyn, {"kind", "backlash", "statistic", "cycles"})
             load_cases.append(LoadCase.from_dynamics(lc["name"], lc["speed_rpm"], **dyn))
+        elif "design_torque_fraction" in lc:
+            if "torque_Nm" in lc:
+                raise GearoptInputError(f"{where} load_cases[{i}]: give torque_Nm or design_torque_fraction, not both")
+            f = lc["design_torque_fraction"]
+            check_range(f"{where} load_cases[{i}].design_torque_fraction", f, 0.0, None, low_inclusive=False)
+            design = system_from_data(source).design_torques_Nm()
+            if not design:
+                raise GearoptInputError(f"{where} load_cases[{i}]: design_torque_fraction needs the meshes' "
+                                        "design_torque_Nm in the data ([meshes.<name>])")
+            rest = {k: v for k, v in lc.items() if k != "design_torque_fraction"}
+            load_cases.append(_make(LoadCase, f"{where} load_cases[{i}]",
+                                    {**rest, "torque_Nm": {m: float(f) * t for m, t in design.items()}}))
         else:
             load_cases.append(_make(LoadCase, f"{where} load_cases[{i}]", lc))
     return Scene(name=name, train=train_from_data(source, kind), load_cases=load_cases,
