@@ -40,7 +40,8 @@ import gearopt as go  # noqa: E402
 from gearopt.contact.ltca import ltca  # noqa: E402
 from gearopt.data import values  # noqa: E402
 from gearopt.design.scene import DesignVariable, Limit, LoadCase, Objective, Scene  # noqa: E402
-from gearopt.design.scene_codesign import MESHES, loaded_flanks  # noqa: E402
+from gearopt.cases.timing_train import MESHES  # noqa: E402
+from gearopt.design.train_design import loaded_flanks  # noqa: E402
 
 RESULTS = Path(__file__).resolve().parent / "results"
 FRACTIONS = (1.0, 0.5, 1.5)

@@ -48,7 +48,8 @@ from _timing import bench_args  # noqa: E402  (benchmarks/_timing.py)
 
 import gearopt  # noqa: E402
 from gearopt import compile_cache  # noqa: E402
-from gearopt.dynamics import campbell_diagram, default_timing_model, forced_response  # noqa: E402
+from gearopt.cases.timing_train import default_timing_model  # noqa: E402
+from gearopt.dynamics import campbell_diagram, forced_response  # noqa: E402
 from gearopt.dynamics.modes import damped_modes  # noqa: E402
 from gearopt.dynamics.sensitivity import response_sensitivities  # noqa: E402
 from gearopt.dynamics.sweep import speed_sweep  # noqa: E402

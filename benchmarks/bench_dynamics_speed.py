@@ -47,7 +47,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from gearopt import compile_cache  # noqa: E402
-from gearopt.dynamics import default_timing_model  # noqa: E402
+from gearopt.cases.timing_train import default_timing_model  # noqa: E402
 from gearopt.dynamics.buffered_call import BufferedFunction  # noqa: E402
 
 OUT = Path(__file__).resolve().parent / "results"

@@ -16,7 +16,7 @@ from .engine import AccessoryTorque, CylinderPressure, EngineExcitation, crank_t
 from .joints import (bolt_preload_N, fit_interference_um, joint_margins, press_fit, quasi_static_mesh_torques_Nm,
                      taper_fit, walk_off)
 from .blank import GearBlank, web_fatigue, web_stress
-from .dynamics import (MeshStiffnessShape, PeriodicStateError, TorsionalNetwork, default_timing_model,
+from .dynamics import (MeshStiffnessShape, PeriodicStateError, TorsionalNetwork,
                        node_accelerations, walk_off_history)
 from .dynamics.ltca_stiffness import ltca_mesh_stiffness
 from .report.dynamics_figures import campbell_table, plot_campbell

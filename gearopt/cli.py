@@ -69,7 +69,7 @@ def _train_command(args) -> int:
 
 def _verdict(rows: list[tuple[str, float, float, str, str]]) -> int:
     """Print ``(requirement, value, limit, sense, unit)`` rows with PASS/FAIL; 1 if any fails, else 0."""
-    from .report.summary import eng
+    from .report.tables import eng
 
     failed = 0
     for name, value, limit, sense, unit in rows:

@@ -70,6 +70,14 @@ def jit_enabled() -> bool:
     return os.environ.get("GEAROPT_JIT", "1").strip().lower() not in ("0", "false", "no", "off")
 
 
+def auto_jit(jit: bool | None) -> bool:
+    """``jit=None``: compile (through the cache) unless ``GEAROPT_JIT=0``; without a C compiler the cache falls
+    back to the interpreted functions with a notice."""
+    if jit is None:
+        return jit_enabled()
+    return bool(jit)
+
+
 def cache_stats() -> dict:
     """Counters of this process: ``hits`` (loaded), ``compiled``, ``interpreted`` (fallbacks), load and compile
     times [s]."""

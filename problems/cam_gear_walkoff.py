@@ -52,9 +52,9 @@ from gearopt.studies.background import side_process
 from gearopt.report import to_markdown, write_table
 from gearopt.report.joint_tables import blank_table, joint_table, web_table
 from gearopt.report.rating_tables import rating_table
-from gearopt.report.summary import build_summary, eng, headlines_markdown, summary_markdown
+from gearopt.cases.timing_train.summary import build_summary, eng, headlines_markdown, summary_markdown
 from gearopt.studies import DESIGNS, mesh_contact_study
-from gearopt.report.macro_design import (change_table, conversion_table, mesh_check_table, shift_table,
+from gearopt.cases.timing_train.macro_design import (change_table, conversion_table, mesh_check_table, shift_table,
                                          sum_shift_table)
 
 DEFAULT_OUT = Path("out") / "cam_gear_walkoff"
@@ -224,7 +224,8 @@ def dynamics_stage(data: dict, quick: bool = False) -> dict:
     """Stage 6: torsional dynamics of the timing train (helical baseline and spur redesign), with and without
     backlash, at rated speed and overspeed (thesis Figs. 4.3-4.5), and a speed sweep with the walk-off margins of
     the cam, AC and FP joints over speed."""
-    from gearopt.dynamics import default_timing_model, speed_sweep
+    from gearopt.cases.timing_train import default_timing_model
+    from gearopt.dynamics import speed_sweep
 
     engine = data_values(data)["engine"]
     speeds = ((engine["overspeed_test_speed_rpm"],) if quick
@@ -415,13 +416,13 @@ def contact_stage(data: dict, trains: dict, quick: bool = False, on_study=None) 
 
 def codesign_stage(data: dict, quick: bool = False):
     """Stage: co-design of the spur train and a low-helix alternative (profile shift, helix angle, per-flank tip
-    relief, walk-off margins in one NLP) beside the sequential design (gearopt.design.scene_codesign); quick: the
+    relief, walk-off margins in one NLP) beside the sequential design (gearopt.cases.timing_train.codesign); quick: the
     spur option, one load case, no refinement. The main job caps the co-design's refinement at 1 re-solve and slices
     helical faces 11 times without raising them (run time: the low-helix co-design solve alone takes minutes; 7
     slices left the 8 deg meshes' root stress 1.2-1.6 % off the exact LTCA's, above the 1 % stress tolerance;
     whether each design verified is reported per option); the sequential design (lifted contact form, fast) gets up
     to 3 re-solves. problems/codesign.py runs the study at its defaults."""
-    from gearopt.design.scene_codesign import codesign_study
+    from gearopt.cases.timing_train import codesign_study
 
     return codesign_study(data, quick=quick, options=("spur",) if quick else ("spur", "low_helix"),
                           ltca_options=None if quick else {"max_refinements": 1, "helical_slices": 11,
@@ -532,7 +533,7 @@ def failure_reproduction_stage(data: dict, quick: bool = False) -> dict:
     (``gearopt.dynamics.joint_friction``) over speed up to overspeed, damper state and fit, and the Monte Carlo
     walk-off probability (``gearopt.studies.failure``), for the helical train, the spur cure and helical
     alternatives."""
-    from gearopt.studies.failure import failure_reproduction
+    from gearopt.cases.timing_train import failure_reproduction
     # the full envelope's (speed, damper) points run in two forked worker processes (the quick one serially)
     return failure_reproduction(data, quick=quick, joints=FAILURE_JOINTS, samples=5000 if quick else 20000,
                                 executor="serial" if quick else "processes", workers=2)
@@ -795,7 +796,7 @@ KEY_FIGURES = ("te_crank_cam", "te_torques_crank_cam", "harris_crank_cam", "dyna
 
 
 def summary_inputs(data: dict, dynamics: dict | None, out: Path) -> dict:
-    """Limits, load basis and key figures of the verdict-first summary (:func:`gearopt.report.summary.build_summary`)
+    """Limits, load basis and key figures of the verdict-first summary (:func:`gearopt.cases.timing_train.summary.build_summary`)
     from the data's ``[design_loads]``/``[design_limits]`` and what the run drew."""
     values = data_values(data)
     loads, limits = values["design_loads"], dict(values.get("design_limits", {}))

@@ -4,7 +4,7 @@ beside the sequential design (macro first, then micro) on the same limits.
 Writes ``<out>/report.md``, ``<out>/result.json`` and ``<out>/codesign_summary.csv``. ``--quick``: the spur option
 only, one load case, no refinement (a smoke run for the tests); ``--contact-stress-allowance 0.02`` lets the
 contact stress exceed the unmodified meshes' maxima by 2 % (which frees the root profile shift). The logic is
-:func:`gearopt.design.scene_codesign.codesign_study`.
+:func:`gearopt.cases.timing_train.codesign_study`.
 """
 
 from __future__ import annotations
@@ -18,7 +18,7 @@ from pathlib import Path
 import numpy as np
 
 from gearopt.data import load_default_data
-from gearopt.design.scene_codesign import CONTACT_STRESS_ALLOWANCE, CodesignStudy, codesign_study
+from gearopt.cases.timing_train import CONTACT_STRESS_ALLOWANCE, CodesignStudy, codesign_study
 
 DEFAULT_OUT = Path("out") / "codesign"
 
@@ -57,7 +57,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--contact-stress-allowance", type=float, default=CONTACT_STRESS_ALLOWANCE, metavar="F",
                         help="contact stress may exceed the unmodified mesh's maximum by this fraction (default "
                              f"{CONTACT_STRESS_ALLOWANCE:g}; 0.02 frees the root shift, see "
-                             "gearopt.design.scene_codesign.CONTACT_STRESS_ALLOWANCE)")
+                             "gearopt.cases.timing_train.CONTACT_STRESS_ALLOWANCE)")
     args = parser.parse_args(argv)
     t0 = time.perf_counter()
     study = run(quick=args.quick, data_file=args.data, contact_stress_allowance=args.contact_stress_allowance)

@@ -23,7 +23,7 @@ import numpy as np
 import pandas as pd
 
 from gearopt.data import load_default_data
-from gearopt.dynamics import default_timing_model
+from gearopt.cases.timing_train import default_timing_model
 from gearopt.dynamics.walk_off_envelope import (
     DAMPER_STATES,
     ENVELOPE_EXTRA_SPEED_RPM,

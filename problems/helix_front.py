@@ -59,7 +59,7 @@ import pandas as pd
 
 from gearopt.data import load_default_data, system_from_data, train_from_data, values
 from gearopt.design.scene import DesignVariable, Limit, LoadCase, Objective, Scene
-from gearopt.design.scene_codesign import GEOMETRY_LIMITS, MESHES
+from gearopt.cases.timing_train import GEOMETRY_LIMITS, MESHES
 from gearopt.studies import pareto_front, verify_front
 
 MESH, JOINT, QUANTITY = "crank-cam", "cam", "axial_utilisation"

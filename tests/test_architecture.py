@@ -4,7 +4,8 @@ same subpackage or to a lower layer, and the NLP framework imports nothing of ge
 The order (``docs/architecture.md``)::
 
     errors, units -> numerics -> validation, nlp, compile_cache -> geometry -> data -> rating -> contact
-      -> joints | blank | engine -> dynamics -> design -> studies -> report -> cli, the package facade
+      -> joints | blank | engine -> dynamics -> design -> studies -> report -> cases
+      -> cli, the package facade
 
 Siblings on one layer (joints, blank, engine) may not import each other: what two of them share moves down.
 """
@@ -19,7 +20,7 @@ import gearopt
 PACKAGE = pathlib.Path(gearopt.__file__).parent
 
 LAYERS = [("errors", "units"), ("numerics",), ("validation", "nlp", "compile_cache", "executor"), ("geometry",), ("data",),
-          ("rating",), ("contact",), ("joints", "blank", "engine"), ("dynamics",), ("design",), ("studies",), ("report",),
+          ("rating",), ("contact",), ("joints", "blank", "engine"), ("dynamics",), ("design",), ("studies",), ("report",), ("cases",),
           ("cli", "__init__")]
 RANK = {name: rank for rank, names in enumerate(LAYERS) for name in names}
 

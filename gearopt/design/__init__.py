@@ -17,7 +17,7 @@ from gearopt.design.joint_sizing import (JointDemand, JointSizing, PressFitSpec,
                                          size_press_fit, size_taper_fit, suggest_fit)
 from gearopt.design.blank_sizing import BlankSizing, BlankSpec, WebDemand, size_blank, web_demand_from_loads
 from gearopt.design.scene import BuiltScene, DesignVariable, Limit, LoadCase, Objective, Scene, SceneResult
-from gearopt.design.scene_codesign import CodesignStudy, codesign_study, rank_tooth_counts
+from gearopt.design.train_design import loaded_flanks, rank_tooth_counts
 
 __all__ = ["Problem", "ProblemResult", "InitialGuessReport", "InitialGuessWarning", "Finding",
            "DEFAULT_IPOPT_OPTIONS", "DEFAULT_CASADI_OPTIONS", "ElasticResult", "solve_elastic", "MultiStartResult",
@@ -26,4 +26,4 @@ __all__ = ["Problem", "ProblemResult", "InitialGuessReport", "InitialGuessWarnin
            "enumerate_tooth_counts", "tooth_count_study", "JointDemand", "JointSizing", "PressFitSpec",
            "TaperFitSpec", "size_joint", "size_press_fit", "size_taper_fit", "suggest_fit", "BlankSizing",
            "BlankSpec", "WebDemand", "size_blank", "web_demand_from_loads", "Scene", "BuiltScene", "SceneResult",
-           "LoadCase", "DesignVariable", "Objective", "Limit", "codesign_study", "CodesignStudy", "rank_tooth_counts"]
+           "LoadCase", "DesignVariable", "Objective", "Limit", "loaded_flanks", "rank_tooth_counts"]

@@ -101,6 +101,8 @@ class Scene:
             (the largest of them, by an epigraph variable ``objectives.max``: e.g. the largest PPTE of several
             meshes, each objective divided by its scale and multiplied by its weight). A pure minimax: the
             objectives below the largest are left wherever its optimum puts them.
+        dynamics_model: ``kind -> torsional model`` of the scene's train (``"spur"``/``"helical"``), for load cases
+            whose loads come from a simulation (:meth:`LoadCase.from_dynamics`); built once per kind.
     """
 
     name: str
@@ -116,6 +118,7 @@ class Scene:
     ltca_options: Mapping[str, Any] = field(default_factory=dict)
     iso6336_options: Mapping[str, Any] = field(default_factory=dict)
     objective_aggregate: str = "sum"
+    dynamics_model: Callable[[str], Any] | None = None
 
     def meshes(self) -> dict[str, GearPair]:
         out = dict(self.train.pairs) if self.train is not None else {}
@@ -280,11 +283,15 @@ class BuiltScene(ContactModels, TrainModels, QuantityTerms):
         """A dynamic load case becomes a given one: mesh torques and joint demands from one simulation."""
         if lc.dynamics is None:
             return lc
-        from ..dynamics import default_timing_model, walk_off_history
+        from ..dynamics import walk_off_history
 
         dyn = lc.dynamics
-        model = self._model(f"dynamics:{dyn['kind']}", lambda: default_timing_model(dyn["kind"]),
-                            f"default timing model ({dyn['kind']})")
+        if self.scene.dynamics_model is None:
+            raise GearoptInputError(f"load case {lc.name!r} takes its loads from the dynamics: give the scene a "
+                                    "dynamics_model (kind -> torsional model of the scene's train, e.g. "
+                                    "lambda kind: gearopt.dynamics.train_model(system, kind))")
+        model = self._model(f"dynamics:{dyn['kind']}", lambda: self.scene.dynamics_model(dyn["kind"]),
+                            f"torsional model ({dyn['kind']})")
         key = f"simulation:{dyn['kind']}@{lc.speed_rpm:g}rpm{',backlash' if dyn['backlash'] else ''}"
         sim = self._model(key, lambda: model.simulate(speed_rpm=lc.speed_rpm, cycles=dyn["cycles"],
                                                       backlash=dyn["backlash"]),

@@ -32,7 +32,7 @@ class LoadCase:
             joint margins need them.
         dynamics: ``None`` for a given load case, or a dict ``{"kind": "spur"|"helical", "backlash": bool,
             "statistic": "peak"|"rms", "cycles": int}`` -- then the mesh torques and joint demands come from a
-            simulation of the default timing model at ``speed_rpm`` (built only for such a scene). Make it with
+            simulation of the scene's ``dynamics_model`` at ``speed_rpm`` (built only for such a scene). Make it with
             :meth:`from_dynamics`.
     """
 
@@ -56,7 +56,7 @@ class LoadCase:
                       statistic: str = "peak", cycles: int = 1) -> "LoadCase":
         """A load case whose mesh torques (|mesh force| x base radius of gear 1, ``statistic`` over the simulated
         cycles) and joint demands (peak joint torque and axial force, :func:`gearopt.dynamics.walk_off_history`)
-        come from the default timing model of ``kind`` at ``speed_rpm``."""
+        come from the scene's torsional model (``Scene.dynamics_model``) of ``kind`` at ``speed_rpm``."""
         if kind not in ("spur", "helical"):
             raise GearoptInputError(f"kind={kind!r} must be 'spur' or 'helical'")
         if statistic not in ("peak", "rms"):

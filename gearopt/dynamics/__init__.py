@@ -1,15 +1,14 @@
 """Torsional dynamics of gear trains: network builder, gear-mesh force with time-varying stiffness and backlash,
-CasADi time integration with periodic steady state, linear analysis (modes, Campbell, forced response), the
-packaged default timing-system model, speed sweeps and sensitivities through the integrator.
+CasADi time integration with periodic steady state, linear analysis (modes, Campbell, forced response), speed
+sweeps and sensitivities through the integrator. (The packaged engine's timing-system model is a case:
+:mod:`gearopt.cases.timing_train`.)
 
 Modules: :mod:`~gearopt.dynamics.mesh` (mesh force, stiffness shape, axial force), :mod:`~gearopt.dynamics.network`
 (:class:`TorsionalNetwork`), :mod:`~gearopt.dynamics.simulate` (:class:`Simulator`, :class:`Simulation`),
-:mod:`~gearopt.dynamics.modes` (linear analysis), :mod:`~gearopt.dynamics.default_model`
-(:func:`default_timing_model`), :mod:`~gearopt.dynamics.sweep` (:func:`speed_sweep`),
+:mod:`~gearopt.dynamics.modes` (linear analysis), :mod:`~gearopt.dynamics.sweep` (:func:`speed_sweep`),
 :mod:`~gearopt.dynamics.sensitivity` (:func:`response_sensitivities`).
 """
 
-from .default_model import TimingModel, default_timing_model
 from .mesh import (
     MeshStiffnessShape,
     axial_force_N,
@@ -34,6 +33,6 @@ __all__ = [
     "TorsionalNetwork", "MeshStiffnessShape", "mesh_force", "axial_force_N", "contact_line_length_ratio",
     "restitution_coefficient", "Simulator", "Simulation", "simulate", "INTEGRATORS", "linear_matrices",
     "natural_frequencies_Hz", "mode_shapes", "damped_modes", "campbell_diagram", "forced_response",
-    "default_timing_model", "TimingModel", "speed_sweep", "simulation_statistics", "response_sensitivities",
+    "speed_sweep", "simulation_statistics", "response_sensitivities",
     "node_accelerations", "walk_off_history", "PeriodicStateError",
 ]

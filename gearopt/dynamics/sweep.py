@@ -161,7 +161,7 @@ def speed_sweep(model, speeds_rpm, backlash=(False, True), cycles: int = 2, run_
                 steady_state_tol: float | None = None, rtol: float = 1e-6, shafts=("cam-cam_station_1",),
                 joints=("cam",), parameters: dict | None = None, executor: Any = "serial", *,
                 workers: int | None = None, progress: bool | None = None, **options) -> pd.DataFrame:
-    """Sweep ``model`` (a :class:`~gearopt.dynamics.default_model.TimingModel`) over ``speeds_rpm`` [rpm] for each
+    """Sweep ``model`` (a torsional model: :func:`~gearopt.dynamics.train_model` or the timing case's model) over ``speeds_rpm`` [rpm] for each
     lash option in ``backlash``; returns one row per (speed, lash, element) with the columns of
     :func:`simulation_statistics` plus ``speed_rpm``, ``backlash``, ``cycle_change`` (last run-in/recorded cycle's
     change) and ``run_time_s``; with ``joints`` (``[joints.*]`` names) also one ``element_type == "joint"`` row per

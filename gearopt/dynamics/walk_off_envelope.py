@@ -137,7 +137,7 @@ def model_joints(model, joint: str, levels: int = 1, *, thrust_scale: float = 1.
                  label: str | None = None) -> list[FrictionJoint]:
     """``levels`` copies ``<label>#<i>`` (label default ``joint``) of the friction element of ``[joints.<joint>]``
     on ``model`` (a
-    :class:`~gearopt.dynamics.default_model.TimingModel`), to be given different capacities per run (the copies
+    :class:`~gearopt.cases.timing_train.TimingModel`), to be given different capacities per run (the copies
     do not interact). Gear inertia: the whole node for a gear that is its own node (cam), else the data's gear
     inertia (crank: ``gears.crank.inertia_kgm2`` or its solid-disc estimate), as
     :func:`~gearopt.dynamics.sweep.walk_off_history`."""
@@ -240,7 +240,7 @@ def joint_envelope(model, joints=("cam", "crank"), speeds_rpm=None, damper_state
     ``slip_um_per_cycle``, ``axial_creep_um_per_cycle``, ``axial_position_um``, ``max_key_force_N``,
     ``max_off_nose_thrust_N``, ``run_time_s``.
     """
-    from .default_model import _auto_jit
+    from ..compile_cache import auto_jit
     data = model.data
     speeds = [v for v, _ in envelope_speeds_rpm(data).values()] if speeds_rpm is None else \
         [float(s) for s in np.atleast_1d(speeds_rpm)]
@@ -255,8 +255,8 @@ def joint_envelope(model, joints=("cam", "crank"), speeds_rpm=None, damper_state
         elements += model_joints(model, joint, levels + len(BELOW_TOLERANCE_FRACTIONS), thrust_scale=scale,
                                  label=label)
     spec = {"kind": model.kind, "labels": labels, "levels": int(levels), "cycles": int(cycles),
-            "run_in_cycles": int(run_in_cycles), "lash": bool(lash), "rtol": float(rtol), "jit": _auto_jit(jit),
-            "parameters": dict(parameters or {}), "min_speed_rpm": min(speeds)}
+            "run_in_cycles": int(run_in_cycles), "lash": bool(lash), "rtol": float(rtol), "jit": auto_jit(jit),
+            "parameters": dict(parameters or {}), "min_speed_rpm": min(speeds), "factory": model.factory}
     key = repr((id(model), sorted((k, repr(v)) for k, v in spec.items())))
     sim = joint_simulator(model.network, elements, lash=lash, rtol=rtol, jit=spec["jit"],
                           min_speed_rpm=spec["min_speed_rpm"])
@@ -278,8 +278,10 @@ def _envelope_point(task) -> list[dict]:
     """Rows of one (speed, damper state) point of :func:`joint_envelope`: ``task = (key, spec, data, point)``."""
     key, spec, data, (speed, state) = task
     if key not in _REGISTRY:  # a spawned worker: rebuild the model and simulator from the spec
-        from .default_model import default_timing_model
-        model = default_timing_model(spec["kind"], data=data)
+        import importlib
+        where, kwargs = spec["factory"]
+        module, function = where.split(":")
+        model = getattr(importlib.import_module(module), function)(data=data, **kwargs)
         elements = []
         for label, (joint, scale) in spec["labels"].items():
             elements += model_joints(model, joint, spec["levels"] + len(BELOW_TOLERANCE_FRACTIONS),

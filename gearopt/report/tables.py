@@ -8,6 +8,24 @@ from pathlib import Path
 import pandas as pd
 
 
+def eng(value: Any, digits: int = 3) -> str:
+    """A number at engineering precision: ``digits`` significant figures, no exponent between 1e-3 and 1e6
+    (``inf`` and strings pass through)."""
+    if isinstance(value, str):
+        return value
+    v = float(value)
+    if math.isinf(v):
+        return "inf" if v > 0 else "-inf"
+    if math.isnan(v):
+        return "n/a"
+    if v == 0.0:
+        return "0"
+    if not 1e-3 <= abs(v) < 1e6:
+        return f"{v:.{digits - 1}e}"
+    decimals = max(digits - 1 - int(math.floor(math.log10(abs(v)))), 0)
+    return f"{round(v, decimals):.{decimals}f}"
+
+
 def _fmt(v, digits: int) -> str:
     if isinstance(v, bool):
         return "yes" if v else "no"

@@ -132,7 +132,11 @@ def test_joint_and_blank_scene_reaches_the_analytic_optimum(train):
 
 
 def test_dynamic_load_case_builds_the_timing_model_once(train):
+    from gearopt.cases.timing_train import timing_model
+
+    system = go.load_system()
     scene = Scene("dyn", train=train, load_cases=[LoadCase.from_dynamics("rated", 2500.0)],
+                  dynamics_model=lambda kind: timing_model(system, kind),
                   variables=[DesignVariable("interference_um", "cam", 10.0, 150.0)],
                   objectives=[Objective("torque_margin", "cam", sense="max")],
                   limits=[Limit("hub_yield_safety", "cam", lower=1.5)])

@@ -145,7 +145,7 @@ def test_tooth_count_candidates_are_co_designed_warm_and_ranked(train):
     """Every admissible candidate (lube-branch teeth within 3 %) gets the same co-design scene, warm-started from the
     previous optimum; the table is ranked by the exact-verified objective and each optimum respects its own
     candidate's admissible root-shift interval (ISO/TR 4467 shift limits, imposed through geometry_limits)."""
-    from gearopt.design.scene_codesign import rank_tooth_counts
+    from gearopt.design.train_design import rank_tooth_counts
     from gearopt.design.tooth_counts import enumerate_tooth_counts
 
     enumeration = enumerate_tooth_counts(train, default_tolerance_percent=3.0, span=1)
@@ -238,7 +238,7 @@ def test_refinement_raises_the_face_slices_of_a_helical_mesh_until_smooth_and_ex
 
 @pytest.mark.parametrize("allowance", [-0.01, 0.9, float("nan")])
 def test_codesign_study_names_a_bad_contact_stress_allowance(allowance):
-    from gearopt.design.scene_codesign import codesign_study
+    from gearopt.cases.timing_train import codesign_study
 
     with pytest.raises(GearoptInputError, match="contact_stress_allowance"):
         codesign_study(options=("spur",), quick=True, contact_stress_allowance=allowance)

@@ -7,7 +7,7 @@ import pytest
 from dynamics_networks import J1, R1, forced_pair
 
 from gearopt.data import load_default_data
-from gearopt.dynamics import default_timing_model
+from gearopt.cases.timing_train import default_timing_model
 from gearopt.dynamics.mesh import MeshStiffnessShape
 from gearopt.dynamics.sensitivity import response_sensitivities
 from gearopt.dynamics.simulate import Simulator, node_accelerations

@@ -6,7 +6,8 @@ import matplotlib
 import numpy as np
 import pytest
 
-from gearopt.dynamics import TorsionalNetwork, default_timing_model
+from gearopt.cases.timing_train import default_timing_model
+from gearopt.dynamics import TorsionalNetwork
 from gearopt.errors import GearoptInputError
 from gearopt.report.dynamics_figures import DEFAULT_ORDERS, campbell_table, plot_campbell
 from gearopt.report.figure_checks import readability_issues

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from gearopt.data import load_default_train
-from gearopt.dynamics import default_timing_model
+from gearopt.cases.timing_train import default_timing_model
 from gearopt.dynamics.ltca_stiffness import ltca_mesh_stiffness
 from gearopt.dynamics.mesh import MeshStiffnessShape
 from gearopt.errors import GearoptInputError

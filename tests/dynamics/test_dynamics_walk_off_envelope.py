@@ -80,7 +80,7 @@ def test_no_creep_no_walk_off_and_bad_input():
 def test_joint_demand_on_the_default_model_matches_walk_off_and_the_shaft_torque():
     # independent code paths: the element's thrust against gearopt.joints.walk_off on the simulated mesh torques,
     # and its joint torque (mesh torques - J alpha) against the network's own cam-shaft torque output
-    from gearopt.dynamics import default_timing_model
+    from gearopt.cases.timing_train import default_timing_model
     from gearopt.dynamics.joint_friction import JointSimulator
     from gearopt.dynamics.walk_off_envelope import model_joints
     model = default_timing_model("helical")
@@ -106,7 +106,7 @@ def test_regularisation_converges_at_the_envelopes_overstress():
     # and 100 m/s on one trajectory: the slip path and the gear's axial travel change little with V
     import dataclasses
 
-    from gearopt.dynamics import default_timing_model
+    from gearopt.cases.timing_train import default_timing_model
     from gearopt.dynamics.joint_friction import joint_simulator
     from gearopt.dynamics.walk_off_envelope import (
         DAMPER_PARAMETER,
@@ -154,7 +154,7 @@ def test_envelope_rows_per_level_and_no_simulator_left_behind():
     """One (speed, damper) point of the cam joint: a row per capacity level (the below-tolerance fractions first,
     then the toleranced levels, weakest to strongest, capacities rising), fit cases named; the envelope's simulator
     is dropped from the worker registry when it returns (repeated calls do not accumulate simulators)."""
-    from gearopt.dynamics import default_timing_model
+    from gearopt.cases.timing_train import default_timing_model
     from gearopt.dynamics import walk_off_envelope as env
 
     model = default_timing_model("spur", data=DATA)

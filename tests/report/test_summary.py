@@ -6,7 +6,7 @@ import pytest
 import gearopt as go
 from gearopt.design import optimise_microgeometry
 from gearopt.report import contact_headlines as ch
-from gearopt.report.summary import build_summary, eng, headlines_markdown, summary_markdown
+from gearopt.cases.timing_train.summary import build_summary, eng, headlines_markdown, summary_markdown
 
 
 def test_engineering_precision():

@@ -32,12 +32,13 @@ from typing import Callable, Sequence
 import numpy as np
 import pandas as pd
 
-from ..contact.ltca import ltca
-from ..errors import GearoptInputError, SolveError
-from ..geometry.train import GearTrain
-from ..validation import check_range
-from .scene import DEFAULT_LTCA_OPTIONS, Scene, SceneResult
-from .scene_spec import DesignVariable, Limit, LoadCase, Objective
+from ...contact.ltca import ltca
+from ...errors import GearoptInputError, SolveError
+from ...geometry.train import GearTrain
+from ...validation import check_range
+from ...design.scene import DEFAULT_LTCA_OPTIONS, Scene, SceneResult
+from ...design.scene_spec import DesignVariable, Limit, LoadCase, Objective
+from ...design.train_design import loaded_flanks
 
 CODESIGN_IPOPT = {"hessian_approximation": "limited-memory"}
 """Ipopt options of the co-design solves: a quasi-Newton (L-BFGS) Hessian. The exact Hessian of the macro-symbolic
@@ -138,12 +139,6 @@ class CodesignStudy:
         return out
 
 
-def loaded_flanks(train: GearTrain, meshes: Sequence[str]) -> dict[str, list[str]]:
-    """Mesh -> its loaded flanks (``"gear:driving"`` of the first-named, driving gear, ``"gear:driven"`` of the
-    other)."""
-    return {m: [f"{train.meshes[m].gears[0]}:driving", f"{train.meshes[m].gears[1]}:driven"] for m in meshes}
-
-
 def design_entry(result: SceneResult, flanks: dict[str, list[str]], macro: dict | None) -> dict:
     """JSON-ready numbers of one design: macro values, per-flank modifications, per-mesh exact PPTE and margins."""
     values = result.values
@@ -189,8 +184,8 @@ def design_entry(result: SceneResult, flanks: dict[str, list[str]], macro: dict 
 
 
 def _axial_margins(data: dict, train: GearTrain, beta: float, torques: dict, speed_rpm: float) -> dict:
-    from ..joints import joint_capacity
-    from ..joints.walk_off import walk_off
+    from ...joints import joint_capacity
+    from ...joints.walk_off import walk_off
 
     helical = dataclasses.replace(train, helix_angle_deg=beta)
     axial = walk_off(helical, torques).axial_force_N
@@ -254,7 +249,7 @@ def codesign_study(data: dict | None = None, *, options: Sequence[str] = ("spur"
     maximum by this fraction (:data:`CONTACT_STRESS_ALLOWANCE`). ``sequential_options``: ``ltca_options``
     overrides of the sequential design's scene only (fixed macro geometry; default :data:`SEQUENTIAL_OPTIONS`).
     ``codesign_ipopt``: Ipopt options of the co-design solves (default :data:`CODESIGN_IPOPT`)."""
-    from ..data import load_default_data, system_from_data, train_from_data, values
+    from ...data import load_default_data, system_from_data, train_from_data, values
 
     check_range("contact_stress_allowance", contact_stress_allowance, 0.0, 0.5)
     data = data or load_default_data()
@@ -344,51 +339,5 @@ def codesign_study(data: dict | None = None, *, options: Sequence[str] = ("spur"
     return CodesignStudy(out, flanks, settings)
 
 
-def rank_tooth_counts(enumeration, make_scene: Callable[[GearTrain], Scene], *, limit: int | None = None,
-                      warm_start: bool = True) -> pd.DataFrame:
-    """Co-design every admissible tooth-count candidate of ``enumeration``
-    (:func:`gearopt.design.tooth_counts.enumerate_tooth_counts`) and rank them by the verified objective.
-
-    ``make_scene(train)`` returns the co-design scene of a candidate's train (the enumeration's train with the
-    candidate's teeth; its root shift starts in the middle of the candidate's admissible interval). Candidates are
-    solved in enumeration order (at most ``limit``), each warm-started from the previous optimum (the values of the
-    variables both scenes share, clipped into the new bounds, and the previous refined positions) when
-    ``warm_start``. A failed solve stays in the table with its typed error. Columns: the teeth, ``objective``
-    (exact-LTCA PPTE terms, :mod:`gearopt.design.scene_refine`), ``max_ppte_um`` (largest exact PPTE of the
-    objective meshes), ``root_profile_shift``, ``refinements``, ``time_s``, ``status``; best first."""
-    from .tooth_counts import _train_with_teeth
-
-    rows, prev = [], None
-    table = enumeration.admissible if limit is None else enumeration.admissible.head(limit)
-    for idx, cand in table.iterrows():
-        teeth = enumeration.teeth(cand)
-        x0 = 0.5 * (float(cand["root_shift_min"]) + float(cand["root_shift_max"]))
-        scene = make_scene(_train_with_teeth(enumeration.train, teeth, x0))
-        kw = {}
-        if warm_start and prev is not None:
-            kw = {"initial": prev.values, "positions": prev.positions}
-        row = {f"teeth_{g}": z for g, z in teeth.items()}
-        t0 = time.perf_counter()
-        try:
-            res = scene.build(**kw).solve()
-        except SolveError as exc:
-            rows.append({**row, "objective": np.inf, "status": f"{type(exc).__name__}: {exc.status}",
-                         "time_s": time.perf_counter() - t0})
-            continue
-        ppte = [o.target for o in scene.objectives if o.quantity == "ppte_um"]
-        ex = res.exact_check
-        verified = res.refinement.attrs.get("verified_objective") if res.refinement is not None else None
-        rows.append({**row, "objective": float(verified if verified is not None and np.isfinite(verified)
-                                               else res.solve.objective),
-                     "max_ppte_um": float(ex[ex["mesh"].isin(ppte)]["ppte_um"].max()) if len(ex) else np.nan,
-                     "root_profile_shift": res.values.get("train.root_profile_shift", x0),
-                     "refinements": res.refinements, "time_s": time.perf_counter() - t0, "status": "solved"})
-        prev = res
-    out = pd.DataFrame(rows).sort_values("objective", kind="stable").reset_index(drop=True)
-    out.insert(0, "rank", np.arange(1, len(out) + 1))
-    return out
-
-
-__all__ = ["codesign_study", "rank_tooth_counts", "CodesignStudy", "CodesignOption", "design_entry", "loaded_flanks",
-           "macro_first_helix",
-           "MESHES", "WALK_OFF_JOINTS"]
+__all__ = ["codesign_study", "CodesignStudy", "CodesignOption", "design_entry", "macro_first_helix", "MESHES",
+           "WALK_OFF_JOINTS"]

@@ -10,10 +10,10 @@ import math
 
 import pandas as pd
 
-from ..data import values
-from ..errors import GeometryError
-from ..geometry.conversion import helical_to_spur_table
-from ..geometry.train import GearTrain
+from ...data import values
+from ...errors import GeometryError
+from ...geometry.conversion import helical_to_spur_table
+from ...geometry.train import GearTrain
 
 
 def conversion_table(helical: GearTrain, thesis: dict) -> pd.DataFrame:

@@ -46,19 +46,19 @@ import casadi as ca
 import numpy as np
 import pandas as pd
 
-from ..rating.stiffness import mesh_stiffness_table
-from ..data import load_default_data, system_from_data, train_from_data, values
-from .. import compile_cache
-from ..errors import GearoptInputError
-from ..validation import check_range
-from .mesh import (
+from ...rating.stiffness import mesh_stiffness_table
+from ...data import load_default_data, system_from_data, train_from_data, values
+from ... import compile_cache
+from ...errors import GearoptInputError
+from ...validation import check_range
+from ...dynamics.mesh import (
     DEFAULT_CONTACT_WIDTH_M,
     DEFAULT_DAMPING_WIDTH_M,
     DEFAULT_HARMONICS,
     MeshStiffnessShape,
 )
-from .network import TorsionalNetwork
-from .simulate import Simulation, simulate, simulator
+from ...dynamics.network import TorsionalNetwork
+from ...dynamics.simulate import Simulation, simulate, simulator
 
 KINDS = ("spur", "helical")
 PRESSURE_SCALE = "cylinders.pressure_scale"
@@ -85,10 +85,22 @@ class TimingModel:
     notes: list = field(default_factory=list)
     gear_nodes: dict = field(default_factory=dict)
 
+    @property
+    def factory(self) -> tuple[str, dict]:
+        """How a spawned worker rebuilds this model from the data: (``"module:function"``, keyword arguments
+        besides ``data``)."""
+        return f"{__name__}:default_timing_model", {"kind": self.kind}
+
+    @property
+    def default_speeds_rpm(self) -> list[float]:
+        """Crank speeds of a default speed sweep [rpm]: the engine's idle and overspeed-test speeds."""
+        e = values(self.data)["engine"]
+        return [float(e["idle_speed_rpm"]), float(e["overspeed_test_speed_rpm"])]
+
     def parameters_at(self, speed_rpm: float, load: float | None = None) -> dict:
         """Parameter overrides for ``speed_rpm`` [rpm]: the cylinder-pressure scale that makes the trace's peak the
         speed-load map's peak pressure (:func:`gearopt.engine.peak_pressure_bar`)."""
-        from ..engine import peak_pressure_bar
+        from ...engine import peak_pressure_bar
         load = self.load if load is None else load
         return {PRESSURE_SCALE: float(peak_pressure_bar(speed_rpm, load, self.data)) / self.raw_peak_pressure_bar}
 
@@ -129,12 +141,7 @@ class TimingModel:
         return self.network.natural_frequencies_Hz(boundary=boundary)
 
 
-def _auto_jit(jit: bool | None) -> bool:
-    """``jit=None``: compile (through the cache) unless ``GEAROPT_JIT=0``; without a C compiler the cache falls
-    back to the interpreted functions with a notice (:mod:`gearopt.compile_cache`)."""
-    if jit is None:
-        return compile_cache.jit_enabled()
-    return bool(jit)
+_auto_jit = compile_cache.auto_jit
 
 
 _PRESSURE_FUNCTIONS: dict = {}
@@ -208,8 +215,8 @@ def default_timing_model(kind: str = "spur", *, data: dict | None = None, load: 
     default data (potential-energy tooth model): LTCA means 4-18 % above ISO (crank-cam +5.6 %, cam-AC +7.7 %,
     cam-FP +4.0 %, crank-LPI +11 %, LPI-LPG +17 % spur; +6 to +18 % helical). Module docstring: choices.
     """
-    from ..engine import AccessoryTorque, EngineExcitation
-    from ..engine.kinematics import slider_crank
+    from ...engine import AccessoryTorque, EngineExcitation
+    from ...engine.kinematics import slider_crank
 
     _check_kind(kind)
     check_range("load", load, 0.0, 1.0)
@@ -271,7 +278,7 @@ def default_timing_model(kind: str = "spur", *, data: dict | None = None, load: 
     if mesh_stiffness not in ("iso6336", "ltca"):
         raise GearoptInputError(f"mesh_stiffness={mesh_stiffness!r} must be 'iso6336' or 'ltca'")
     if mesh_stiffness == "ltca":
-        from .ltca_stiffness import ltca_mesh_stiffness
+        from ...dynamics.ltca_stiffness import ltca_mesh_stiffness
         torques = dict(ltca_torques_Nm or {})
         design = system_from_data(raw).design_torques_Nm()
         for name in train.pairs:

@@ -14,6 +14,8 @@ from __future__ import annotations
 import math
 from typing import Any, Iterable
 
+from ...report.tables import eng
+
 #: Default limits of the requirements (overridden by the caller, e.g. from the data's ``[design_limits]``).
 #: ISO 6336-2/-3 leave the minimum safety factors to the user; S_H >= 1.0 and S_F >= 1.4 are conventional minima for
 #: gears of normal reliability (a bending failure is worse than pitting). Slip, walk-off and hub yield margins below 1
@@ -21,24 +23,6 @@ from typing import Any, Iterable
 DEFAULT_LIMITS = {"min_slip_margin": 1.0, "min_axial_margin": 1.0, "min_hub_yield_safety": 1.0, "min_S_H": 1.0,
                   "min_S_F": 1.4, "max_contact_temperature_C": 150.0, "min_contact_ratio": 1.2,
                   "min_loaded_contact_ratio": 1.2}
-
-
-def eng(value: Any, digits: int = 3) -> str:
-    """A number at engineering precision: ``digits`` significant figures, no exponent between 1e-3 and 1e6
-    (``inf`` and strings pass through)."""
-    if isinstance(value, str):
-        return value
-    v = float(value)
-    if math.isinf(v):
-        return "inf" if v > 0 else "-inf"
-    if math.isnan(v):
-        return "n/a"
-    if v == 0.0:
-        return "0"
-    if not 1e-3 <= abs(v) < 1e6:
-        return f"{v:.{digits - 1}e}"
-    decimals = max(digits - 1 - int(math.floor(math.log10(abs(v)))), 0)
-    return f"{round(v, decimals):.{decimals}f}"
 
 
 def _round(value: Any, digits: int = 3) -> Any:

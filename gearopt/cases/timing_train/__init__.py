@@ -1,0 +1,24 @@
+"""The timing-train case: the packaged diesel engine's timing gear train (``gearopt/data/default_train.toml``).
+
+Everything that knows this train by name lives here: its torsional model with the engine, camshaft and accessory
+drives (:mod:`.model`), the co-design study of its spur and low-helix options (:mod:`.codesign`), the failure
+reproduction of the helical cam gear's walk-off (:mod:`.failure`), the comparison with the source study's macro
+design tables (:mod:`.macro_design`) and the verdict-first summary of the main job's result (:mod:`.summary`).
+``problems/cam_gear_walkoff.py`` runs them.
+"""
+
+from .codesign import (CONTACT_STRESS_ALLOWANCE, GEOMETRY_LIMITS, MESHES, WALK_OFF_JOINTS, CodesignOption,
+                       CodesignStudy, codesign_study)
+from .failure import FIELD_RATE, HELICAL_ALTERNATIVES, failure_reproduction
+from .model import TimingModel, default_timing_model
+
+
+def timing_model(system, kind: str = "spur", **options) -> TimingModel:
+    """The timing-system model of a :class:`~gearopt.data.System` of the packaged timing train's layout (an
+    ``[engine]`` section and the timing train's gears): :func:`default_timing_model` on the system's data."""
+    return default_timing_model(kind, data=system.data, **options)
+
+
+__all__ = ["TimingModel", "default_timing_model", "timing_model", "codesign_study", "CodesignStudy",
+           "CodesignOption", "MESHES", "WALK_OFF_JOINTS", "GEOMETRY_LIMITS",
+           "CONTACT_STRESS_ALLOWANCE", "failure_reproduction", "FIELD_RATE", "HELICAL_ALTERNATIVES"]
