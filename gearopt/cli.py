@@ -16,6 +16,7 @@ message names the file, the key path or section, and what to add) or a failed so
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import os
 import sys
 from pathlib import Path
@@ -249,6 +250,8 @@ def _scene_command(args) -> int:
     if notice:
         print(notice)
     scene = scene_from_data({"scenes": {name: spec}}, name, train_data=system.data)
+    if any(lc.dynamics is not None for lc in scene.load_cases):
+        scene = dataclasses.replace(scene, dynamics_model=lambda kind: _dynamics_model(system, kind))
     try:
         result = scene.build().solve(starts=args.starts)
     except InfeasibleProblemError as err:  # the limits cannot all be met: a requirement fails, not bad input
@@ -266,6 +269,23 @@ def _scene_command(args) -> int:
              -1e-6 * max(1.0, abs(float(r["lower"] if pd.notna(r["lower"]) else r["upper"]))), ">=", str(r["unit"]))
             for _, r in q.iterrows() if r.get("role") == "limit" and pd.notna(r["margin"])]
     return _verdict(rows)
+
+
+def run_script(main_function, argv: list[str] | None = None) -> int:
+    """Run a script's ``main(argv)`` under the command line's exit-code rule: its own code (0 pass, 1 a requirement
+    fails), 2 with a one-line ``error:`` message for bad input or a failed solve (any
+    :class:`~gearopt.errors.GearoptError`), 3 for an internal error (the traceback with ``GEAROPT_TRACEBACK=1``)."""
+    try:
+        return int(main_function(argv) or 0)
+    except GearoptError as err:
+        print(f"error: {err}", file=sys.stderr)
+        return 2
+    except Exception as err:  # noqa: BLE001 -- a bug, not bad input: one line (the traceback on request), exit 3
+        if os.environ.get("GEAROPT_TRACEBACK"):
+            raise
+        print(f"internal error (a gearopt bug; GEAROPT_TRACEBACK=1 shows the traceback): {type(err).__name__}: {err}",
+              file=sys.stderr)
+        return 3
 
 
 def _add_data(p) -> None:
@@ -325,17 +345,7 @@ def main(argv: list[str] | None = None) -> int:
     s.add_argument("--mesh", default=None, help="run the scene on this mesh of the data (a scene of one mesh)")
     s.set_defaults(run=_scene_command)
     args = parser.parse_args(argv)
-    try:
-        return args.run(args)
-    except GearoptError as err:
-        print(f"error: {err}", file=sys.stderr)
-        return 2
-    except Exception as err:  # noqa: BLE001 -- a bug, not bad input: one line (the traceback on request), exit 3
-        if os.environ.get("GEAROPT_TRACEBACK"):
-            raise
-        print(f"internal error (a gearopt bug; GEAROPT_TRACEBACK=1 shows the traceback): {type(err).__name__}: {err}",
-              file=sys.stderr)
-        return 3
+    return run_script(lambda _: args.run(args))
 
 
 if __name__ == "__main__":

@@ -24,7 +24,9 @@ import matplotlib
 
 matplotlib.use("Agg")
 
-from gearopt.data import load_default_data, train_from_data
+from gearopt.cli import run_script
+from gearopt.data import load_system, train_from_data
+from gearopt.errors import GearoptInputError
 from gearopt.design.scene import DesignVariable, Limit, Objective, Scene
 from gearopt.studies import pareto_front, sensitivity_report
 
@@ -33,10 +35,9 @@ THICKNESS_BOUNDS_MM = (4.0, 20.0)
 MIN_BACKUP_RATIO = 1.2
 
 
-def build_scene(gear: str, data: dict | None = None) -> Scene:
-    """The blank scene of ``gear`` in the spur train of ``data`` (default: the packaged data)."""
+def build_scene(gear: str, data: dict) -> Scene:
+    """The blank scene of ``gear`` in the spur train of ``data``."""
     lo, hi = THICKNESS_BOUNDS_MM
-    data = data if data is not None else load_default_data()
     return Scene(f"{gear} blank", train=train_from_data(data, "spur"), data=data,
                  variables=[DesignVariable("web_thickness_mm", gear, lo, hi),
                             DesignVariable("rim_thickness_mm", gear, lo, hi)],
@@ -46,7 +47,8 @@ def build_scene(gear: str, data: dict | None = None) -> Scene:
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--gear", default="cam", help="gear of the spur train whose blank is designed (default cam)")
+    parser.add_argument("--gear", default=None,
+                        help="gear of the spur train whose blank is designed (default: the largest gear with a joint)")
     parser.add_argument("--points", type=int, default=11, help="points of the front (default 11)")
     parser.add_argument("--quick", action="store_true", help="5 points")
     parser.add_argument("--out", type=Path, default=DEFAULT_OUT, help=f"output directory (default {DEFAULT_OUT})")
@@ -58,7 +60,15 @@ def main(argv: list[str] | None = None) -> int:
         parser.error(f"--points {points} must be >= 3")
     args.out.mkdir(parents=True, exist_ok=True)
     t0 = time.perf_counter()
-    scene = build_scene(args.gear, load_default_data(args.data))
+    system = load_system(args.data)
+    system.require("joints", "the blank design (a gear's bore and hub come from its joint)")
+    if args.gear is None:
+        held = [j.gear for j in system.joints.values()]
+        args.gear = max(held, key=lambda g: (system.gears[g].teeth, -held.index(g)))
+    if system.joint_of(args.gear) is None:
+        raise GearoptInputError(f"{system.source}: --gear {args.gear!r} has no [joints.*] entry: its bore and hub "
+                                f"are unknown (gears with joints: {', '.join(j.gear for j in system.joints.values())})")
+    scene = build_scene(args.gear, system.data)
     front = pareto_front(scene, "rim_backup_ratio", args.gear, points=points)
     front.table.to_csv(args.out / "front.csv", index=False)
     front.plot().savefig(args.out / "front.png", dpi=110)
@@ -80,4 +90,4 @@ def main(argv: list[str] | None = None) -> int:
 
 
 if __name__ == "__main__":
-    raise SystemExit(main())
+    raise SystemExit(run_script(main))

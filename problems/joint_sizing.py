@@ -32,11 +32,12 @@ from pathlib import Path
 
 import pandas as pd
 
-from gearopt.data import load_default_data, system_from_data, train_from_data
+from gearopt.cli import run_script
+from gearopt.data import load_default_data, load_system, system_from_data, train_from_data
 from gearopt.data import values as data_values
 from gearopt.design.joint_sizing import (JointDemand, PressFitSpec, TaperFitSpec, press_fit_margin_table, size_joint,
                                          taper_margin_table)
-from gearopt.errors import SolveError
+from gearopt.errors import GearoptInputError, SolveError
 from gearopt.joints.walk_off import walk_off
 
 DEFAULT_OUT = Path("out") / "joint_sizing"
@@ -51,8 +52,9 @@ def design_mesh_torques_Nm(data: dict) -> dict[str, float]:
 
 def joint_demands(data: dict, kind: str, overspeed_torque_factor: float = 1.0) -> dict[str, list[JointDemand]]:
     """{gear: [rated, overspeed] JointDemand} of every gear of the ``kind`` train at the design loads."""
-    train = train_from_data(data, kind)
-    engine = data_values(data)["engine"]
+    system = system_from_data(data)
+    train = system.train(kind)
+    rated_rpm, overspeed_rpm = system.speeds_rpm("joint sizing")
     res = walk_off(train, design_mesh_torques_Nm(data))
     out = {}
     for gear in train.gears:
@@ -60,9 +62,9 @@ def joint_demands(data: dict, kind: str, overspeed_torque_factor: float = 1.0) -
         ratio = abs(float(train.speed_ratios[gear]))
         if T == 0.0 and F == 0.0:
             continue
-        out[gear] = [JointDemand(T, F, ratio * engine["rated_speed_rpm"], "rated"),
+        out[gear] = [JointDemand(T, F, ratio * rated_rpm, "rated"),
                      JointDemand(overspeed_torque_factor * T, overspeed_torque_factor * F,
-                                 ratio * engine["overspeed_test_speed_rpm"], "overspeed")]
+                                 ratio * overspeed_rpm, "overspeed")]
     return out
 
 
@@ -134,7 +136,9 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--margin", type=float, default=1.5, help="target slip margin (default 1.5)")
     parser.add_argument("--train", choices=("spur", "helical", "both"), default="both")
-    parser.add_argument("--joints", nargs="+", default=list(DEFAULT_JOINTS), help="joints of [joints.*]")
+    parser.add_argument("--joints", nargs="+", default=None,
+                        help="joints of [joints.*] (default: the timing train's crank, cam, AC and FP joints when the "
+                             "data has them, else every joint)")
     parser.add_argument("--overspeed-torque-factor", type=float, default=1.0,
                         help="torque factor of the overspeed case over the design loads (default 1)")
     parser.add_argument("--quick", action="store_true", help="accepted for uniformity (the sizing is fast)")
@@ -142,10 +146,15 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--data", type=Path, default=None, metavar="FILE",
                         help="train data file (TOML in the format of the packaged default data; default: that data)")
     args = parser.parse_args(argv)
-    data = load_default_data(args.data)
-    unknown = [j for j in args.joints if j not in data_values(data)["joints"]]
+    system = load_system(args.data)
+    system.require("joints", "joint sizing")
+    data = system.data
+    if args.joints is None:
+        args.joints = [j for j in DEFAULT_JOINTS if j in system.joints] or list(system.joints)
+    unknown = [j for j in args.joints if j not in system.joints]
     if unknown:
-        parser.error(f"--joints {unknown}: not in [joints] ({sorted(data_values(data)['joints'])})")
+        raise GearoptInputError(f"{system.source}: --joints {' '.join(unknown)}: not a [joints.*] entry "
+                                f"({', '.join(system.joints)})")
     if not args.margin >= 1.0:
         parser.error(f"--margin {args.margin} must be >= 1")
     if not args.overspeed_torque_factor > 0.0:
@@ -181,4 +190,4 @@ def main(argv: list[str] | None = None) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(run_script(main))

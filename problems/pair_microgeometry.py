@@ -28,34 +28,28 @@ import numpy as np
 import pandas as pd
 
 from gearopt.contact.harris import harris_map
-from gearopt.data import load_default_data, system_from_data, train_from_data
-from gearopt.data import values as data_values
+from gearopt.cli import run_script
+from gearopt.errors import GearoptInputError
+from gearopt.data import load_system
 from gearopt.design import optimise_microgeometry
 from gearopt.report import ltca_figures as figs
 
 DEFAULT_OUT = Path("out") / "pair_microgeometry"
 
 
-def design_torque_Nm(data: dict, mesh: str) -> float:
-    """Design torque of a mesh on its driving gear (``[meshes.<mesh>] design_torque_Nm``) [N m]."""
-    return system_from_data(data).design_torque_Nm(mesh)
-
-
 def run(mesh: str, quick: bool, data_path: Path | None = None) -> dict:
     """Optimise the pair's microgeometry over its torque range and compute the Harris maps (no files)."""
-    data = load_default_data(data_path)
-    values = data_values(data)
-    pair = train_from_data(data, "spur").pairs[mesh]
-    t_design = design_torque_Nm(data, mesh)
+    system = load_system(data_path)
+    pair = system.train("spur").pairs[mesh]
+    t_design = system.design_torque_Nm(mesh)
     # the design torque first (optimise_microgeometry reports at the first load case), then the rest of the range
-    fractions = values["design_loads"]["torque_range_fractions"]
-    torques = [t_design] + [t_design * f for f in fractions if f != 1.0]
+    torques = list(system.torque_range_Nm(mesh))
+    limits = system.design_limits
+    min_lcr = limits.min_loaded_contact_ratio if limits and limits.min_loaded_contact_ratio is not None else 1.2
     settings = (dict(positions=20, check_positions=160, starts=1) if quick else {})
     timings = {}
     t0 = time.perf_counter()
-    design = optimise_microgeometry(pair, torques,
-                                    min_loaded_contact_ratio=values["design_limits"]["min_loaded_contact_ratio"],
-                                    **settings)
+    design = optimise_microgeometry(pair, torques, min_loaded_contact_ratio=min_lcr, **settings)
     timings["microgeometry_nlp_s"] = time.perf_counter() - t0
     t0 = time.perf_counter()
     grid = np.linspace(0.25, 2.0, 8 if quick else 15) * t_design
@@ -106,15 +100,19 @@ def write(out: Path, r: dict) -> dict:
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--mesh", default="crank-cam", help="mesh of the spur train (default crank-cam)")
+    parser.add_argument("--mesh", default=None, help="mesh of the spur train (default: its only mesh, else its root "
+                                                      "mesh)")
     parser.add_argument("--quick", action="store_true", help="coarse settings (used by the tests)")
     parser.add_argument("--out", type=Path, default=DEFAULT_OUT, help=f"output directory (default {DEFAULT_OUT})")
     parser.add_argument("--data", type=Path, default=None, metavar="FILE",
                         help="train data file (TOML in the format of the packaged default data; default: that data)")
     args = parser.parse_args(argv)
-    meshes = list(train_from_data(load_default_data(args.data), "spur").pairs)
-    if args.mesh not in meshes:
-        parser.error(f"--mesh {args.mesh!r} is not a mesh of the spur train: {meshes}")
+    system = load_system(args.data)
+    train = system.train("spur")
+    args.mesh = args.mesh or (next(iter(train.pairs)) if len(train.pairs) == 1 else train.root_mesh)
+    if args.mesh not in train.pairs:
+        raise GearoptInputError(f"{system.source}: --mesh {args.mesh!r} is not a mesh of the spur train "
+                                f"({', '.join(train.pairs)})")
     r = run(args.mesh, args.quick, args.data)
     s = write(args.out / args.mesh, r)
     print(f"{args.mesh}: microgeometry over {', '.join(f'{t:g}' for t in s['torque_range_Nm'])} N m "
@@ -129,4 +127,4 @@ def main(argv: list[str] | None = None) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(run_script(main))

@@ -1,8 +1,9 @@
-"""What does a smaller PPTE cost? Trade-off front, sensitivity report and tolerance robustness of the crank-cam tip
-relief over its torque range.
+"""What does a smaller PPTE cost? Trade-off front, sensitivity report and tolerance robustness of one mesh's tip
+relief over its torque range (``--mesh``; default the spur train's only or root mesh: crank-cam of the packaged
+timing train).
 
-Scene: the spur crank-cam pair's four tip-relief variables (amounts and start roll angles of both gears), the
-largest PPTE over the data's torque range (``[meshes.crank-cam] design_torque_Nm`` x ``[design_loads] torque_range_fractions``)
+Scene: the spur pair's four tip-relief variables (amounts and start roll angles of both gears), the largest PPTE
+over the data's torque range (``[meshes.<mesh>] design_torque_Nm`` x ``[design_loads] torque_range_fractions``)
 minimised, with the limits of the data (``[design_limits]``): loaded contact ratio >= ``min_loaded_contact_ratio``
 at every torque, and the largest contact stress not above the unmodified pair's own maximum (exact LTCA).
 
@@ -17,7 +18,7 @@ at every torque, and the largest contact stress not above the unmodified pair's 
 Writes to ``out/ppte_trade_off/``: ``front.csv``, ``front.png``, ``sensitivity.csv``, ``sensitivity.md``,
 ``monte_carlo_summary.csv`` (nominal and robust design), ``sobol_indices.csv``, ``summary.json``.
 
-Usage: ``python problems/ppte_trade_off.py [--points 9] [--samples 2000] [--executor serial|processes|dask]
+Usage: ``python problems/ppte_trade_off.py [--mesh MESH] [--points 9] [--samples 2000] [--executor serial|processes|dask]
 [--quick] [--out DIR]``.
 """
 
@@ -33,31 +34,40 @@ import matplotlib
 matplotlib.use("Agg")
 import pandas as pd
 
-from gearopt.data import load_default_data, train_from_data
+from gearopt.cli import run_script
+from gearopt.data import load_system
 from gearopt.design.scene import Scene
 from gearopt.errors import GearoptInputError
 from gearopt.studies import (Tolerance, monte_carlo, pareto_front, relief_scene_from_data, robust_design,
                              sensitivity_report, sobol_indices)
 from gearopt.studies.tolerances import MICROGEOMETRY_TOLERANCES
 
-MESH = "crank-cam"
 from gearopt.studies.scene_study import RELIEF  # noqa: E402  (the four relief variables of the scene)
 DEFAULT_OUT = Path("out") / "ppte_trade_off"
 
 
-def build_scene(quick: bool, data_file: Path | None = None) -> tuple[Scene, dict]:
-    """The data's tip-relief scene of crank-cam (``quick``: 24 NLP positions instead of 40) and its data
-    (``data_file``: your own train; default the packaged data)."""
-    data = load_default_data(data_file)
-    scene = relief_scene_from_data(data, train_from_data(data, "spur"), MESH,
-                                   positions=24 if quick else None)
-    return scene, {"torques_Nm": [lc.torque_Nm for lc in scene.load_cases],
+def default_mesh(system) -> str:
+    """The mesh studied when none is named: the spur train's only mesh, else its root mesh."""
+    train = system.train("spur")
+    return next(iter(train.pairs)) if len(train.pairs) == 1 else train.root_mesh
+
+
+def build_scene(quick: bool, data_file: Path | None = None, mesh: str | None = None) -> tuple[Scene, dict]:
+    """The data's tip-relief scene of ``mesh`` (default :func:`default_mesh`; ``quick``: 24 NLP positions instead
+    of 40) and its data (``data_file``: your own train; default the packaged timing train)."""
+    system = load_system(data_file)
+    mesh = mesh or default_mesh(system)
+    system.mesh(mesh)
+    scene = relief_scene_from_data(system.data, system.train("spur"), mesh, positions=24 if quick else None)
+    return scene, {"mesh": mesh, "torques_Nm": [lc.torque_Nm for lc in scene.load_cases],
                    "max_contact_stress_limit_MPa": scene.limits[0].upper,
                    "min_loaded_contact_ratio": scene.limits[1].lower}
 
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--mesh", default=None, help="mesh of the spur train (default: its only mesh, else its root "
+                                                      "mesh)")
     parser.add_argument("--points", type=int, default=9, help="points of the front (default 9)")
     parser.add_argument("--samples", type=int, default=2000, help="Monte Carlo samples (default 2000)")
     parser.add_argument("--executor", default="serial", help="serial, processes, dask or a scheduler address")
@@ -72,14 +82,15 @@ def main(argv: list[str] | None = None) -> int:
         parser.error(f"--points {points} must be >= 3 and --samples {samples} >= 1")
     args.out.mkdir(parents=True, exist_ok=True)
     t0 = time.perf_counter()
-    scene, data = build_scene(args.quick, args.data)
+    scene, data = build_scene(args.quick, args.data, args.mesh)
+    mesh = data["mesh"]
 
-    front = pareto_front(scene, "loaded_contact_ratio", MESH, points=points, starts=1 if args.quick else 4,
+    front = pareto_front(scene, "loaded_contact_ratio", mesh, points=points, starts=1 if args.quick else 4,
                          executor=args.executor)
     front.table.to_csv(args.out / "front.csv", index=False)
     front.plot().savefig(args.out / "front.png", dpi=110)
     try:
-        pareto_front(scene, "max_contact_stress_MPa", MESH, points=3)
+        pareto_front(scene, "max_contact_stress_MPa", mesh, points=3)
         stress_front = "a front exists"
     except GearoptInputError as exc:
         stress_front = str(exc)
@@ -91,7 +102,7 @@ def main(argv: list[str] | None = None) -> int:
     (args.out / "sensitivity.md").write_text(report.markdown() + "\n")
 
     names = RELIEF[:2] if args.quick else RELIEF      # quick: the two amounts only (4 corners instead of 16)
-    tolerances = [Tolerance.symmetric(f"{MESH}.{v}", MICROGEOMETRY_TOLERANCES[v]) for v in names]
+    tolerances = [Tolerance.symmetric(f"{mesh}.{v}", MICROGEOMETRY_TOLERANCES[v]) for v in names]
     robust = robust_design(scene, tolerances, start=nominal)        # from the nominal optimum
     mc = {name: monte_carlo(r, samples=samples, seed=0, executor=args.executor, tolerances=tolerances)
           for name, r in (("nominal", nominal), ("robust", robust))}
@@ -135,4 +146,4 @@ def main(argv: list[str] | None = None) -> int:
 
 
 if __name__ == "__main__":
-    raise SystemExit(main())
+    raise SystemExit(run_script(main))

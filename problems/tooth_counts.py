@@ -1,8 +1,11 @@
-"""Tooth counts of the spur timing train at the helical train's centre distances (thesis section 3.4.1, Table 3.1).
+"""Tooth counts of a spur train at its centre distances (for the packaged timing train: thesis section 3.4.1,
+Table 3.1).
 
-Enumerates integer tooth counts around the default spur train, keeps those whose speed ratios stay within tolerance
-of the original helical train's (the camshaft exactly 2:1; the lube-pump branch, crank-LPI, may be off by up to
-``--lube-tolerance`` percent as the thesis accepted 2.7027 %) and whose centre distances profile shift can close
+Enumerates integer tooth counts around the data's spur train, keeps those whose speed ratios stay within tolerance
+of the reference -- the original helical train's where the data state each mesh's ``speed_ratio_error_percent``
+(the timing train: the camshaft exactly 2:1, the lube-pump branch off by up to 3 % as the thesis accepted 2.7027 %;
+``--ratio-tolerance MESH=PERCENT`` overrides), else the data's own tooth counts -- and whose centre distances profile
+shift can close
 within the ISO/TR 4467 and undercut limits; then optimises each candidate's shift split with Ipopt (largest
 smallest worst-case contact ratio, and largest smallest tip thickness) and ranks them. With Bonmin in CasADi, a
 relaxed mixed-integer model cross-checks the enumeration.
@@ -17,13 +20,16 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 import sys
 import time
 from pathlib import Path
 
 import casadi as ca
 
-from gearopt.data import load_default_data, train_from_data
+from gearopt.cli import run_script
+from gearopt.data import load_system, values
+from gearopt.errors import GearoptInputError
 from gearopt.design.tooth_counts import bonmin_cross_check, enumerate_tooth_counts, tooth_count_study
 
 DEFAULT_OUT = Path("out") / "tooth_counts"
@@ -36,8 +42,10 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--data", type=Path, default=None, metavar="FILE",
                         help="train data file (TOML in the format of the packaged default data; default: that data)")
     parser.add_argument("--span", type=int, default=None, help="teeth +- span per gear (default 4, quick 1)")
-    parser.add_argument("--lube-tolerance", type=float, default=3.0,
-                        help="allowed crank-LPI speed-ratio error, percent (thesis accepted 2.7027)")
+    parser.add_argument("--ratio-tolerance", nargs="*", default=None, metavar="MESH=PERCENT",
+                        help="allowed speed-ratio error of a mesh, percent (default: each mesh whose data state a "
+                             "speed_ratio_error_percent is allowed that error rounded up to a whole percent, e.g. "
+                             "the source study's accepted 2.7027 %% -> 3 %%)")
     parser.add_argument("--tolerance", type=float, default=0.0,
                         help="allowed speed-ratio error of every other mesh, percent (default 0)")
     args = parser.parse_args(argv)
@@ -45,12 +53,27 @@ def main(argv: list[str] | None = None) -> int:
     out = args.out
     out.mkdir(parents=True, exist_ok=True)
 
-    data = load_default_data(args.data)
-    train = train_from_data(data, "spur")
+    system = load_system(args.data)
+    data = system.data
+    train = system.train("spur")
+    meshes = values(data)["meshes"]
+    stated = {m: float(v["speed_ratio_error_percent"]) for m, v in meshes.items() if "speed_ratio_error_percent" in v}
+    if args.ratio_tolerance is None:
+        tolerances = {m: float(math.ceil(abs(e))) for m, e in stated.items() if e != 0.0}
+    else:
+        tolerances = {}
+        for item in args.ratio_tolerance:
+            mesh, sep, pct = item.partition("=")
+            if not sep or mesh not in train.pairs:
+                raise GearoptInputError(f"--ratio-tolerance {item!r}: give MESH=PERCENT with MESH one of "
+                                        f"{', '.join(train.pairs)}")
+            tolerances[mesh] = float(pct)
+    # the original helical train's ratios where the data state the spur counts' error against it, else the teeth
+    reference = "helical_original" if len(stated) == len(meshes) else "teeth"
     t0 = time.perf_counter()
-    enumeration = enumerate_tooth_counts(train, reference="helical_original", data=data, span=span,
+    enumeration = enumerate_tooth_counts(train, reference=reference, data=data, span=span,
                                          default_tolerance_percent=args.tolerance,
-                                         ratio_tolerance_percent={"crank-lpi": args.lube_tolerance})
+                                         ratio_tolerance_percent=tolerances)
     t_enum = time.perf_counter() - t0
     studies = {}
     for key, objective in (("contact_ratio", "max_min_worst_case_contact_ratio"),
@@ -64,7 +87,8 @@ def main(argv: list[str] | None = None) -> int:
         b = bonmin_cross_check(enumeration)
         bonmin = {k: v for k, v in b.items()}
     summary = {
-        "reference": "original helical train (data: meshes.*.speed_ratio_error_percent, thesis Table 3.1)",
+        "reference": ("original helical train (data: meshes.*.speed_ratio_error_percent, thesis Table 3.1)"
+                      if reference == "helical_original" else "the train's own tooth counts"),
         "span": span, "tolerance_percent": enumeration.mesh_tolerance_percent,
         "gear_tolerance_percent": enumeration.gear_tolerance_percent,
         "enumeration_time_s": t_enum, "admissible": int(len(enumeration.admissible)),
@@ -102,4 +126,4 @@ def main(argv: list[str] | None = None) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(run_script(main))

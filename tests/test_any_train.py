@@ -122,3 +122,11 @@ def test_a_missing_section_is_named(tmp_path, capsys):
 def test_unknown_mesh_is_named(capsys):
     code, text = _run(["microgeometry", "--mesh", "sun-planet", "--data", MINIMAL, "--quick"], capsys)
     assert code == 2 and "sun-planet" in text and "pinion-wheel" in text and str(MINIMAL) in text
+
+
+def test_an_unreachable_centre_distance_names_file_and_mesh(tmp_path, capsys):
+    bad = tmp_path / "near.toml"
+    bad.write_text(MINIMAL.read_text().replace("centre_distance_mm = 90.5", "centre_distance_mm = 70.0"))
+    code, text = _run(["rate", "--data", bad], capsys)
+    assert code == 2 and str(bad) in text and "pinion-wheel" in text and "centre_distance_mm" in text
+    assert "Traceback" not in text

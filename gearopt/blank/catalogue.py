@@ -46,8 +46,9 @@ def blank_from_data(data: dict, train: GearTrain, gear: str) -> tuple[GearBlank,
         bore, hub_d, hub_l = j["taper_large_diameter_mm"], j["hub_outer_diameter_mm"], j["taper_length_mm"]
     b = g["face_width_mm"]
     kind = g.get("blank", "solid")
-    if kind == "solid":
-        return GearBlank(d_a, d_f, b, bore, density_kg_m3=rho), assumed
+    if kind == "solid":  # the hub is known from the joint: a design that frees the web makes the blank webbed
+        return GearBlank(d_a, d_f, b, bore, density_kg_m3=rho, hub_outer_diameter_mm=hub_d,
+                         hub_length_mm=hub_l), assumed
     if kind not in ("webbed", "recessed"):
         raise GearoptInputError(f"[gears.{gear}] blank={kind!r} must be 'solid', 'webbed' or 'recessed'")
     t = g.get("web_thickness_mm")

@@ -189,10 +189,10 @@ class MacroLTCAModel:
         root_stress, speed_rpm (of the driving gear), bulk_temperature_C, friction_coefficient, materials: switch on
             the root-stress and flash-temperature outputs as in :class:`~gearopt.contact.ltca_smooth.LTCAModel`.
         approach_steps: Newton steps unrolled for the approach (default 8 + springs per position / 4; on the default
-            crank-cam mesh 4 steps reach a relative residual of 1e-13 with one slice, 10 steps 5e-16 with 44 springs).
+            38/76 spur mesh of the packaged train 4 steps reach a relative residual of 1e-13 with one slice, 10 steps 5e-16 with 44 springs).
         map_threads: threads that evaluate the positions (and the derivatives CasADi builds from them) in parallel
             (CasADi's ``map(..., "thread", n)``; default :func:`default_map_threads`, 1 = serial). The results are
-            the same to the last bit; on 2 cores the crank-cam mesh at 200 positions x 4 load cases x 7 slices
+            the same to the last bit; on 2 cores that mesh at 200 positions x 4 load cases x 7 slices
             evaluates with gradient and Hessian in 0.91 s instead of 1.73 s.
 
     The approach ``delta`` of every position solves ``sum c db w_on softplus(delta - e, w) = F_bt`` by Newton's

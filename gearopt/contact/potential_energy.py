@@ -62,7 +62,7 @@ cited works); nominal tooth thickness (no thickness allowance, no profile modifi
 involute within the path of contact A..E; no coupling between neighbouring teeth; friction neglected.
 Accuracy against ISO 6336-1 method B (whose c_gamma_alpha includes the empirical theory-to-measurement factor
 C_M = 0.8): the mean mesh stiffness over a base pitch lies within -10 %/+15 % of c_gamma_alpha when both gears have
-z >= 38 (default crank-cam: +1.7 %), and within -10 %/+25 % for all pairs tested (z 20..76, x -0.1..0.88,
+z >= 38 (the packaged 38/76 pair: +1.7 %), and within -10 %/+25 % for all pairs tested (z 20..76, x -0.1..0.88,
 beta 0 and 6 deg; 20/20: +21 %): the potential-energy model is a theoretical stiffness like ISO's c'_th and grows
 stiffer relative to ISO for few teeth. Against docs/default-data.md sec. 1.2's independent [C] implementation with its
 conventions (``ANCHOR_CONVENTIONS``) it agrees to the quoted rounding; the default model is 1-3 % stiffer.

@@ -165,6 +165,9 @@ RULES: dict[str, Rule] = {
     "design_loads.torque_range_fractions": Rule("load cases of each mesh's design range as fractions of its design "
                                                 "torque (default [1.0])", 0.0, 100.0, low_inclusive=False,
                                                 kind="list[float]", required=False),
+    "design_loads.overspeed_rpm": Rule("highest speed of the reference shaft the joints must hold (a train "
+                                       "without an [engine]; an engine states its overspeed_test_speed_rpm)", 0.0,
+                                       1e6, low_inclusive=False, required=False),
     "design_loads.speed_rpm": Rule("speed of the reference shaft at which the design loads act", 0.0, 1e6,
                                    low_inclusive=False, required=False),
     "design_limits.max_root_stress_MPa": Rule("largest admissible LTCA root stress", 0.0, 1e5, low_inclusive=False,

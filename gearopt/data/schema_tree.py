@@ -96,12 +96,14 @@ def schema() -> Node:
     """The schema tree: the packaged default file (the timing train) united with the packaged minimal example (the
     sections and optional keys only it has), plus :data:`RULES`."""
     reference = _load("default_train.toml")
+    # the minimal example adds the sections the timing train has no use for (a generic [excitation]) and the
+    # optional keys it alone shows (a mesh's torque_range_Nm, the design loads' overspeed_rpm)
     for section, value in _load("minimal_train.toml").items():
-        # the minimal example adds the sections the timing train has no use for (a generic [excitation]) and the
-        # optional keys it alone shows (a mesh's torque_range_Nm)
         if section not in reference:
             reference[section] = value
         elif section == "meshes":
+            reference[section] = {**value, **reference[section]}
+        elif isinstance(value, dict) and section not in NAMED_TABLES:
             reference[section] = {**value, **reference[section]}
     root = _build("", reference)
     for section in root.children:

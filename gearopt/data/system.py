@@ -20,7 +20,7 @@ from pathlib import Path
 from types import MappingProxyType
 from typing import Any, Mapping
 
-from ..errors import DataFileError, MissingSectionError
+from ..errors import DataFileError, GearoptInputError, MissingSectionError
 from ..geometry.train import GearSpec, GearTrain, MeshSpec, RackSpec
 from .schema_keys import SECTION_USES
 
@@ -122,11 +122,13 @@ class TrainVariant:
 @dataclass(frozen=True)
 class DesignLoads:
     """``[design_loads]``: the ISO 6336-1 application factor K_A, the default torque-range fractions of the
-    design torques, and the speed [rpm] of the reference shaft at which the design loads act (rated speed)."""
+    design torques, the speed [rpm] of the train's root gear at which the design loads act (rated speed) and the
+    highest speed the joints must hold (``overspeed_rpm``)."""
 
     application_factor_K_A: float = 1.0
     torque_range_fractions: tuple[float, ...] = (1.0,)
     speed_rpm: float | None = None
+    overspeed_rpm: float | None = None
 
 
 @dataclass(frozen=True)
@@ -268,12 +270,34 @@ class System:
         self.design_torque_Nm(mesh)
         return self.meshes[mesh].torque_range_Nm
 
+    def speeds_rpm(self, needed_by: str) -> tuple[float, float]:
+        """(rated, overspeed) speed of the train's root gear [rpm]: the engine's rated and overspeed-test speeds,
+        else ``[design_loads] speed_rpm`` and ``overspeed_rpm``; a missing one raises naming the key to add."""
+        if "engine" in self.sections:
+            e = self.section("engine", needed_by)
+            return float(e["rated_speed_rpm"]), float(e["overspeed_test_speed_rpm"])
+        dl = self.design_loads
+        for key in ("speed_rpm", "overspeed_rpm"):
+            if dl is None or getattr(dl, key) is None:
+                raise MissingSectionError(f"{self.source}: design_loads.{key} is missing: {needed_by} needs the "
+                                          f"rated and overspeed speeds of the root gear [rpm]; add it to "
+                                          f"[design_loads]")
+        return dl.speed_rpm, dl.overspeed_rpm
+
     def train(self, kind: str = "spur") -> GearTrain:
         """The :class:`~gearopt.geometry.GearTrain` of ``[trains.<kind>]``."""
         if kind not in self.trains:
             raise MissingSectionError(f"{self.source}: [trains.{kind}] is missing (the data has trains "
                                       f"{', '.join(self.trains) or 'none'}); add it to build the {kind} train")
         t = self.trains[kind]
+        try:
+            return self._train(t, kind)
+        except DataFileError:
+            raise
+        except GearoptInputError as err:
+            raise DataFileError(f"{self.source}: trains.{kind}: {err}") from None
+
+    def _train(self, t: TrainVariant, kind: str) -> GearTrain:
         return GearTrain(gears={n: g.spec() for n, g in self.gears.items()},
                          meshes={n: m.spec() for n, m in self.meshes.items()}, rack=self.rack,
                          helix_angle_deg=t.helix_angle_deg, root_mesh=t.root_mesh, root_gear=t.root_gear,
@@ -315,7 +339,8 @@ def system_from_data(data: Mapping[str, Any], *, source: str = "<data>") -> Syst
         dl = d["design_loads"]
         loads = DesignLoads(application_factor_K_A=float(dl.get("application_factor_K_A", 1.0)),
                             torque_range_fractions=tuple(float(f) for f in dl.get("torque_range_fractions", (1.0,))),
-                            speed_rpm=float(dl["speed_rpm"]) if "speed_rpm" in dl else None)
+                            speed_rpm=float(dl["speed_rpm"]) if "speed_rpm" in dl else None,
+                            overspeed_rpm=float(dl["overspeed_rpm"]) if "overspeed_rpm" in dl else None)
     fractions = loads.torque_range_fractions if loads is not None else (1.0,)
     meshes = {}
     for name, m in d["meshes"].items():

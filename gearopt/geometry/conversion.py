@@ -2,7 +2,7 @@
 
 A helical gear of z teeth, normal module m_n and helix angle beta has reference diameter d = z m_n / cos(beta).
 Keeping that diameter with a spur gear of module m gives z_spur = round(d / m) (thesis Eq. 3.1). Rounding changes
-speed ratios (the thesis' 2.7 % on the crank-LPI branch), and the standard (unshifted) spur centre distance
+speed ratios (e.g. 2.7 % on one branch of the source study's train), and the standard (unshifted) spur centre distance
 m (z1 + z2)/2 no longer equals the housing's centre distance: the gap profile shift must close.
 """
 

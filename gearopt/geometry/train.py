@@ -155,9 +155,12 @@ class GearTrain:
                       dedendum_coefficient=self.rack.dedendum_coefficient,
                       root_radius_coefficient=self.rack.root_radius_coefficient,
                       tolerances=tol, names=(g1.name, g2.name), helix_hands=hands)
-        if profile_shift1 is None:
-            return GearPair.from_centre_distance(shift_split=self.root_shift_split, **kwargs)
-        return GearPair.from_centre_distance(profile_shift1=profile_shift1, **kwargs)
+        shift = dict(shift_split=self.root_shift_split) if profile_shift1 is None else dict(profile_shift1=profile_shift1)
+        try:
+            return GearPair.from_centre_distance(**shift, **kwargs)
+        except GearoptInputError as err:  # name the mesh: the pair's own message knows only its numbers
+            raise GearoptInputError(f"mesh {mesh.name!r} ({g1.name} z{g1.teeth}, {g2.name} z{g2.teeth}): {err}") \
+                from None
 
     def _propagate(self) -> None:
         order = self._bfs_order(self.root_gear)

@@ -16,7 +16,7 @@ fixes the split, so the front is the same whichever executor runs it.
 
 Example::
 
-    front = pareto_front(scene, "max_contact_stress_MPa", "crank-cam", points=9)
+    front = pareto_front(scene, "max_contact_stress_MPa", "pinion-wheel", points=9)
     front.table[[front.quantity_column, front.objective_column, "status"]]
     front.plot()
 """
@@ -346,7 +346,7 @@ def _normalised(x: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 
 def _variable_label(name: str, value: float) -> str:
-    """``"crank-cam.tip_relief_1_um", 12.3`` -> ``"crank-cam tip relief 1 = 12.3 µm"`` (a figure's annotation)."""
+    """``"pinion-wheel.tip_relief_1_um", 12.3`` -> ``"pinion-wheel tip relief 1 = 12.3 µm"`` (a figure's annotation)."""
     target, _, variable = name.rpartition(".")
     for suffix, unit in (("_start_roll_deg", " start roll [deg]"), ("_um", " [um]"), ("_deg", " [deg]"),
                          ("_mm", " [mm]"), ("_Nm", " [N*m]")):
@@ -361,7 +361,7 @@ _DISPLAY_UNITS = {"um": "µm", "C": "°C", "N*m": "N m", "kg*m^2": "kg m²"}
 
 
 def _axis(name: str, unit: str) -> str:
-    """Axis label of a front column: ``"ppte_um[crank-cam]"`` in ``um`` -> ``"ppte, crank-cam [µm]"``; a
+    """Axis label of a front column: ``"ppte_um[pinion-wheel]"`` in ``um`` -> ``"ppte, pinion-wheel [µm]"``; a
     quantity of the vocabulary without a unit is a ratio (``[-]``); the weighted ``objective`` has none."""
     quantity, _, target = name.partition("[")
     if not target:

@@ -115,7 +115,7 @@ def scene_study(scene: Scene, quantity: str, target: str, *, points: int = 9, sa
     return SceneStudy(front, optimum, report, mc, error)
 
 
-def relief_scene_from_data(data: dict, train, mesh: str = "crank-cam", *, positions: int | None = None,
+def relief_scene_from_data(data: dict, train, mesh: str, *, positions: int | None = None,
                            ltca_options: dict | None = None) -> Scene:
     """The data's tip-relief scene of ``mesh``: the four relief variables, the largest PPTE over the design torque
     range (``[meshes.<mesh>] design_torque_Nm`` x ``[design_loads] torque_range_fractions``) minimised, the loaded contact ratio

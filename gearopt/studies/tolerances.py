@@ -1,7 +1,7 @@
 """Tolerances of a study: how far a design variable or a datum of a scene may stray from its nominal value.
 
-A :class:`Tolerance` names an input of a solved scene -- a design variable (``"crank-cam.tip_relief_1_um"``) or a
-datum the parametric build declares (``"torque_Nm[crank-cam]@design"``, ``"oil_temperature_C[crank-cam]"``, see
+A :class:`Tolerance` names an input of a solved scene -- a design variable (``"pinion-wheel.tip_relief_1_um"``) or a
+datum the parametric build declares (``"torque_Nm[pinion-wheel]@design"``, ``"oil_temperature_C[pinion-wheel]"``, see
 ``Scene.build(parametric=True)``) -- and its deviation interval ``[lower, upper]`` in the input's unit, with a
 uniform distribution over it or a normal one centred in it whose ±3σ span the interval (the usual reading of a
 process capable to Cp = 1, ISO 22514-2).

@@ -1,7 +1,7 @@
 """Integer tooth counts of a gear train at fixed centre distances: enumerate, fit by profile shift, optimise, rank.
 
 The thesis (section 3.4.1, Eq. 3.1, Table 3.1) converted a helical timing train to spur gears in the same housing:
-tooth counts z = d/m at the spur module, a 2.7027 % speed-ratio error accepted on the crank-LPI (lube pump) branch,
+tooth counts z = d/m at the spur module, a 2.7027 % speed-ratio error accepted on the lube pump branch,
 centre distances closed by profile shift (section 3.4.2). Here that choice is made systematically:
 
 1. **Enumerate** integer tooth counts per gear (a range or ``span`` around the train's teeth), walking the train's

@@ -165,7 +165,7 @@ def enumerate_tooth_counts(train: GearTrain, *, ratio_tolerance_percent: Mapping
     Args:
         train: the train (its meshes' centre distances [mm], rack, helix angle, root mesh/gear are kept).
         ratio_tolerance_percent: allowed |speed-ratio error| [%] by mesh name (ratio z1/z2 of the mesh) or by gear
-            name (the gear's speed relative to the root gear), e.g. ``{"crank-lpi": 3.0}``.
+            name (the gear's speed relative to the root gear), e.g. ``{"pinion-idler": 3.0}``.
         default_tolerance_percent: tolerance [%] of every mesh not named (gears not named are not checked
             individually, except ``exact_ratio_gears``).
         reference: reference speed ratios (:func:`reference_speed_ratios`: "teeth", "data", "helical_original" or
