@@ -33,11 +33,15 @@ import numpy as np
 import pandas as pd
 
 from ..contact.ltca import ltca
+from ..data import load_default_data, train_from_data, values
 from ..errors import GearoptInputError, SolveError
 from ..geometry.train import GearTrain
+from ..joints import joint_capacity
+from ..joints.walk_off import walk_off
 from ..validation import check_range
 from .scene import DEFAULT_LTCA_OPTIONS, Scene, SceneResult
 from .scene_spec import DesignVariable, Limit, LoadCase, Objective
+from .tooth_counts import _train_with_teeth
 
 CODESIGN_IPOPT = {"hessian_approximation": "limited-memory"}
 """Ipopt options of the co-design solves: a quasi-Newton (L-BFGS) Hessian. The exact Hessian of the macro-symbolic
@@ -189,9 +193,6 @@ def design_entry(result: SceneResult, flanks: dict[str, list[str]], macro: dict 
 
 
 def _axial_margins(data: dict, train: GearTrain, beta: float, torques: dict, speed_rpm: float) -> dict:
-    from ..joints import joint_capacity
-    from ..joints.walk_off import walk_off
-
     helical = dataclasses.replace(train, helix_angle_deg=beta)
     axial = walk_off(helical, torques).axial_force_N
     out = {}
@@ -254,8 +255,6 @@ def codesign_study(data: dict | None = None, *, options: Sequence[str] = ("spur"
     maximum by this fraction (:data:`CONTACT_STRESS_ALLOWANCE`). ``sequential_options``: ``ltca_options``
     overrides of the sequential design's scene only (fixed macro geometry; default :data:`SEQUENTIAL_OPTIONS`).
     ``codesign_ipopt``: Ipopt options of the co-design solves (default :data:`CODESIGN_IPOPT`)."""
-    from ..data import load_default_data, train_from_data, values
-
     check_range("contact_stress_allowance", contact_stress_allowance, 0.0, 0.5)
     data = data or load_default_data()
     v = values(data)
@@ -355,8 +354,6 @@ def rank_tooth_counts(enumeration, make_scene: Callable[[GearTrain], Scene], *, 
     ``warm_start``. A failed solve stays in the table with its typed error. Columns: the teeth, ``objective``
     (exact-LTCA PPTE terms, :mod:`gearopt.design.scene_refine`), ``max_ppte_um`` (largest exact PPTE of the
     objective meshes), ``root_profile_shift``, ``refinements``, ``time_s``, ``status``; best first."""
-    from .tooth_counts import _train_with_teeth
-
     rows, prev = [], None
     table = enumeration.admissible if limit is None else enumeration.admissible.head(limit)
     for idx, cand in table.iterrows():
