@@ -1,5 +1,6 @@
-"""The contact side of a built scene: LTCA models per mesh, the microgeometry each mesh sees (per mesh or per gear
-flank), LTCA quantities, and the exact-LTCA check of an optimum.
+"""The contact models of a built scene (:class:`ContactModels`, part of its model graph on top of
+:class:`~gearopt.design.scene_models.SceneModels`): LTCA models per mesh, the microgeometry each mesh sees (per mesh
+or per gear flank), LTCA quantities, and the exact-LTCA check of an optimum.
 
 Two smooth models serve a scene:
 

@@ -6,9 +6,10 @@ built on this graph.
 
 Macro geometry: symbolic in train-level variables (``root_profile_shift``, ``helix_angle_deg`` of the
 :class:`~gearopt.geometry.train.GearTrain`: every mesh follows at its fixed centre distance) or in mesh-level macro
-variables. The design variables are the transcription's symbols (:class:`~gearopt.design.scene_transcription.
-SceneTranscription` declares them into ``variables``, the mapping shared with this graph); the graph evaluates its
-models at them.
+variables. The design variables are the transcription's symbols
+(:class:`~gearopt.design.scene_transcription.SceneTranscription` declares them into ``variables``, the mapping
+shared with this graph); the graph evaluates its models at them. The data set is read through
+:class:`~gearopt.design.scene_inputs.SceneInputs` only.
 
 Walk-off in the NLP: when a load case gives no ``joint_axial_force_N`` for a joint, the axial force on the joint's
 gear follows from the load case's mesh torques and the (possibly symbolic) helix angle by

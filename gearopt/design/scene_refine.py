@@ -16,7 +16,8 @@ without a dense grid everywhere:
    own dense grid at the same design measures the error of the *discretisation* (dense smooth vs exact: the contact
    smoothing and, for a helical mesh, the face slicing), the rest is the error of the *sampling* (NLP vs dense
    smooth). Sampling error above half the tolerance: add the exact TE's peaks and troughs of every load case
-   (:func:`extreme_fractions`) to the mesh's set. Discretisation error above half the tolerance on a helical mesh:
+   (:func:`~gearopt.design.positions.extreme_fractions`) to the mesh's set. Discretisation error above half the
+   tolerance on a helical mesh:
    raise the smooth model's face slices (``helical_slices`` to ``2 n - 1``, so the old slice centres stay, up to
    ``max_helical_slices``; the exact check slices the face :func:`gearopt.contact.layout.default_slices` times, at
    least 11 and more as the overlap ratio grows). On a spur mesh (or with the slices at their cap): halve the contact smoothing
