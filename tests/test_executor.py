@@ -8,7 +8,7 @@ import pytest
 import gearopt as go
 from gearopt.design.tooth_counts import enumerate_tooth_counts, tooth_count_study
 from gearopt.cases.timing_train import default_timing_model
-    from gearopt.dynamics import speed_sweep
+from gearopt.dynamics import speed_sweep
 from gearopt.executor import Executor, using_executor
 
 

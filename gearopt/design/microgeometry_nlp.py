@@ -27,6 +27,7 @@ import numpy as np
 import pandas as pd
 
 from .. import numerics as nm
+from ..contact.layout import position_fractions
 from ..contact.ltca import LTCAResult, ltca
 from ..contact.ltca_smooth import DEFAULT_SMOOTHING_UM, LTCAModel
 from ..contact.microgeometry import Microgeometry
@@ -36,6 +37,7 @@ from ..validation import check_range
 from ..geometry.pair import GearPair
 from ..nlp.problem import Problem
 from ..nlp.result import ProblemResult
+from .positions import extreme_fractions, new_fractions, start_bounds
 
 GROUPS = ("tip_relief", "profile_crown")
 MIN_SMOOTHING_UM = 0.005
@@ -59,15 +61,6 @@ class MicrogeometryDesign:
     def ppte_um(self) -> float:
         """Exact-LTCA PPTE of the optimum at the first (design) torque [um]."""
         return self.exact["optimised"][self.torques_Nm[0]].ppte_um
-
-
-def _start_bounds(g: dict, gear: int, margin_deg: float) -> tuple[float, float]:
-    lo = float(g["pitch_point_roll_deg"][gear])
-    hi = float(g["eap_roll_deg"][gear]) - margin_deg
-    if hi <= lo:
-        raise GearoptInputError(f"tip relief start of gear {gear + 1}: no room between the pitch point "
-                                f"({lo:.3f} deg) and the tip ({hi + margin_deg:.3f} deg)")
-    return lo, hi
 
 
 def min_tip_relief_design(pair: GearPair, torque_Nm: float, *, driving_gear: int = 1) -> Microgeometry:
@@ -207,10 +200,7 @@ def optimise_microgeometry(pair: GearPair, torque_Nm: float | Sequence[float], *
 
 
 def _refine(spec, numbers, solved, current, rebuild, check_opts, tolerance, max_refinements, solve_from):
-    """Exchange-method refinement of the NLP's mesh positions (see :mod:`gearopt.design.scene_refine`)."""
-    from ..contact.layout import position_fractions
-    from .scene_refine import extreme_fractions, new_fractions
-
+    """Exchange-method refinement of the NLP's mesh positions (as :mod:`gearopt.design.scene_refine` does for a scene)."""
     pair, torques, rows, solves = spec["pair"], spec["torques"], [], []
     check_positions = int(check_opts["positions"])
     grid = np.arange(check_positions) / check_positions
@@ -323,7 +313,7 @@ def _starting_points(pair, torques, driving_gear, first, starts, spec, seed) -> 
     if starts <= len(points):
         return points[:starts]
     g = pair.geometry()
-    bounds = [_start_bounds(g, i, spec["start_margin_deg"]) for i in range(2)]
+    bounds = [start_bounds(g, i, spec["start_margin_deg"]) for i in range(2)]
     lo = np.array([0.0, 0.0, bounds[0][0], bounds[1][0], 0.0])
     hi = np.array([spec["max_tip_relief_um"], spec["max_tip_relief_um"], bounds[0][1], bounds[1][1],
                    spec["max_profile_crown_um"]])
@@ -346,7 +336,7 @@ def _build_problem(spec: dict, start: Microgeometry, relief_smoothing_deg: float
     kw: dict[str, Any] = {"relief_shape": spec["relief_shape"], "relief_smoothing_deg": relief_smoothing_deg}
     values: dict[str, Any] = {}
     if "tip_relief" in groups:
-        bounds = [_start_bounds(g, i, spec["start_margin_deg"]) for i in range(2)]
+        bounds = [start_bounds(g, i, spec["start_margin_deg"]) for i in range(2)]
         amount = [p.variable(f"tip_relief_{i + 1}_um", init=float(start.tip_relief_um[i]), lower=0.0,
                              upper=spec["max_tip_relief_um"], scale=10.0, unit="um") for i in range(2)]
         s0 = [start.tip_relief_start_roll_deg[i] if start.tip_relief_start_roll_deg[i] is not None

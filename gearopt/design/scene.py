@@ -23,12 +23,28 @@ Example (robust PPTE of one mesh over a torque range)::
     result = built.solve()
     result.values, result.quantities, result.exact_check
 
+A built scene is composed of parts with public interfaces, each in its own module (none imports a part above it):
+
+- declaration: :class:`Scene` and the records of :mod:`gearopt.design.scene_spec` in the vocabulary of
+  :mod:`gearopt.design.scene_terms`;
+- inputs: :class:`~gearopt.design.scene_inputs.SceneInputs` -- every read of the data set, the dynamic load cases,
+  the data as NLP parameters of a parametric build;
+- model graph: :class:`~gearopt.design.scene_models.SceneModels` (geometry, ISO 6336, joints, blanks, walk-off) and
+  :class:`~gearopt.design.scene_contact.ContactModels` (smooth and macro LTCA, microgeometry, exact check), each model
+  built once per target into one :class:`~gearopt.design.scene_cache.ModelCache`;
+- transcription: :class:`~gearopt.design.scene_transcription.SceneTranscription` -- variables, objectives and
+  limits into one :class:`~gearopt.nlp.problem.Problem`, the quantity table;
+- refinement: :class:`~gearopt.design.scene_refine.SceneRefinement` (semi-infinite PPTE refinement);
+- result: :class:`~gearopt.design.scene_result.SceneResult`.
+
+:class:`BuiltScene` holds the parts (``inputs``, ``graph``, ``contact``, ``transcription``) and delegates to them.
+
 Co-design (macro and micro geometry in one NLP): train-level variables (``DesignVariable("root_profile_shift",
 "train", ...)``, ``DesignVariable("helix_angle_deg", "train", ...)``) make every mesh of the train symbolic at its
 fixed centre distance, and a mesh with LTCA quantities then uses the macro-symbolic smooth LTCA
 (:mod:`gearopt.design.scene_contact`); micro variables may target a gear flank (``"cam:driving"``) shared by every
 mesh that loads it; joint margins take their axial demand from the mesh forces and the helix angle
-(:mod:`gearopt.design.scene_train`).
+(:mod:`gearopt.design.scene_models`).
 
 PPTE over the mesh cycle is a minimax over a continuum of positions: :meth:`BuiltScene.solve` solves on a coarse set
 of positions, re-evaluates the optimum by the exact LTCA and adds the exact TE's peak and trough positions until the
@@ -39,8 +55,7 @@ smooth and exact PPTE agree within ``refine_tolerance`` (:mod:`gearopt.design.sc
 
 from __future__ import annotations
 
-import time
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 from typing import Any, Callable, Mapping, Sequence
 
 import numpy as np
@@ -49,17 +64,20 @@ import pandas as pd
 from ..contact.ltca_macro import DEFAULT_ENGAGEMENT_WIDTH_MM
 from ..contact.ltca_smooth import DEFAULT_SMOOTHING_UM
 from ..contact.microgeometry import Microgeometry
-from .. import numerics as nm
 from ..errors import GearoptInputError
 from ..geometry.pair import GearPair
 from ..geometry.train import GearTrain
 from ..nlp.problem import Problem
 from ..nlp.result import ProblemResult
+from .scene_cache import ModelCache
 from .scene_contact import ContactModels
-from .scene_quantities import QuantityTerms
+from .scene_inputs import JOINT_DATA, SceneInputs
+from .scene_models import TRAIN_TARGET, SceneModels
+from .scene_refine import SceneRefinement
+from .scene_result import SceneResult
 from .scene_spec import DesignVariable, Limit, LoadCase, Objective
-from .scene_terms import quantity_kind, variable_kind
-from .scene_train import TRAIN_TARGET, TrainModels
+from .scene_terms import quantity_kind
+from .scene_transcription import SceneTranscription
 
 DEFAULT_LTCA_OPTIONS: dict[str, Any] = {
     "positions": 40, "smoothing_um": DEFAULT_SMOOTHING_UM, "stiffness": "iso6336", "relief_smoothing_deg": 0.1,
@@ -147,21 +165,17 @@ class Scene:
         return BuiltScene(self, positions=positions, initial=initial, parametric=parametric)
 
 
-JOINT_DATA = {"press_fit": (("friction_coefficient", ""), ("diametral_interference_um", "um"), ("fit_length_mm", "mm"),
-                           ("shaft_diameter_mm", "mm"), ("hub_outer_diameter_mm", "mm")),
-              "taper_nut": (("friction_coefficient", ""), ("nut_torque_Nm", "N*m"), ("nut_factor", ""),
-                            ("taper_length_mm", "mm"))}
-"""Entries of a ``[joints.*]`` record that a parametric build declares as NLP parameters (name, unit): the data a
-joint's capacity depends on most (friction, interference or preload, fit geometry)."""
-
-
-class BuiltScene(ContactModels, TrainModels, QuantityTerms):
+class BuiltScene:
     """A built scene: its models (``models``, in build order ``built``), its :class:`Problem` and :meth:`solve`.
 
     ``positions``: mesh -> fractions of a base pitch at which the smooth LTCA samples that mesh (default: the uniform
     ``ltca_options["positions"]``); ``initial``: ``"target.variable"`` -> start value (a warm start); ``reuse``:
     models of an earlier build that do not depend on these (data, dynamics), taken over unbuilt; ``options``:
     overrides of the scene's ``ltca_options`` for this build (the refinement's smoothing continuation).
+
+    Parts (module docstring): ``cache`` (:class:`ModelCache`), ``inputs`` (:class:`SceneInputs`), ``graph``
+    (:class:`SceneModels`), ``contact`` (:class:`ContactModels`), ``transcription`` (:class:`SceneTranscription`);
+    the methods below delegate to them.
     """
 
     def __init__(self, scene: Scene, *, positions: Mapping[str, Any] | None = None,
@@ -169,11 +183,8 @@ class BuiltScene(ContactModels, TrainModels, QuantityTerms):
                  options: Mapping[str, Any] | None = None, parametric: bool = False):
         self.scene = scene
         self.parametric = bool(parametric)
-        self.data_parameters: dict[str, dict[str, Any]] = {}
-        self.models: dict[str, Any] = dict(reuse or {})
-        self._log: list[dict[str, Any]] = []
         self._options_override = dict(options or {})
-        self._opts = {**DEFAULT_LTCA_OPTIONS, **dict(scene.ltca_options), **self._options_override}
+        self.options: dict[str, Any] = {**DEFAULT_LTCA_OPTIONS, **dict(scene.ltca_options), **self._options_override}
         unknown = set(scene.ltca_options) - set(DEFAULT_LTCA_OPTIONS)
         if unknown:
             raise GearoptInputError(f"ltca_options {sorted(unknown)} are unknown ({sorted(DEFAULT_LTCA_OPTIONS)})")
@@ -182,300 +193,150 @@ class BuiltScene(ContactModels, TrainModels, QuantityTerms):
         if scene.objective_aggregate == "max" and any(o.sense != "min" for o in scene.objectives):
             raise GearoptInputError("objective_aggregate='max' takes objectives to be minimised (sense='min'): the "
                                     "largest of them is minimised")
-        if self._opts["approach"] not in ("lifted", "nested"):
-            raise GearoptInputError(f"ltca_options approach={self._opts['approach']!r} must be 'lifted' or 'nested'")
-        self._meshes = scene.meshes()
-        self._needs = scene.needs()
-        self._position_sets = dict(positions or {})
-        self._initial_overrides = dict(initial or {})
-        self._check_targets()
+        if self.options["approach"] not in ("lifted", "nested"):
+            raise GearoptInputError(f"ltca_options approach={self.options['approach']!r} must be 'lifted' or "
+                                    f"'nested'")
         self.problem = Problem(name=scene.name)
-        self._records: list[dict[str, Any]] = []
-        self._objective_terms: list[Any] = []
-        self.load_cases = [self._resolve_load_case(lc) for lc in scene.load_cases]
-        self._variables: dict[tuple[str, str], Any] = {}
-        self._declare_variables()
-        self._start_constraints()
-        for obj in scene.objectives:
-            self._add_objective(obj)
-        for lim in scene.limits:
-            self._add_limit(lim)
-        if not self._objective_terms:
-            raise GearoptInputError(f"scene {scene.name!r} has no objective")
-        terms = self._objective_terms
-        if scene.objective_aggregate == "max" and len(terms) > 1:
-            starts = [float(np.max(self._initial(t))) for t in terms]
-            z = self.problem.variable("objectives.max", init=max(starts))
-            self.problem.subject_to("objectives.max.epigraph", nm.vcat([z - t for t in terms]), lower=0.0)
-            self.problem.minimize(z)
-        else:
-            self.problem.minimize(sum(terms[1:], terms[0]))
+        self.cache = ModelCache(reuse)
+        self.inputs = SceneInputs(scene, self.cache, self.problem, parametric=self.parametric)
+        self.graph = SceneModels(scene, self.options, self.inputs, self.cache, {}, self.problem)
+        self.contact = ContactModels(self.graph, positions)
+        self.transcription = SceneTranscription(self.graph, self.contact, initial)
+        self.transcription.check_targets()
+        self.graph.resolve_load_cases()
+        self.transcription.transcribe()
 
     # -- what was built ----------------------------------------------------------------------------------------
 
     @property
+    def models(self) -> dict[str, Any]:
+        """The models of this build by key (``family:target``), those taken over by ``reuse`` included."""
+        return self.cache.models
+
+    @property
     def built(self) -> list[str]:
         """Keys of the models built, in build order (``family:target``)."""
-        return [r["model"] for r in self._log]
+        return self.cache.built
 
     @property
     def build_table(self) -> pd.DataFrame:
         """One row per built model: ``model``, ``detail`` (settings), ``build_time_s``."""
-        return pd.DataFrame(self._log, columns=["model", "detail", "build_time_s"])
+        return self.cache.build_table
 
-    def _model(self, key: str, build: Callable[[], Any], detail: Callable[[Any], str] | str = "") -> Any:
-        if key not in self.models:
-            t0 = time.perf_counter()
-            obj = build()
-            self.models[key] = obj
-            self._log.append({"model": key, "detail": detail(obj) if callable(detail) else detail,
-                              "build_time_s": time.perf_counter() - t0})
-        return self.models[key]
+    @property
+    def load_cases(self) -> list[LoadCase]:
+        """The scene's load cases, a dynamic one resolved into mesh torques and joint demands."""
+        return self.graph.load_cases
 
-    # -- targets, load cases, variables ------------------------------------------------------------------------
+    @property
+    def data_parameters(self) -> dict[str, dict[str, Any]]:
+        """Parametric build: the data declared as :class:`Problem` parameters (name -> value, unit, symbol)."""
+        return self.inputs.data_parameters
 
-    def _data(self) -> dict:
-        if self.scene.data is None:
-            from ..data import load_default_data
-            return self._model("data:default", load_default_data, "packaged default data")
-        return self.scene.data
+    @property
+    def variable_names(self) -> list[str]:
+        """The design variables as ``"target.variable"``, in declaration order."""
+        return self.transcription.variable_names
 
-    def _check_targets(self) -> None:
-        items = [("variable", v.name, v.target, variable_kind(v.name).target_kind) for v in self.scene.variables]
-        items += [("quantity", q.quantity, q.target, quantity_kind(q.quantity).target_kind)
-                  for q in (*self.scene.objectives, *self.scene.limits)]
-        for what, name, target, kind in items:
-            if kind == "train" and (target != TRAIN_TARGET or self.scene.train is None):
-                raise GearoptInputError(f"{what} {name!r}: target={target!r} must be {TRAIN_TARGET!r} of a scene "
-                                        f"with a train")
-            if kind == "flank":
-                self._check_flank_target(what, name, target)
-            if kind == "mesh" and target not in self._meshes:
-                raise GearoptInputError(f"{what} {name!r}: target={target!r} is not a mesh of the scene "
-                                        f"({sorted(self._meshes)})")
-            if kind == "joint" and target not in self._data_values().get("joints", {}):
-                raise GearoptInputError(f"{what} {name!r}: target={target!r} is not a [joints.*] entry "
-                                        f"({sorted(self._data_values().get('joints', {}))})")
-            if kind == "blank" and (self.scene.train is None or target not in self.scene.train.gears):
-                gears = sorted(self.scene.train.gears) if self.scene.train is not None else []
-                raise GearoptInputError(f"{what} {name!r}: target={target!r} is not a gear of the scene's train "
-                                        f"({gears})")
-        if any(variable_kind(v.name).target_kind == "train" for v in self.scene.variables) and any(
-                variable_kind(v.name).group == "macro" for v in self.scene.variables):
-            raise GearoptInputError("train-level and mesh-level macro variables in one scene are not supported: "
-                                    "free the train's root_profile_shift/helix_angle_deg or a mesh's macro geometry")
-        names = [lc.name for lc in self.scene.load_cases]
-        if len(set(names)) != len(names):
-            raise GearoptInputError(f"load case names {names} must be unique")
+    @property
+    def initial_overrides(self) -> dict[str, float]:
+        """The warm-start values this build was given (``initial``)."""
+        return self.transcription.initial_overrides
 
-    def _data_values(self) -> dict:
-        from ..data import values
-        return values(self._data())
+    def initial_values(self) -> dict[str, float]:
+        """The start of every design variable (``"target.variable"`` keys)."""
+        return self.graph.initial_values()
 
-    def _driving_gear(self, mesh: str) -> int:
-        d = self.scene.driving_gear
-        g = d.get(mesh, 1) if isinstance(d, Mapping) else d
-        if g not in (1, 2):
-            raise GearoptInputError(f"driving_gear[{mesh}]={g!r} must be 1 or 2")
-        return int(g)
+    # -- the model graph ---------------------------------------------------------------------------------------
 
-    def _resolve_load_case(self, lc: LoadCase) -> LoadCase:
-        """A dynamic load case becomes a given one: mesh torques and joint demands from one simulation."""
-        if lc.dynamics is None:
-            return lc
-        from ..dynamics import walk_off_history
+    def train_at(self, values: Mapping[str, float]) -> GearTrain:
+        """The scene's train with the train-level variables at ``values`` (``"train.variable"`` keys)."""
+        return self.graph.train_at(values)
 
-        dyn = lc.dynamics
-        if self.scene.dynamics_model is None:
-            raise GearoptInputError(f"load case {lc.name!r} takes its loads from the dynamics: give the scene a "
-                                    "dynamics_model (kind -> torsional model of the scene's train, e.g. "
-                                    "lambda kind: gearopt.dynamics.train_model(system, kind))")
-        model = self._model(f"dynamics:{dyn['kind']}", lambda: self.scene.dynamics_model(dyn["kind"]),
-                            f"torsional model ({dyn['kind']})")
-        key = f"simulation:{dyn['kind']}@{lc.speed_rpm:g}rpm{',backlash' if dyn['backlash'] else ''}"
-        sim = self._model(key, lambda: model.simulate(speed_rpm=lc.speed_rpm, cycles=dyn["cycles"],
-                                                      backlash=dyn["backlash"]),
-                          f"{dyn['cycles']} cycle(s), statistic {dyn['statistic']}")
-        torques = {}
-        for mesh in sim.mesh_force_N.columns:
-            force = np.abs(sim.mesh_force_N[mesh].to_numpy())
-            stat = force.max() if dyn["statistic"] == "peak" else np.sqrt(np.mean(force ** 2))
-            torques[mesh] = float(stat * sim.mesh_base_radii_mm[mesh][0] * 1e-3)
-        joints = {t for t, needs in self._needs.items() if "joint" in needs}
-        jt, ja = {}, {}
-        for joint in sorted(joints):
-            w = walk_off_history(model, sim, joint)
-            jt[joint] = float(np.max(np.abs(w["joint_torque_Nm"])))
-            ja[joint] = float(np.max(np.abs(w["axial_force_N"])))
-        return LoadCase(name=lc.name, torque_Nm=torques, speed_rpm=lc.speed_rpm, joint_torque_Nm=jt,
-                        joint_axial_force_N=ja)
+    def numeric_pair(self, mesh: str, values: Mapping[str, float]) -> GearPair:
+        """The mesh's pair at the design ``values`` (numbers)."""
+        return self.graph.numeric_pair(mesh, values)
 
-    def _declare_variables(self) -> None:
-        """Declare the variables, macro ones first (micro defaults depend on whether the macro geometry is free)."""
-        out = self._variables
-        order = {"train": 0, "macro": 1}
-        for v in sorted(self.scene.variables, key=lambda v: order.get(variable_kind(v.name).group, 2)):
-            kind = variable_kind(v.name)
-            if (v.target, v.name) in out:
-                raise GearoptInputError(f"design variable {v.name!r} of {v.target!r} is declared twice")
-            lo, hi, init = self._variable_defaults(v, kind)
-            lo = v.lower if v.lower is not None else lo
-            hi = v.upper if v.upper is not None else hi
-            if lo is None or hi is None:
-                raise GearoptInputError(f"design variable {v.name!r} of {v.target!r} needs lower and upper bounds "
-                                        f"[{kind.unit or '-'}]")
-            init = v.init if v.init is not None else init
-            init = self._initial_overrides.get(f"{v.target}.{v.name}", init)
-            init = float(np.clip(init if init is not None else 0.5 * (lo + hi), lo, hi))
-            out[(v.target, v.name)] = self.problem.variable(
-                f"{v.target}.{v.name}", init=init, lower=lo, upper=hi, scale=v.scale or kind.scale, unit=kind.unit)
+    def joint_axial_force_N(self, joint: str, lc: LoadCase):
+        """Axial force on ``joint``'s gear at ``lc`` [N] (:meth:`SceneModels.joint_axial_force_N`)."""
+        return self.graph.joint_axial_force_N(joint, lc)
 
-    def _variable_defaults(self, v: DesignVariable, kind) -> tuple[float | None, float | None, float | None]:
-        """Default bounds and start of a variable from the target's present design."""
-        lo, hi, init = kind.lower, kind.upper, None
-        if kind.target_kind == "train":
-            train = self.scene.train
-            init = train.profile_shifts[train.root_gear] if v.name == "root_profile_shift" else train.helix_angle_deg
-        elif kind.target_kind == "flank" or (kind.target_kind == "mesh" and kind.group == "micro"):
-            lo, hi, init = self.micro_bounds(v.target, v.name, kind)
-        elif kind.target_kind == "mesh":
-            pair = self._meshes[v.target]
-            if kind.group == "macro":
-                g = pair.geometry()
-                i = 0 if v.name.endswith("1_mm") else 1
-                init = {"profile_shift_1": pair.profile_shifts[0], "face_width_mm": pair.face_width_mm[0]}.get(
-                    v.name, g["tip_diameter_mm"][i])
-        elif kind.target_kind == "joint":
-            j = self._data_values()["joints"][v.target]
-            key = kind.key or v.name
-            if key not in j:
-                raise GearoptInputError(f"design variable {v.name!r}: joint {v.target!r} ({j['joint_type']}) has "
-                                        f"no {key!r}")
-            init = j[key]
-        else:
-            init = getattr(self._blank(v.target, symbolic=False), v.name)
-        return lo, hi, (None if init is None else float(init))
+    def joint_torque_Nm(self, joint: str, lc: LoadCase):
+        """Torque through ``joint`` at ``lc`` [N m] (:meth:`SceneModels.joint_torque_Nm`)."""
+        return self.graph.joint_torque_Nm(joint, lc)
 
-    def _iso(self, mesh: str, lc: LoadCase) -> dict:
-        from ..rating import contact_stress_iso6336, root_stress_iso6336
+    def loaded_flanks(self, mesh: str) -> tuple[str, str]:
+        """The flank targets (``"gear:flank"``) mesh ``mesh`` loads, gear 1 then gear 2."""
+        return self.contact.loaded_flanks(mesh)
 
-        opts = dict(self.scene.iso6336_options)
-        contact_keys = {"K_A", "K_v", "K_Hbeta", "K_Halpha", "material", "life_factor", "Z_L", "Z_v", "Z_R", "Z_W",
-                        "Z_X", "S_Hmin"}
-        root_keys = {"K_A", "K_v", "K_Fbeta", "K_Falpha", "material", "life_factor", "Y_ST", "Y_deltarelT", "Y_RrelT",
-                     "Y_X", "S_Fmin", "rim_backup_ratio", "accuracy_grade"}
+    def flank_meshes(self, flank: str) -> list[str]:
+        """Meshes of the scene that load ``flank`` (``"gear:flank"``)."""
+        return self.contact.flank_meshes(flank)
 
-        def build():
-            pair, g = self._pair(mesh), self._driving_gear(mesh)
-            torque = self._datum(f"torque_Nm[{mesh}]@{lc.name}", lc.mesh_torque_Nm(mesh), "N*m")
-            if self.parametric:
-                opts["material"] = self._rating_materials(mesh, opts.get("material", "20MnCr5"))
-            return {"contact": contact_stress_iso6336(pair, torque, driving_gear=g,
-                                                      **{k: v for k, v in opts.items() if k in contact_keys}),
-                    "root": root_stress_iso6336(pair, torque, driving_gear=g,
-                                                **{k: v for k, v in opts.items() if k in root_keys})}
+    def micro_bounds(self, target: str, name: str, kind) -> tuple[float | None, float | None, float | None]:
+        """Default bounds and start of a micro variable of a mesh or a flank."""
+        return self.contact.micro_bounds(target, name, kind)
 
-        return self._model(f"iso6336:{mesh}@{lc.name}", build, f"ISO 6336-2/-3 method B at {lc.name}")
+    def microgeometry_at(self, values: Mapping[str, float], mesh: str) -> Microgeometry:
+        """The mesh's microgeometry with the free amounts set to ``values`` (``"target.variable"`` keys)."""
+        return self.contact.microgeometry_at(values, mesh)
 
-    def _rating(self, mesh: str, lc: LoadCase):
-        """ISO 6336 rating with computed factors (``rate_iso6336``; its keywords from ``iso6336_options``)."""
-        import inspect
+    def ltca_meshes(self) -> list[str]:
+        """Meshes with LTCA quantities."""
+        return self.contact.ltca_meshes()
 
-        from ..rating import rate_iso6336
+    def positions_of(self, mesh: str) -> np.ndarray:
+        """The mesh positions of the mesh's smooth LTCA, as fractions of a base pitch."""
+        return self.contact.positions_of(mesh)
 
-        if lc.speed_rpm is None:
-            raise GearoptInputError(f"load case {lc.name!r} needs speed_rpm for the ISO 6336 rating of {mesh!r}")
-        allowed = set(inspect.signature(rate_iso6336).parameters) - {"pair", "torque_Nm", "speed_rpm", "driving_gear"}
-        opts = {k: v for k, v in self.scene.iso6336_options.items() if k in allowed}
+    def exact_check(self, values: Mapping[str, float], evaluate: Callable | None = None) -> pd.DataFrame:
+        """Exact LTCA of every LTCA mesh at a design, beside the smooth model's values when ``evaluate``
+        (:meth:`ContactModels.exact_check`)."""
+        return self.contact.exact_check(values, evaluate)
 
-        def build():
-            torque = self._datum(f"torque_Nm[{mesh}]@{lc.name}", lc.mesh_torque_Nm(mesh), "N*m")
-            speed = self._datum(f"speed_rpm[{mesh}]@{lc.name}", self._driver_speed_rpm(mesh, lc.speed_rpm), "rpm")
-            if self.parametric:
-                opts["materials"] = self._rating_materials(mesh, opts.get("materials", "20MnCr5"))
-            return rate_iso6336(self._pair(mesh), torque, speed, driving_gear=self._driving_gear(mesh), **opts)
-
-        return self._model(f"iso6336_rating:{mesh}@{lc.name}", build,
-                           f"ISO 6336 rating (computed factors) at {lc.name}")
-
-    def _rating_materials(self, mesh: str, materials):
-        """Both gears' materials with their endurance limits sigma_Hlim, sigma_Flim as data (parametric build)."""
-        from ..rating.materials import material_pair
-
-        out = []
-        for name, m in zip(self._meshes[mesh].names, material_pair(materials)):
-            limits = {key: self._datum(f"{key}[{name}]", getattr(m, key), "MPa")
-                      for key in ("sigma_Hlim_MPa", "sigma_Flim_MPa") if getattr(m, key) is not None}
-            out.append(replace(m, **limits))
-        return tuple(out)
-
-    # -- data as parameters, quantity expressions (hooks of gearopt.studies) --------------------------------------
-
-    def parametric_twin(self, **options: Any) -> "BuiltScene":
-        """The same NLP (same mesh positions and option overrides, e.g. after a refinement) built with its data as
-        parameters (``Scene.build(parametric=True)``); ``options``: further ``ltca_options`` overrides (e.g.
-        ``approach="nested"`` where the quantities must follow perturbed inputs at fixed variables)."""
-        return BuiltScene(self.scene, positions=self._position_sets or None,
-                          options={**self._options_override, **options} or None, parametric=True)
-
-    def _datum(self, name: str, value: float, unit: str):
-        """A datum a quantity uses: the number itself, or (``parametric`` build) a :class:`Problem` parameter of
-        that value, declared once per name and listed in ``data_parameters`` (name -> value, unit)."""
-        if not self.parametric or not nm.is_numeric(value):
-            return value
-        if name not in self.data_parameters:
-            symbol = self.problem.parameter(name, float(value), unit=unit)
-            self.data_parameters[name] = {"value": float(value), "unit": unit, "symbol": symbol}
-        return self.data_parameters[name]["symbol"]
+    # -- the NLP and its quantities (hooks of gearopt.studies) -------------------------------------------------
 
     def expressions(self, quantity: str, target: str, load_cases: Sequence[str] | None = None
                     ) -> list[tuple[str, str, Any]]:
-        """``(label, load case, expression)`` of a quantity of the vocabulary at each load case (one entry with
-        load case ``""`` for a quantity not evaluated per load case): the elements as the NLP sees them (the TE
-        column of ``ppte_um``, the squared stresses of a ``squared`` quantity), for studies that add their own
-        constraints or objectives to ``problem``."""
-        kind = quantity_kind(quantity)
-        if kind.shape == "named":
-            raise GearoptInputError(f"{quantity!r} is a set of limits, not one quantity")
-        if kind.target_kind == "mesh" and target not in self._meshes:
-            raise GearoptInputError(f"quantity {quantity!r}: target={target!r} is not a mesh of the scene "
-                                    f"({sorted(self._meshes)})")
-        return [(self._label(quantity, target, lc), lc.name if lc is not None else "",
-                 self._elements(kind, target, lc, {})) for lc in self._cases(kind, load_cases)]
+        """``(label, load case, expression)`` of a quantity at each load case
+        (:meth:`SceneTranscription.expressions`)."""
+        return self.transcription.expressions(quantity, target, load_cases)
 
     @property
     def records(self) -> list[dict[str, Any]]:
         """Every objective and limit quantity as declared, in the order of the quantity table: ``label``,
         ``quantity``, ``target``, ``load_case``, ``kind`` (:class:`QuantityKind`), ``expr`` (its elements),
         ``lower``, ``upper``, ``role``."""
-        return list(self._records)
+        return self.transcription.records
 
     def quantity_table(self, solved: ProblemResult) -> pd.DataFrame:
         """The quantity table (as ``SceneResult.quantities``) at any solve of ``problem``."""
-        return self._quantity_table(solved)
+        return self.transcription.quantity_table(solved)
 
-    def _joint(self, joint: str, lc: LoadCase | None) -> dict:
-        from ..joints import joint_capacity
+    def quantities_at(self, values: Mapping[str, float]) -> pd.DataFrame:
+        """Every objective and limit quantity of the smooth models at a design (``"target.variable"`` values; the
+        table of :attr:`SceneResult.quantities`): e.g. two designs compared on one model."""
+        return self.transcription.quantities_at(values)
 
-        overrides = {variable_kind(name).key or name: x for name, x in self._free(joint, "joint").items()}
-        if self.parametric:
-            entry = self._data_values()["joints"][joint]
-            for key, unit in JOINT_DATA.get(entry["joint_type"], ()):
-                if key not in overrides and key in entry:
-                    overrides[key] = self._datum(f"{key}[{joint}]", entry[key], unit)
-        speed = lc.speed_rpm if (lc is not None and lc.speed_rpm is not None) else 0.0
-        return self._model(f"joint:{joint}@{speed:g}rpm",
-                           lambda: joint_capacity(self._data(), joint, speed_rpm=speed, overrides=overrides),
-                           f"capacity at {speed:g} rpm, free {sorted(overrides)}")
+    def evaluator_at(self, values: Mapping[str, float]) -> Callable:
+        """``expr -> value`` of expressions of the design variables at ``values`` (``"target.variable"`` keys)."""
+        return self.transcription.evaluator_at(values)
 
-    def _blank(self, gear: str, symbolic: bool = True):
-        from ..blank import blank_from_data
+    # -- related builds ----------------------------------------------------------------------------------------
 
-        blank, _ = blank_from_data(self._data(), self.scene.train, gear)
-        if not symbolic:
-            return blank
-        free = self._free(gear, "blank")
-        return self._model(f"blank:{gear}", lambda: replace(blank, **free), f"free {sorted(free)}")
+    def parametric_twin(self, **options: Any) -> "BuiltScene":
+        """The same NLP (same mesh positions and option overrides, e.g. after a refinement) built with its data as
+        parameters (``Scene.build(parametric=True)``); ``options``: further ``ltca_options`` overrides (e.g.
+        ``approach="nested"`` where the quantities must follow perturbed inputs at fixed variables)."""
+        return BuiltScene(self.scene, positions=self.contact.position_sets or None,
+                          options={**self._options_override, **options} or None, parametric=True)
+
+    def rebuild(self, *, positions: Mapping[str, Any], initial: Mapping[str, float] | None = None,
+                reuse: Mapping[str, Any] | None = None, options: Mapping[str, Any] | None = None) -> "BuiltScene":
+        """The next build of the refinement: the same scene (and parametric setting) at other mesh ``positions``,
+        warm-started at ``initial``, with ``reuse`` taken over and ``options`` added to this build's overrides."""
+        return BuiltScene(self.scene, positions=positions, initial=initial, reuse=reuse, parametric=self.parametric,
+                          options={**self._options_override, **dict(options or {})})
 
     # -- solve -------------------------------------------------------------------------------------------------
 
@@ -489,15 +350,13 @@ class BuiltScene(ContactModels, TrainModels, QuantityTerms):
         ``SceneResult.starts`` tables every start with the success rate. ``check``: re-evaluate the optimum of every
         mesh with LTCA quantities by the exact LTCA at ``check_positions`` (``SceneResult.exact_check``: exact and
         smooth values side by side). ``refine`` (default: whenever a PPTE objective or limit is declared and
-        ``check``): the semi-infinite refinement of :func:`gearopt.design.scene_refine.solve_refined` -- add the exact
+        ``check``): the semi-infinite refinement of :class:`gearopt.design.scene_refine.SceneRefinement` -- add the exact
         TE's peak and trough positions and re-solve warm until the smooth and exact PPTE agree within
         ``ltca_options["refine_tolerance"]`` (``SceneResult.refinement``)."""
-        from .scene_refine import solve_refined
-
         if refine is None:
             refine = check and any(q.quantity == "ppte_um" for q in (*self.scene.objectives, *self.scene.limits))
         if refine:
-            return solve_refined(self, starts=starts, seed=seed, verbose=verbose, **ipopt)
+            return SceneRefinement(self).solve(starts=starts, seed=seed, verbose=verbose, **ipopt)
         return self.solve_once(starts=starts, seed=seed, verbose=verbose, check=check, **ipopt)
 
     def solve_once(self, *, starts: int = 1, seed: int = 0, verbose: bool = False, check: bool = True,
@@ -505,61 +364,24 @@ class BuiltScene(ContactModels, TrainModels, QuantityTerms):
         """One solve of this NLP on its present position sets (no refinement); see :meth:`solve`."""
         starts_table = None
         if starts > 1:
-            names = [f"{t}.{name}" for (t, name) in self._variables]
+            names = self.variable_names
             ms = self.problem.multistart(starts - 1, seed=seed, variables=names, include_initial=True,
                                          verbose=verbose, **ipopt)
             solved, starts_table = ms.best, ms.table
         else:
             solved = self.problem.solve(verbose=verbose, **ipopt)
         values = {}
-        for (t, name) in self._variables:
-            entry = self.problem._variables[f"{t}.{name}"]
-            v = float(np.asarray(solved.values[f"{t}.{name}"]).ravel()[0])
-            values[f"{t}.{name}"] = float(np.clip(v, entry.lower[0], entry.upper[0]))
-        table = self._quantity_table(solved)
-        exact = self._exact_check(values, solved.value) if check else pd.DataFrame()
+        for name in self.variable_names:
+            entry = self.problem._variables[name]
+            v = float(np.asarray(solved.values[name]).ravel()[0])
+            values[name] = float(np.clip(v, entry.lower[0], entry.upper[0]))
+        table = self.transcription.quantity_table(solved)
+        exact = self.exact_check(values, solved.value) if check else pd.DataFrame()
         return SceneResult(scene=self.scene.name, values=values, solve=solved, quantities=table, exact_check=exact,
-                           microgeometry={m: self.microgeometry_at(values, m) for m in self._ltca_meshes()},
+                           microgeometry={m: self.microgeometry_at(values, m) for m in self.ltca_meshes()},
                            built=self.build_table, starts=starts_table, source=self,
-                           positions={m: np.asarray(self._positions_of(m)) for m in self._ltca_meshes()})
-
-    def _positions_of(self, mesh: str) -> np.ndarray:
-        from ..contact.layout import position_fractions
-        return position_fractions(self._positions(mesh))
-
-@dataclass
-class SceneResult:
-    """The solved scene: ``values`` (``"target.variable"`` -> value in the variable's unit), ``quantities`` (every
-    objective and limit quantity at the optimum: value, bounds, margin, unit -- the true maximum/PPTE, not the
-    epigraph bound), ``exact_check`` (exact LTCA of the optimum), ``microgeometry`` per LTCA mesh, ``solve``
-    (:class:`ProblemResult`: constraint and variable tables, multipliers), ``built`` (the build table) and
-    ``starts`` (the multi-start table, when ``solve(starts=n)``), ``refinement`` (one row per solve of the
-    semi-infinite refinement: positions, worst smooth-vs-exact PPTE error, Ipopt iterations and times) and
-    ``positions`` (per LTCA mesh, the final mesh positions as fractions of a base pitch), ``source`` (the
-    :class:`BuiltScene` solved; the studies of :mod:`gearopt.studies` start from it)."""
-
-    scene: str
-    values: dict[str, float]
-    solve: ProblemResult
-    quantities: pd.DataFrame
-    exact_check: pd.DataFrame
-    microgeometry: dict[str, Microgeometry]
-    built: pd.DataFrame
-    starts: pd.DataFrame | None = None
-    refinement: pd.DataFrame | None = None
-    positions: dict[str, np.ndarray] = field(default_factory=dict)
-    source: Any = field(default=None, repr=False, compare=False)
-
-    @property
-    def refinements(self) -> int:
-        """Re-solves the semi-infinite refinement needed (0: the first solve agreed with the exact model)."""
-        return 0 if self.refinement is None else int(len(self.refinement) - 1)
-
-    @property
-    def success_rate(self) -> float:
-        """Fraction of the multi-start solves that converged (1.0 for a single successful solve)."""
-        return 1.0 if self.starts is None else float(self.starts["success"].mean())
+                           positions={m: np.asarray(self.positions_of(m)) for m in self.ltca_meshes()})
 
 
 __all__ = ["Scene", "BuiltScene", "SceneResult", "LoadCase", "DesignVariable", "Objective", "Limit",
-           "DEFAULT_LTCA_OPTIONS"]
+           "DEFAULT_LTCA_OPTIONS", "JOINT_DATA", "TRAIN_TARGET"]

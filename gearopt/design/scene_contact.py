@@ -1,5 +1,6 @@
-"""The contact side of a built scene: LTCA models per mesh, the microgeometry each mesh sees (per mesh or per gear
-flank), LTCA quantities, and the exact-LTCA check of an optimum.
+"""The contact models of a built scene (:class:`ContactModels`, part of its model graph on top of
+:class:`~gearopt.design.scene_models.SceneModels`): LTCA models per mesh, the microgeometry each mesh sees (per mesh
+or per gear flank), LTCA quantities, and the exact-LTCA check of an optimum.
 
 Two smooth models serve a scene:
 
@@ -19,7 +20,6 @@ quantity that every mesh loading that flank sees -- a gear has one tooth form pe
 
 from __future__ import annotations
 
-import itertools
 from dataclasses import replace
 from typing import Any, Mapping
 
@@ -27,14 +27,16 @@ import numpy as np
 import pandas as pd
 
 from .. import numerics as nm
-from ..contact.layout import default_positions, default_slices
+from ..contact.layout import default_positions, default_slices, position_fractions
 from ..contact.ltca import ltca
 from ..contact.ltca_macro import MacroLTCAModel, macro_vector, micro_vector
 from ..contact.ltca_smooth import LTCAModel
 from ..contact.microgeometry import Microgeometry
 from ..errors import GearoptInputError
-from .microgeometry_nlp import _start_bounds, min_tip_relief_design
-from .scene_refine import extreme_fractions, peak_fractions
+from ..rating.stiffness import iso6336_stiffness
+from .microgeometry_nlp import min_tip_relief_design
+from .positions import corner_values, extreme_fractions, peak_fractions, start_bounds
+from .scene_models import SceneModels
 from .scene_spec import LoadCase
 from .scene_terms import FLANKS, quantity_kind
 
@@ -60,28 +62,50 @@ def parse_flank(target: str) -> tuple[str, str]:
 
 
 class ContactModels:
-    """Mixin of :class:`~gearopt.design.scene.BuiltScene`: everything LTCA."""
+    """The contact models of a build (module docstring), on its model graph ``graph``
+    (:class:`~gearopt.design.scene_models.SceneModels`: pairs, driving gears, the model cache, the design variables,
+    the data as parameters); ``positions``: mesh -> mesh positions of its smooth LTCA (fractions of a base pitch;
+    default the uniform ``options["positions"]``).
+
+    Public interface: flanks (:meth:`loaded_flanks`, :meth:`flank_meshes`, :meth:`check_flank_target`), the
+    microgeometry each mesh sees (:meth:`base_microgeometry`, :meth:`free_micro`, :meth:`microgeometry`,
+    :meth:`microgeometry_at`, :meth:`minimum_relief`, :meth:`micro_bounds`), the LTCA models (:meth:`ltca_meshes`,
+    :meth:`mesh_cases`, :meth:`positions`, :meth:`positions_of`, :meth:`ltca_model`, :meth:`ltca`), the LTCA
+    quantities (:meth:`elements`) and the exact check of a design (:meth:`exact_check`). The lifted form
+    (``approach="lifted"``) declares its approach variables and equilibrium constraints on the graph's problem and
+    sets the problem's ``start_completion`` (:meth:`lifted_start`).
+    """
+
+    def __init__(self, graph: SceneModels, positions: Mapping[str, Any] | None = None):
+        self.graph = graph
+        self.scene = graph.scene
+        self.options = graph.options
+        self.meshes = graph.meshes
+        self.needs = graph.needs
+        self.inputs = graph.inputs
+        self.position_sets: dict[str, Any] = dict(positions or {})
+        self._lifted: dict[str, tuple] = {}
 
     # -- flanks --------------------------------------------------------------------------------------------------
 
     def loaded_flanks(self, mesh: str) -> tuple[str, str]:
         """The flank targets (``"gear:flank"``) mesh ``mesh`` loads, gear 1 then gear 2."""
-        names = self._meshes[mesh].names
-        d = self._driving_gear(mesh) - 1
+        names = self.meshes[mesh].names
+        d = self.graph.driving_gear(mesh) - 1
         return tuple(f"{names[i]}:{'driving' if i == d else 'driven'}" for i in (0, 1))
 
     def flank_meshes(self, flank: str) -> list[str]:
         """Meshes of the scene that load ``flank`` (``"gear:flank"``)."""
-        return [m for m in self._meshes if flank in self.loaded_flanks(m)]
+        return [m for m in self.meshes if flank in self.loaded_flanks(m)]
 
-    def _check_flank_target(self, what: str, name: str, target: str) -> None:
+    def check_flank_target(self, what: str, name: str, target: str) -> None:
         gear, _ = parse_flank(target)
-        gears = sorted({g for p in self._meshes.values() for g in p.names})
+        gears = sorted({g for p in self.meshes.values() for g in p.names})
         if gear not in gears:
             raise GearoptInputError(f"{what} {name!r}: target={target!r} names gear {gear!r}, not a gear of the "
                                     f"scene ({gears})")
         if not self.flank_meshes(target):
-            loaded = sorted({f for m in self._meshes for f in self.loaded_flanks(m)})
+            loaded = sorted({f for m in self.meshes for f in self.loaded_flanks(m)})
             raise GearoptInputError(f"{what} {name!r}: no mesh of the scene loads flank {target!r} (loaded flanks: "
                                     f"{loaded})")
         for mesh in self.flank_meshes(target):
@@ -92,13 +116,13 @@ class ContactModels:
 
     # -- microgeometry -------------------------------------------------------------------------------------------
 
-    def _base_microgeometry(self, mesh: str) -> Microgeometry:
+    def base_microgeometry(self, mesh: str) -> Microgeometry:
         return self.scene.microgeometry.get(mesh, Microgeometry())
 
-    def _mesh_cases(self, mesh: str) -> list[LoadCase]:
+    def mesh_cases(self, mesh: str) -> list[LoadCase]:
         """Load cases at which the mesh's LTCA is evaluated: those its LTCA objectives and limits name (all when
         any of them names none), in the scene's order."""
-        cases = [lc for lc in (getattr(self, "load_cases", None) or self.scene.load_cases)]
+        cases = list(self.graph.load_cases)
         wanted: set[str] = set()
         for q in (*self.scene.objectives, *self.scene.limits):
             if q.target == mesh and "ltca" in quantity_kind(q.quantity).needs:
@@ -107,28 +131,29 @@ class ContactModels:
                 wanted.update(q.load_cases)
         return [lc for lc in cases if lc.name in wanted] or cases
 
-    def _minimum_relief(self, mesh: str) -> Microgeometry:
-        cases = self._mesh_cases(mesh)
+    def minimum_relief(self, mesh: str) -> Microgeometry:
+        cases = self.mesh_cases(mesh)
         if not cases:
             raise GearoptInputError(f"mesh {mesh!r}: tip-relief variables start from the minimum tip relief at the "
                                     f"first load case; the scene has no load case")
-        pair = self._meshes[mesh]
+        pair = self.meshes[mesh]
         if float(pair.geometry()["helix_angle_deg"]) == 0.0:
-            return min_tip_relief_design(pair, cases[0].mesh_torque_Nm(mesh), driving_gear=self._driving_gear(mesh))
+            return min_tip_relief_design(pair, cases[0].mesh_torque_Nm(mesh),
+                                         driving_gear=self.graph.driving_gear(mesh))
         # the thesis' minimum relief is a spur model: for a helical mesh, a starting guess from the spur pair of the
         # same transverse data (amounts) with starts at the helical mesh's own single-contact boundaries
         spur = replace(pair, helix_angle_deg=0.0, helix_hands=None)
         amounts = min_tip_relief_design(spur, cases[0].mesh_torque_Nm(mesh),
-                                        driving_gear=self._driving_gear(mesh)).tip_relief_um
+                                        driving_gear=self.graph.driving_gear(mesh)).tip_relief_um
         g = pair.geometry()
         starts = tuple(max(float(g["lpstc_roll_deg"][i]), float(g["hpstc_roll_deg"][i])) for i in range(2))
         return Microgeometry(tip_relief_um=amounts, tip_relief_start_roll_deg=starts, relief_shape="linear")
 
-    def _free_micro(self, mesh: str, i: int, field: str, values: Mapping[str, float] | None):
+    def free_micro(self, mesh: str, i: int, field: str, values: Mapping[str, float] | None):
         """The free variable (or its value) setting ``field`` of gear ``i`` in ``mesh``: mesh- or flank-targeted."""
         for target, name in ((mesh, mesh_variable_name(field, i)), (self.loaded_flanks(mesh)[i], field)):
-            if (target, name) in self._variables:
-                return values[f"{target}.{name}"] if values is not None else self._variables[(target, name)]
+            if (target, name) in self.graph.variables:
+                return values[f"{target}.{name}"] if values is not None else self.graph.variables[(target, name)]
         return None
 
     def _default_start(self, mesh: str, i: int) -> float:
@@ -136,29 +161,29 @@ class ContactModels:
         first mesh loading that flank starts (one start per flank)."""
         first = self.flank_meshes(self.loaded_flanks(mesh)[i])[0]
         j = self.loaded_flanks(first).index(self.loaded_flanks(mesh)[i])
-        return self._minimum_relief(first).tip_relief_start_roll_deg[j]
+        return self.minimum_relief(first).tip_relief_start_roll_deg[j]
 
-    def _microgeometry(self, mesh: str, values: Mapping[str, float] | None = None) -> Microgeometry:
+    def microgeometry(self, mesh: str, values: Mapping[str, float] | None = None) -> Microgeometry:
         """The mesh's microgeometry: fixed fields from ``scene.microgeometry``, free ones (mesh or flank targets) as
         symbols or at ``values`` (``"target.variable"`` keys)."""
-        base = self._base_microgeometry(mesh)
-        kw: dict[str, Any] = {"relief_smoothing_deg": self._opts["relief_smoothing_deg"]}
+        base = self.base_microgeometry(mesh)
+        kw: dict[str, Any] = {"relief_smoothing_deg": self.options["relief_smoothing_deg"]}
         for field in MICRO_FIELDS:
             vals = list(getattr(base, field))
             for i in (0, 1):
-                v = self._free_micro(mesh, i, field, values)
+                v = self.free_micro(mesh, i, field, values)
                 vals[i] = vals[i] if v is None else v
             kw[field] = tuple(vals)
         starts = list(kw["tip_relief_start_roll_deg"])
         for i in (0, 1):
-            if starts[i] is None and self._free_micro(mesh, i, "tip_relief_um", None) is not None:
+            if starts[i] is None and self.free_micro(mesh, i, "tip_relief_um", None) is not None:
                 starts[i] = self._default_start(mesh, i)
         kw["tip_relief_start_roll_deg"] = tuple(starts)
         return replace(base, **kw)
 
     def microgeometry_at(self, values: Mapping[str, float], mesh: str) -> Microgeometry:
         """The mesh's microgeometry with the free amounts set to ``values`` (``"target.variable"`` keys)."""
-        return self._microgeometry(mesh, values)
+        return self.microgeometry(mesh, values)
 
     def micro_bounds(self, target: str, name: str, kind) -> tuple[float | None, float | None, float | None]:
         """Default bounds and start of a micro variable of a mesh or a flank."""
@@ -170,92 +195,81 @@ class ContactModels:
             field = name
             uses = [(m, self.loaded_flanks(m).index(target)) for m in self.flank_meshes(target)]
         if field == "tip_relief_start_roll_deg":
-            spans = [_start_bounds(self._meshes[m].geometry(), i, self._opts["start_margin_deg"]) for m, i in uses]
+            spans = [start_bounds(self.meshes[m].geometry(), i, self.options["start_margin_deg"]) for m, i in uses]
             lo, hi = max(s[0] for s in spans), min(s[1] for s in spans)
             if hi <= lo:
                 raise GearoptInputError(f"design variable {name!r} of {target!r}: the meshes {[m for m, _ in uses]} "
                                         f"leave no common room for a tip relief start ({lo:.3f}..{hi:.3f} deg)")
-            if any(self._macro_free(m) for m, _ in uses):
+            if any(self.graph.macro_free(m) for m, _ in uses):
                 lo, hi = lo - START_WIDENING_DEG, hi + START_WIDENING_DEG
         mesh, i = uses[0]
-        base = self._base_microgeometry(mesh)
+        base = self.base_microgeometry(mesh)
         init = getattr(base, field)[i]
         if field.startswith("tip_relief") and not any(nm.is_numeric(a) and nm.to_float(a) > 0
                                                       for a in base.tip_relief_um):
             first = self.flank_meshes(self.loaded_flanks(mesh)[i])[0] if kind.target_kind == "flank" else mesh
             j = i if first == mesh else self.loaded_flanks(first).index(self.loaded_flanks(mesh)[i])
-            init = getattr(self._minimum_relief(first), field)[j]
+            init = getattr(self.minimum_relief(first), field)[j]
         return lo, hi, init
-
-    def _start_constraints(self) -> None:
-        """With free macro geometry, keep every free tip-relief start between the pitch point and the tip margin of
-        the symbolic geometry of each mesh it acts in."""
-        margin = self._opts["start_margin_deg"]
-        for mesh in self._ltca_meshes():
-            if not self._macro_free(mesh):
-                continue
-            g = self._geometry(mesh)
-            for i in (0, 1):
-                start = self._free_micro(mesh, i, "tip_relief_start_roll_deg", None)
-                if start is None:
-                    continue
-                label = f"{mesh}.tip_relief_start_{i + 1}_in_profile"
-                self.problem.subject_to(f"{label}.above_pitch_point", start - g["pitch_point_roll_deg"][i], lower=0.0,
-                                        unit="deg")
-                self.problem.subject_to(f"{label}.below_tip", g["eap_roll_deg"][i] - margin - start, lower=0.0,
-                                        unit="deg")
 
     # -- models --------------------------------------------------------------------------------------------------
 
-    def _ltca_meshes(self) -> list[str]:
-        return [m for m, needs in self._needs.items() if "ltca" in needs]
+    def ltca_meshes(self) -> list[str]:
+        """Meshes with LTCA quantities, in the order of the scene's targets."""
+        return [m for m, needs in self.needs.items() if "ltca" in needs]
 
-    def _positions(self, mesh: str):
-        return self._position_sets.get(mesh, int(self._opts["positions"]))
+    def positions(self, mesh: str):
+        """The mesh's positions setting of its smooth LTCA: a set of fractions, or the uniform count."""
+        return self.position_sets.get(mesh, int(self.options["positions"]))
+
+    def positions_of(self, mesh: str) -> np.ndarray:
+        """The mesh's positions of its smooth LTCA as fractions of a base pitch."""
+        return position_fractions(self.positions(mesh))
 
     def _lead(self, mesh: str) -> bool:
-        return any(self._free_micro(mesh, i, "lead_crown_um", None) is not None for i in (0, 1)) \
-            or self._base_microgeometry(mesh).has_lead_modification
+        return any(self.free_micro(mesh, i, "lead_crown_um", None) is not None for i in (0, 1)) \
+            or self.base_microgeometry(mesh).has_lead_modification
 
     def _ltca_speed(self, mesh: str) -> float | None:
-        if "ltca_temperature" not in self._needs[mesh]:
+        if "ltca_temperature" not in self.needs[mesh]:
             return None
-        speeds = {lc.speed_rpm for lc in self._mesh_cases(mesh)}
+        speeds = {lc.speed_rpm for lc in self.mesh_cases(mesh)}
         if len(speeds) != 1 or None in speeds:
             raise GearoptInputError(f"mesh {mesh!r}: contact temperature needs one speed_rpm for all load cases "
                                     f"(got {sorted(speeds, key=str)})")
-        return self._driver_speed_rpm(mesh, speeds.pop())
+        return self.graph.driver_speed_rpm(mesh, speeds.pop())
 
-    def _ltca_model(self, mesh: str):
-        needs, o = self._needs[mesh], self._opts
+    def ltca_model(self, mesh: str):
+        needs, o = self.needs[mesh], self.options
         speed = self._ltca_speed(mesh)
-        common = dict(driving_gear=self._driving_gear(mesh), stiffness=o["stiffness"], positions=self._positions(mesh),
+        common = dict(driving_gear=self.graph.driving_gear(mesh), stiffness=o["stiffness"],
+                      positions=self.positions(mesh),
                       lead_modification=self._lead(mesh), smoothing_um=o["smoothing_um"],
                       root_stress="ltca_root_stress" in needs, speed_rpm=speed,
                       bulk_temperature_C=o["bulk_temperature_C"], friction_coefficient=o["friction_coefficient"])
-        pair = self._pair(mesh)
-        if not self._macro_free(mesh):
+        pair = self.graph.pair(mesh)
+        if not self.graph.macro_free(mesh):
             if float(pair.geometry()["helix_angle_deg"]) != 0.0:
                 common["slices"] = o["helical_slices"]
-            return self._model(f"ltca_smooth:{mesh}", lambda: LTCAModel(pair, **common), lambda m: (
+            return self.graph.model(f"ltca_smooth:{mesh}", lambda: LTCAModel(pair, **common), lambda m: (
                 f"positions={m.layout.positions}, slices={m.layout.slices}, root_stress={m.root_stress}, "
                 f"flash_temperature={speed is not None}"))
-        helical = self._helix_free() or float(self._meshes[mesh].geometry()["helix_angle_deg"]) != 0.0
+        helical = self.graph.helix_free() or float(self.meshes[mesh].geometry()["helix_angle_deg"]) != 0.0
 
         def build():
-            eps_a, eps_b = self._contact_ratio_bounds(mesh)
-            return MacroLTCAModel(self._meshes[mesh], **common, helical=helical,
+            eps_a, eps_b = self.graph.contact_ratio_bounds(mesh)
+            return MacroLTCAModel(self.meshes[mesh], **common, helical=helical,
                                   slices=o["helical_slices"] if helical else None,
-                                  load_cases=len(self._mesh_cases(mesh)), max_contact_ratio=eps_a,
+                                  load_cases=len(self.mesh_cases(mesh)), max_contact_ratio=eps_a,
                                   max_overlap_ratio=eps_b, engagement_width_mm=o["engagement_width_mm"],
-                                  relief_shape=self._base_microgeometry(mesh).relief_shape,
+                                  relief_shape=self.base_microgeometry(mesh).relief_shape,
                                   relief_smoothing_deg=o["relief_smoothing_deg"])
 
-        return self._model(f"ltca_macro:{mesh}", build, lambda m: (
+        return self.graph.model(f"ltca_macro:{mesh}", build, lambda m: (
             f"positions={m.positions}, slices={m.slices}, pairs={len(m.pair_index)}, root_stress={m.root_stress}, "
             f"flash_temperature={speed is not None}, symbolic macro geometry"))
 
-    def _lifted_start(self, values: Mapping[str, Any]) -> dict[str, np.ndarray]:
+    def lifted_start(self, values: Mapping[str, Any]) -> dict[str, np.ndarray]:
         """The lifted approaches consistent with the design variables of a start (``Problem.start_completion``):
         a start from other design values (a multi-start point, a neighbour of a front) would otherwise begin far
         from the force balance."""
@@ -271,30 +285,25 @@ class ContactModels:
         """Numeric approaches of a lifted mesh at the scalar variables of ``values`` (variable units)."""
         model, numbers = self._lifted[mesh]
         scalars = {k: float(np.asarray(v).ravel()[0]) for k, v in values.items() if np.size(v) == 1}
-        return model.approach_start(self._microgeometry(mesh, scalars), numbers)
+        return model.approach_start(self.microgeometry(mesh, scalars), numbers)
 
-    def _driver_speed_rpm(self, mesh: str, crank_speed_rpm: float) -> float:
-        name = self._meshes[mesh].names[self._driving_gear(mesh) - 1]
-        train = self.scene.train
-        return train.gear_speed_rpm(name, crank_speed_rpm) if train is not None else crank_speed_rpm
-
-    def _ltca(self, mesh: str):
-        model = self._ltca_model(mesh)
-        numbers = [lc.mesh_torque_Nm(mesh) for lc in self._mesh_cases(mesh)]
+    def ltca(self, mesh: str):
+        model = self.ltca_model(mesh)
+        numbers = [lc.mesh_torque_Nm(mesh) for lc in self.mesh_cases(mesh)]
         if not numbers:
             raise GearoptInputError(f"mesh {mesh!r}: LTCA quantities need at least one load case")
-        torques = [self._datum(f"torque_Nm[{mesh}]@{lc.name}", t, "N*m")
-                   for lc, t in zip(self._mesh_cases(mesh), numbers)]
+        torques = [self.inputs.datum(f"torque_Nm[{mesh}]@{lc.name}", t, "N*m")
+                   for lc, t in zip(self.mesh_cases(mesh), numbers)]
         detail = f"{len(numbers)} load case(s) at {', '.join(f'{t:g}' for t in numbers)} N m"
         if isinstance(model, MacroLTCAModel):
             def evaluate():
-                micro = micro_vector(self._microgeometry(mesh), self._meshes[mesh].geometry())
-                return model.evaluate(macro_vector(self._pair(mesh)), micro, torques)
-            return self._model(f"ltca_evaluation:{mesh}", evaluate, detail)
-        if self._opts["approach"] == "nested":
-            return self._model(f"ltca_evaluation:{mesh}", lambda: model.evaluate(
-                self._microgeometry(mesh), torques, **self._ltca_data(mesh, model)), detail)
-        return self._model(f"ltca_evaluation:{mesh}", lambda: self._lifted_ltca(mesh, model, torques, numbers),
+                micro = micro_vector(self.microgeometry(mesh), self.meshes[mesh].geometry())
+                return model.evaluate(macro_vector(self.graph.pair(mesh)), micro, torques)
+            return self.graph.model(f"ltca_evaluation:{mesh}", evaluate, detail)
+        if self.options["approach"] == "nested":
+            return self.graph.model(f"ltca_evaluation:{mesh}", lambda: model.evaluate(
+                self.microgeometry(mesh), torques, **self._ltca_data(mesh, model)), detail)
+        return self.graph.model(f"ltca_evaluation:{mesh}", lambda: self._lifted_ltca(mesh, model, torques, numbers),
                            f"{detail}, lifted approach")
 
     def _lifted_ltca(self, mesh: str, model: LTCAModel, torques: list, numbers: list):
@@ -304,18 +313,17 @@ class ContactModels:
         position, scaled by the largest mesh force), instead of Newton's method inside the model. Same optimum as
         the nested form; the NLP's graph is a few operations per spring, so its derivatives are cheap (measured
         in benchmarks/bench_studies.py)."""
-        if not getattr(self, "_lifted", None):
-            self._lifted = {}
-            self.problem.start_completion = self._lifted_start
+        if not self._lifted:
+            self.graph.problem.start_completion = self.lifted_start
         self._lifted[mesh] = (model, numbers)
-        start = self._approach_at(mesh, {name: entry.init for name, entry in self.problem._variables.items()})
+        start = self._approach_at(mesh, {name: entry.init for name, entry in self.graph.problem._variables.items()})
         force = max(max(numbers), 1e-6) * float(model.layout.force_per_torque_N_per_Nm)
-        delta = self.problem.variable(f"{mesh}.approach_um", init=start, n=start.size, scale=APPROACH_SCALE_UM,
+        delta = self.graph.problem.variable(f"{mesh}.approach_um", init=start, n=start.size, scale=APPROACH_SCALE_UM,
                                       unit="um")
-        res = model.evaluate(self._microgeometry(mesh), torques, approach_um=delta, **self._ltca_data(mesh, model))
-        self.problem.subject_to(f"{mesh}.approach_equilibrium", nm.column(res.approach_residual_N), lower=0.0,
+        res = model.evaluate(self.microgeometry(mesh), torques, approach_um=delta, **self._ltca_data(mesh, model))
+        self.graph.problem.subject_to(f"{mesh}.approach_equilibrium", nm.column(res.approach_residual_N), lower=0.0,
                                 upper=0.0, scale=force, unit="N")
-        self.problem.subject_to(f"{mesh}.approach_closes_a_gap", nm.column(res.approach_floor_um), lower=0.0,
+        self.graph.problem.subject_to(f"{mesh}.approach_closes_a_gap", nm.column(res.approach_floor_um), lower=0.0,
                                 unit="um")
         return res
 
@@ -325,44 +333,43 @@ class ContactModels:
         quantity; with ``stiffness="iso6336"`` or a number), the contact face width (a spur mesh with one face
         slice), Young's modulus (contact stress and temperature), the driving gear's speed and both gears' thermal
         contact coefficients (contact temperature)."""
-        if not self.parametric:
+        if not self.graph.parametric:
             return {}
         used = {q.quantity for q in (*self.scene.objectives, *self.scene.limits) if q.target == mesh}
-        stiffness, data = self._opts["stiffness"], {}
+        stiffness, data = self.options["stiffness"], {}
         if stiffness == "iso6336" or (isinstance(stiffness, (int, float)) and not isinstance(stiffness, bool)):
             if stiffness == "iso6336":
-                from ..rating.stiffness import iso6336_stiffness
-                c0 = float(iso6336_stiffness(self._pair(mesh))["single_stiffness"])
+                c0 = float(iso6336_stiffness(self.graph.pair(mesh))["single_stiffness"])
             else:
                 c0 = float(stiffness)
-            data["stiffness_factor"] = self._datum(f"single_pair_stiffness_N_per_mm_um[{mesh}]", c0,
+            data["stiffness_factor"] = self.inputs.datum(f"single_pair_stiffness_N_per_mm_um[{mesh}]", c0,
                                                    "N/(mm*um)") / c0
         if model.layout.slices == 1 and model.layout.base_helix_angle_rad == 0.0:   # the face width scales exactly
-            data["face_width_mm"] = self._datum(f"face_width_mm[{mesh}]", float(model.layout.face_width_mm), "mm")
+            data["face_width_mm"] = self.inputs.datum(f"face_width_mm[{mesh}]", float(model.layout.face_width_mm), "mm")
         if used & {"max_contact_stress_MPa", "max_contact_temperature_C"}:
-            data["E_MPa"] = self._datum(f"youngs_modulus_MPa[{mesh}]", model.E_MPa, "MPa")
+            data["E_MPa"] = self.inputs.datum(f"youngs_modulus_MPa[{mesh}]", model.E_MPa, "MPa")
         if model.speed_rpm and "max_contact_temperature_C" in used:
-            data["speed_rpm"] = self._datum(f"speed_rpm[{mesh}]", model.speed_rpm, "rpm")
-            names = self._meshes[mesh].names
+            data["speed_rpm"] = self.inputs.datum(f"speed_rpm[{mesh}]", model.speed_rpm, "rpm")
+            names = self.meshes[mesh].names
             data["thermal_contact_coefficients"] = tuple(
-                self._datum(f"thermal_contact_coefficient_N_per_mm_sqrt_s_K[{names[i]}]", b, "N/(mm*s^0.5*K)")
+                self.inputs.datum(f"thermal_contact_coefficient_N_per_mm_sqrt_s_K[{names[i]}]", b, "N/(mm*s^0.5*K)")
                 for i, b in enumerate(model.thermal_contact_coefficients))
         return data
 
     def _contact_temperature(self, mesh: str, bulk_C, flash_K):
         """Bulk + flash temperature; in a parametric build the oil temperature and the friction coefficient are
         parameters (Blok's flash temperature is proportional to the friction coefficient)."""
-        bulk = self._datum(f"oil_temperature_C[{mesh}]", bulk_C, "C")
-        mu = self._opts["friction_coefficient"]
-        if self.parametric and mu > 0.0:
-            flash_K = flash_K * (self._datum(f"friction_coefficient[{mesh}]", mu, "") / mu)
+        bulk = self.inputs.datum(f"oil_temperature_C[{mesh}]", bulk_C, "C")
+        mu = self.options["friction_coefficient"]
+        if self.graph.parametric and mu > 0.0:
+            flash_K = flash_K * (self.inputs.datum(f"friction_coefficient[{mesh}]", mu, "") / mu)
         return bulk + flash_K
 
-    def _ltca_elements(self, name: str, target: str, lc: LoadCase):
+    def elements(self, name: str, target: str, lc: LoadCase):
         """Expression of an LTCA quantity of ``target`` at ``lc`` (TE column, spring vector or scalar)."""
-        res, model = self._ltca(target), self._ltca_model(target)
-        l_idx = self._mesh_cases(target).index(lc)
-        L = len(self._mesh_cases(target))
+        res, model = self.ltca(target), self.ltca_model(target)
+        l_idx = self.mesh_cases(target).index(lc)
+        L = len(self.mesh_cases(target))
         if isinstance(model, MacroLTCAModel):
             P = model.positions
             cols = slice(l_idx * P, (l_idx + 1) * P)
@@ -397,7 +404,7 @@ class ContactModels:
 
     # -- exact check ---------------------------------------------------------------------------------------------
 
-    def _exact_check(self, values: Mapping[str, float], evaluate=None) -> pd.DataFrame:
+    def exact_check(self, values: Mapping[str, float], evaluate=None) -> pd.DataFrame:
         """Exact LTCA (``check_positions``, the default slices) of every LTCA mesh at the optimum, per load case,
         beside the smooth model's values at the same design (``smooth_*``) and their relative differences
         (``*_error``, relative to the exact value). ``worst_fractions`` lists the mesh positions (fractions of a
@@ -405,25 +412,25 @@ class ContactModels:
         root stress and contact temperature peak (each a maximum over the mesh cycle: a semi-infinite limit like
         PPTE, refined the same way)."""
         rows = []
-        for mesh in self._ltca_meshes():
+        for mesh in self.ltca_meshes():
             mods = self.microgeometry_at(values, mesh)
-            pair, model = self._numeric_pair(mesh, values), self._ltca_model(mesh)
+            pair, model = self.graph.numeric_pair(mesh, values), self.ltca_model(mesh)
             slices = default_slices(pair, mods)
-            positions = max(int(self._opts["check_positions"]), self._model_positions(model)) if slices == 1 \
+            positions = max(int(self.options["check_positions"]), self._model_positions(model)) if slices == 1 \
                 else default_positions(slices)
             speed = model.speed_rpm
-            for lc in self._mesh_cases(mesh):
-                r = ltca(pair, lc.mesh_torque_Nm(mesh), driving_gear=self._driving_gear(mesh), microgeometry=mods,
-                         stiffness=self._opts["stiffness"], positions=positions, slices=slices, speed_rpm=speed,
-                         bulk_temperature_C=self._opts["bulk_temperature_C"],
-                         friction_coefficient=self._opts["friction_coefficient"])
+            for lc in self.mesh_cases(mesh):
+                r = ltca(pair, lc.mesh_torque_Nm(mesh), driving_gear=self.graph.driving_gear(mesh), microgeometry=mods,
+                         stiffness=self.options["stiffness"], positions=positions, slices=slices, speed_rpm=speed,
+                         bulk_temperature_C=self.options["bulk_temperature_C"],
+                         friction_coefficient=self.options["friction_coefficient"])
                 te = r.transmission_error_um
                 fractions = np.arange(positions) / positions
                 row = {"mesh": mesh, "load_case": lc.name, "torque_Nm": lc.mesh_torque_Nm(mesh), "slices": slices,
                        "ppte_um": r.ppte_um, "max_contact_stress_MPa": r.max_contact_stress_MPa,
                        "loaded_contact_ratio": r.loaded_contact_ratio,
                        "worst_fractions": extreme_fractions(te, fractions,
-                                                            neighbours=int(self._opts["refine_neighbours"]))}
+                                                            neighbours=int(self.options["refine_neighbours"]))}
                 peaks = [r.contact_stress_MPa]
                 if model.root_stress:
                     row["max_root_stress_MPa"] = max(r.max_root_stress_MPa)
@@ -431,7 +438,7 @@ class ContactModels:
                 if speed is not None:
                     row["max_contact_temperature_C"] = r.max_flash_temperature_C
                     peaks.append(r.flash_temperature_rise_K)
-                row["stress_fractions"] = peak_fractions(peaks, fractions, int(self._opts["refine_neighbours"]))
+                row["stress_fractions"] = peak_fractions(peaks, fractions, int(self.options["refine_neighbours"]))
                 if evaluate is not None:
                     row["smooth_dense_ppte_um"] = self._dense_smooth_ppte(mesh, values, lc, positions)
                     for q in ("ppte_um", "max_contact_stress_MPa", "max_root_stress_MPa", "max_contact_temperature_C"):
@@ -445,22 +452,22 @@ class ContactModels:
     def _dense_smooth_ppte(self, mesh: str, values: Mapping[str, float], lc: LoadCase, positions: int) -> float:
         """PPTE of the smooth model at the optimum on the exact check's uniform grid: separates the error of the
         smoothing (dense smooth vs exact) from that of the NLP's sampling (NLP vs dense smooth)."""
-        model = self._ltca_model(mesh)
+        model = self.ltca_model(mesh)
         mods, torque = self.microgeometry_at(values, mesh), lc.mesh_torque_Nm(mesh)
-        o = self._opts
+        o = self.options
         if isinstance(model, MacroLTCAModel):
             key = f"ltca_macro_dense:{mesh}"
-            dense = self.models.get(key) or MacroLTCAModel(
-                self._meshes[mesh], driving_gear=model.driving_gear, stiffness=o["stiffness"], positions=positions,
+            dense = self.graph.cache.models.get(key) or MacroLTCAModel(
+                self.meshes[mesh], driving_gear=model.driving_gear, stiffness=o["stiffness"], positions=positions,
                 slices=model.slices, helical=model.helical, max_contact_ratio=model.max_contact_ratio,
                 max_overlap_ratio=model.max_overlap_ratio, smoothing_um=model.smoothing_um,
                 engagement_width_mm=model.engagement_width_mm, relief_shape=model.relief_shape,
                 relief_smoothing_deg=model.relief_smoothing_deg)
-            self.models[key] = dense
-            pair = self._numeric_pair(mesh, values)
-            r = dense.evaluate(macro_vector(pair), micro_vector(mods, self._meshes[mesh].geometry()), [torque])
+            self.graph.cache.models[key] = dense
+            pair = self.graph.numeric_pair(mesh, values)
+            r = dense.evaluate(macro_vector(pair), micro_vector(mods, self.meshes[mesh].geometry()), [torque])
             return float(r.ppte_um[0])
-        dense = LTCAModel(self._meshes[mesh], driving_gear=model.layout.driving_gear, stiffness=o["stiffness"],
+        dense = LTCAModel(self.meshes[mesh], driving_gear=model.layout.driving_gear, stiffness=o["stiffness"],
                           positions=positions, slices=model.layout.slices, smoothing_um=model.smoothing_um)
         return float(dense.evaluate(mods, torque).ppte_um)
 
@@ -468,7 +475,7 @@ class ContactModels:
         return model.positions if isinstance(model, MacroLTCAModel) else model.layout.positions
 
     def _smooth_value(self, q: str, mesh: str, lc: LoadCase, evaluate) -> float:
-        v = np.atleast_1d(np.asarray(evaluate(self._ltca_elements(q, mesh, lc)), dtype=float)).ravel()
+        v = np.atleast_1d(np.asarray(evaluate(self.elements(q, mesh, lc)), dtype=float)).ravel()
         if q == "ppte_um":
             return float(np.ptp(v))
         return float(np.sqrt(max(v.max(), 0.0))) if q == "max_contact_stress_MPa" else float(v.max())
@@ -483,12 +490,4 @@ def _on_path(matrix, model: LTCAModel, l_idx: int):
     return nm.reshape(block, int(on.size), 1)[idx]
 
 
-def corner_values(bounds: Mapping[str, tuple[float, float]]) -> list[dict[str, float]]:
-    """Every corner of a box of named bounds (and its centre), for bounding a quantity over a design space."""
-    names = list(bounds)
-    out = [dict(zip(names, c)) for c in itertools.product(*[bounds[n] for n in names])]
-    out.append({n: 0.5 * (lo + hi) for n, (lo, hi) in bounds.items()})
-    return out
-
-
-__all__ = ["ContactModels", "MICRO_FIELDS", "mesh_variable_name", "parse_flank", "corner_values"]
+__all__ = ["ContactModels", "MICRO_FIELDS", "mesh_variable_name", "parse_flank", "corner_values", "peak_fractions"]

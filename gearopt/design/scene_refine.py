@@ -16,7 +16,8 @@ without a dense grid everywhere:
    own dense grid at the same design measures the error of the *discretisation* (dense smooth vs exact: the contact
    smoothing and, for a helical mesh, the face slicing), the rest is the error of the *sampling* (NLP vs dense
    smooth). Sampling error above half the tolerance: add the exact TE's peaks and troughs of every load case
-   (:func:`extreme_fractions`) to the mesh's set. Discretisation error above half the tolerance on a helical mesh:
+   (:func:`~gearopt.design.positions.extreme_fractions`) to the mesh's set. Discretisation error above half the
+   tolerance on a helical mesh:
    raise the smooth model's face slices (``helical_slices`` to ``2 n - 1``, so the old slice centres stay, up to
    ``max_helical_slices``; the exact check slices the face :func:`gearopt.contact.layout.default_slices` times, at
    least 11 and more as the overlap ratio grows). On a spur mesh (or with the slices at their cap): halve the contact smoothing
@@ -56,6 +57,8 @@ import numpy as np
 import pandas as pd
 
 from ..errors import SolveError
+from .positions import extreme_fractions, new_fractions, peak_fractions
+from .scene_terms import quantity_kind
 
 RESOLVE_BUDGET_FACTOR, RESOLVE_BUDGET_MIN_S = 8.0, 10.0
 """Wall-time budget of a re-solve: this many times the first solve's Ipopt time, at least the minimum [s]. A warm
@@ -65,51 +68,6 @@ co-design: a minute where the first solve took 5 s), and the refinement keeps it
 
 REUSED_MODELS = ("data:", "dynamics:", "simulation:")
 """Models a re-solve takes over from the previous build (they do not depend on the positions)."""
-
-
-def extreme_fractions(te: np.ndarray, fractions: np.ndarray, per_side: int = 3, band: float = 0.25,
-                      neighbours: int = 6) -> tuple:
-    """Mesh positions of the TE's peaks and troughs: the global maximum and minimum first, then further local
-    maxima (minima) in the top (bottom) ``band`` of the range, most extreme first, up to ``per_side`` each, each with
-    ``neighbours`` grid points on either side (an extreme moves a little when the design does; its neighbours keep
-    the NLP from sliding it between two samples). The TE is periodic over the base pitch."""
-    te = np.asarray(te, dtype=float)
-    lo, hi = te.min(), te.max()
-    span = max(hi - lo, 1e-12)
-    prev, nxt = np.roll(te, 1), np.roll(te, -1)
-    peaks = [i for i in np.argsort(-te) if te[i] >= prev[i] and te[i] >= nxt[i] and te[i] >= hi - band * span]
-    troughs = [i for i in np.argsort(te) if te[i] <= prev[i] and te[i] <= nxt[i] and te[i] <= lo + band * span]
-    idx = [int(np.argmax(te)), int(np.argmin(te))] + peaks[:per_side] + troughs[:per_side]
-    return _with_neighbours(idx, fractions, neighbours)
-
-
-def peak_fractions(arrays, fractions: np.ndarray, neighbours: int) -> tuple:
-    """Mesh positions (``fractions``) where each of ``arrays`` (positions first, e.g. (P, K, J) stresses of every
-    spring; NaN off the path) peaks over the cycle, each with ``neighbours`` grid points either side (periodic)."""
-    idx = [int(np.nanargmax(np.nanmax(np.asarray(a, dtype=float).reshape(len(fractions), -1), axis=1)))
-           for a in arrays]
-    return _with_neighbours(idx, fractions, neighbours)
-
-
-def _with_neighbours(indices, fractions, neighbours: int) -> tuple:
-    """The grid fractions at ``indices`` and ``neighbours`` points either side of each (periodic), each once, in
-    order."""
-    out: list[float] = []
-    for i in indices:
-        for j in range(i - neighbours, i + neighbours + 1):
-            f = float(fractions[j % len(fractions)])
-            if f not in out:
-                out.append(f)
-    return tuple(out)
-
-
-def new_fractions(existing: np.ndarray, candidates, tol: float = 1e-9) -> list[float]:
-    out = []
-    for f in candidates:
-        d = np.abs(np.asarray(existing) - f)
-        if np.min(np.minimum(d, 1.0 - d)) > tol and all(abs(f - o) > tol for o in out):
-            out.append(float(f))
-    return out
 
 
 def ppte_disagreement(ex: pd.DataFrame, smooth_column: str, tol: float, abs_tol_um: float) -> pd.Series:
@@ -132,12 +90,12 @@ def _admissible(built, quantities, exact, tol: float) -> bool:
         return False
     if not len(exact):
         return True
-    if exact_lower_limit_shortfalls(built, exact, float(built._opts["refine_stress_tolerance"])):
+    if exact_lower_limit_shortfalls(built, exact, float(built.options["refine_stress_tolerance"])):
         return False
     if (lim["quantity"] == "ppte_um").any() and float(ppte_disagreement(
-            exact, "smooth_ppte_um", tol, float(built._opts["refine_abs_tolerance_um"])).max()) > 1.0:
+            exact, "smooth_ppte_um", tol, float(built.options["refine_abs_tolerance_um"])).max()) > 1.0:
         return False
-    return bool((_stress_errors(exact) <= float(built._opts["refine_stress_tolerance"])).all())
+    return bool((_stress_errors(exact) <= float(built.options["refine_stress_tolerance"])).all())
 
 
 def _minimax_ppte(built) -> bool:
@@ -169,8 +127,6 @@ def _verified_objective(built, quantities, exact, column: str = "ppte_um") -> fl
     """The scene's objective with every PPTE term taken from the exact LTCA (``column`` of the exact check: the
     smooth model's at the NLP's positions with ``"smooth_ppte_um"``), summed, or their largest for
     ``objective_aggregate="max"``."""
-    from .scene_terms import quantity_kind
-
     terms = []
     for obj in built.scene.objectives:
         q = quantities[(quantities["role"] == "objective") & (quantities["quantity"] == obj.quantity)
@@ -217,9 +173,9 @@ def _remedies(current, ex, tol: float, raise_slices: bool = False) -> dict:
     a helical mesh's stress misses its exact peak at positions the NLP already samples."""
     if not len(ex):
         return {}
-    disc = ppte_disagreement(ex, "smooth_dense_ppte_um", tol, float(current._opts["refine_abs_tolerance_um"]))
+    disc = ppte_disagreement(ex, "smooth_dense_ppte_um", tol, float(current.options["refine_abs_tolerance_um"]))
     helical = ex["slices"] > 1 if "slices" in ex else np.zeros(len(ex), dtype=bool)
-    o, options = current._opts, {}
+    o, options = current.options, {}
     n, n_max = int(o["helical_slices"]), int(o["max_helical_slices"])
     spur_left = bool((disc[~helical] > 0.5).any())
     if raise_slices or bool((disc[helical] > 0.5).any()):
@@ -233,121 +189,140 @@ def _remedies(current, ex, tol: float, raise_slices: bool = False) -> dict:
     return options
 
 
+class SceneRefinement:
+    """The semi-infinite refinement of a built scene (module docstring): :meth:`solve` solves ``built`` (a
+    :class:`~gearopt.design.scene.BuiltScene`) with the exchange method and returns the best verified
+    :class:`~gearopt.design.scene_result.SceneResult` with ``refinement`` filled in.
+
+    It uses the built scene's public interface only: ``options`` (the tolerances and limits of the refinement),
+    ``scene``, ``variable_names``, ``initial_overrides``, ``initial_values()``, ``ltca_meshes()``,
+    ``positions_of()``, ``quantities_at()``, ``evaluator_at()``, ``exact_check()``, ``microgeometry_at()``,
+    ``models``, ``solve_once()`` and ``rebuild()`` (the next build: more positions, other options, the models of
+    :data:`REUSED_MODELS` taken over).
+    """
+
+    def __init__(self, built):
+        self.built = built
+
+    def solve(self, *, starts: int = 1, seed: int = 0, verbose: bool = False, **ipopt):
+        """Solve with the exchange method (module docstring, steps 1-5)."""
+        built = self.built
+        tol, abs_tol = float(built.options["refine_tolerance"]), float(built.options["refine_abs_tolerance_um"])
+        stress_tol = float(built.options["refine_stress_tolerance"])
+        candidates = []                      # (exact objective, not verified, label, result or start tuple)
+        keys = set(built.variable_names)
+        built_positions = {m: built.positions_of(m) for m in built.ltca_meshes()}
+        if keys & set(built.initial_overrides):       # a warm start: its design (the rest at the declared starts)
+            start = built.initial_values()
+            q0 = built.quantities_at(start)
+            ex0 = built.exact_check(start, built.evaluator_at(start))
+            if _admissible(built, q0, ex0, tol):
+                verified = ppte_agrees(built, q0, ex0, tol, abs_tol)
+                candidates.append((_verified_objective(built, q0, ex0), not verified, "start", (start, q0, ex0)))
+        max_refinements = int(built.options["max_refinements"])
+        rows, current, status = [], built, "max_refinements reached"
+        t_start = time.perf_counter()
+        for it in range(max_refinements + 1):
+            t0 = time.perf_counter()
+            options = dict(ipopt)
+            if it > 0:          # a re-solve that has not converged in a few first-solve times will not pay (step 4)
+                budget = max(RESOLVE_BUDGET_MIN_S, RESOLVE_BUDGET_FACTOR * rows[0]["solve_time_s"])
+                options["max_wall_time"] = min(float(ipopt.get("max_wall_time", budget)), budget)
+            try:
+                result = current.solve_once(starts=starts if it == 0 else 1, seed=seed, verbose=verbose, check=True,
+                                            **options)
+            except SolveError as exc:
+                if it == 0:
+                    raise
+                status = f"re-solve {it} failed ({type(exc).__name__}: {exc.status}); kept the best verified design"
+                break
+            ex = result.exact_check
+            err = float(ex["ppte_um_error"].max()) if len(ex) else 0.0
+            stress_err = _stress_errors(ex)
+            shortfalls = exact_lower_limit_shortfalls(current, ex, stress_tol)
+            agrees = ppte_agrees(current, result.quantities, ex, tol, abs_tol) \
+                and bool((stress_err <= stress_tol).all()) and not shortfalls
+            worst = ex.loc[ex["ppte_um_error"].idxmax()] if len(ex) else None
+            exact = ex["ppte_um"].abs().clip(lower=1e-12) if len(ex) else None
+            smoothing_err = float(((ex["smooth_dense_ppte_um"] - ex["ppte_um"]).abs() / exact).max()) \
+                if len(ex) else 0.0
+            sampling_err = (ex["smooth_dense_ppte_um"] - ex["smooth_ppte_um"]).abs() / exact if len(ex) else None
+            admissible = _admissible(current, result.quantities, ex, tol)
+            exact_objective = _verified_objective(current, result.quantities, ex)
+            if admissible:
+                candidates.append((exact_objective, not agrees, f"solve {it}", result))
+            rows.append({"iteration": it, "positions": int(sum(len(p) for p in result.positions.values())),
+                         "helical_slices": int(current.options["helical_slices"]),
+                         "smoothing_um": float(current.options["smoothing_um"]),
+                         "objective": float(result.solve.objective), "exact_objective": exact_objective,
+                         "admissible": admissible, "max_ppte_error": err,
+                         "max_stress_error": float(stress_err.max()) if len(ex) else 0.0,
+                         "exact_limit_shortfalls": ", ".join(f"{k} {v:.4g}" for k, v in shortfalls.items()),
+                         "smoothing_error": smoothing_err,
+                         "sampling_error": float(sampling_err.max()) if sampling_err is not None else 0.0,
+                         "worst_mesh": "" if worst is None else str(worst["mesh"]),
+                         "worst_load_case": "" if worst is None else str(worst["load_case"]),
+                         "ipopt_iterations": int(result.solve.iterations),
+                         "solve_time_s": float(result.solve.solve_time_s or 0.0),
+                         "wall_time_s": time.perf_counter() - t0})
+            if agrees:
+                status = "converged"
+                break
+            if it == max_refinements:
+                break
+            sets, added, stress_sliced = {}, 0, False
+            for mesh, fractions in result.positions.items():
+                rows_m = ex["mesh"] == mesh
+                sampling = ppte_disagreement(ex[rows_m].assign(ppte_um=ex.loc[rows_m, "smooth_dense_ppte_um"]),
+                                             "smooth_ppte_um", tol, abs_tol)
+                worst_positions = [f for fr in ex.loc[rows_m, "worst_fractions"] for f in fr] \
+                    if (sampling > 0.5).any() else []
+                stressed = rows_m & (stress_err > stress_tol)
+                stress_new = new_fractions(fractions, [f for fr in ex.loc[stressed, "stress_fractions"] for f in fr]) \
+                    if "stress_fractions" in ex else []
+                # a stress peak the NLP already samples and still misses: the face slicing (helical) is to blame
+                stress_sliced |= bool(stressed.any() and not stress_new and (ex.loc[stressed, "slices"] > 1).any())
+                new = new_fractions(fractions, worst_positions + stress_new)
+                added += len(new)
+                sets[mesh] = np.sort(np.concatenate([fractions, new]))
+            options = _remedies(current, ex, tol, raise_slices=stress_sliced)
+            if shortfalls:      # tighten each broken lower limit by 1.25x its exact shortfall for the re-solve
+                backoff = dict(current.options.get("limit_backoff", {}))
+                for label, amount in shortfalls.items():
+                    backoff[label] = backoff.get(label, 0.0) + 1.25 * amount
+                options["limit_backoff"] = backoff
+            if not added and not options:
+                status = "stalled: the exact worst positions are in the NLP's sets and the discretisation at its limits"
+                break
+            reuse = {k: v for k, v in current.models.items() if k.startswith(REUSED_MODELS)}
+            current = current.rebuild(positions=sets, initial=result.values, reuse=reuse, options=options)
+        chosen, verified, objective = f"solve {len(rows) - 1} (last, not admissible)", False, float("nan")
+        if candidates:
+            best_objective = min(c[0] for c in candidates)
+            slack = tol * max(abs(best_objective), 1e-12)
+            verified_near = [c for c in candidates if not c[1] and c[0] <= best_objective + slack]
+            objective, unverified, chosen, best = min(verified_near or candidates, key=lambda c: c[0])
+            verified = not unverified
+            if chosen == "start":
+                start, q0, ex0 = best
+                result = dataclasses.replace(
+                    result, values=start, quantities=q0, exact_check=ex0, positions=built_positions,
+                    microgeometry={m: built.microgeometry_at(start, m) for m in built.ltca_meshes()})
+                chosen = "start (no verified solve improved on it)"
+            else:
+                result = best
+        table = pd.DataFrame(rows)
+        table.attrs.update(status=status, tolerance=tol, total_time_s=time.perf_counter() - t_start, chosen=chosen,
+                           verified=verified, verified_objective=objective if candidates else float("nan"))
+        result.refinement = table
+        return result
+
+
+
 def solve_refined(built, *, starts: int = 1, seed: int = 0, verbose: bool = False, **ipopt):
-    """Solve ``built`` (a :class:`~gearopt.design.scene.BuiltScene`) with the exchange method (module docstring);
-    returns the best verified :class:`~gearopt.design.scene.SceneResult` with ``refinement`` filled in."""
-    from .scene import BuiltScene
+    """Solve ``built`` (a :class:`~gearopt.design.scene.BuiltScene`) with the exchange method
+    (:meth:`SceneRefinement.solve`)."""
+    return SceneRefinement(built).solve(starts=starts, seed=seed, verbose=verbose, **ipopt)
 
-    tol, abs_tol = float(built._opts["refine_tolerance"]), float(built._opts["refine_abs_tolerance_um"])
-    stress_tol = float(built._opts["refine_stress_tolerance"])
-    candidates = []                      # (exact objective, not verified, label, result or start tuple)
-    keys = {f"{t}.{n}" for (t, n) in built._variables}
-    built_positions = {m: built._positions_of(m) for m in built._ltca_meshes()}
-    if keys & set(built._initial_overrides):       # a warm start: its design (the rest at the declared starts)
-        start = built._initial_values()
-        q0 = built.quantities_at(start)
-        ex0 = built._exact_check(start, built.evaluator_at(start))
-        if _admissible(built, q0, ex0, tol):
-            verified = ppte_agrees(built, q0, ex0, tol, abs_tol)
-            candidates.append((_verified_objective(built, q0, ex0), not verified, "start", (start, q0, ex0)))
-    max_refinements = int(built._opts["max_refinements"])
-    rows, current, status = [], built, "max_refinements reached"
-    t_start = time.perf_counter()
-    for it in range(max_refinements + 1):
-        t0 = time.perf_counter()
-        options = dict(ipopt)
-        if it > 0:          # a re-solve that has not converged in a few first-solve times will not pay (step 4)
-            budget = max(RESOLVE_BUDGET_MIN_S, RESOLVE_BUDGET_FACTOR * rows[0]["solve_time_s"])
-            options["max_wall_time"] = min(float(ipopt.get("max_wall_time", budget)), budget)
-        try:
-            result = current.solve_once(starts=starts if it == 0 else 1, seed=seed, verbose=verbose, check=True,
-                                        **options)
-        except SolveError as exc:
-            if it == 0:
-                raise
-            status = f"re-solve {it} failed ({type(exc).__name__}: {exc.status}); kept the best verified design"
-            break
-        ex = result.exact_check
-        err = float(ex["ppte_um_error"].max()) if len(ex) else 0.0
-        stress_err = _stress_errors(ex)
-        shortfalls = exact_lower_limit_shortfalls(current, ex, stress_tol)
-        agrees = ppte_agrees(current, result.quantities, ex, tol, abs_tol) and bool((stress_err <= stress_tol).all()) \
-            and not shortfalls
-        worst = ex.loc[ex["ppte_um_error"].idxmax()] if len(ex) else None
-        exact = ex["ppte_um"].abs().clip(lower=1e-12) if len(ex) else None
-        smoothing_err = float(((ex["smooth_dense_ppte_um"] - ex["ppte_um"]).abs() / exact).max()) if len(ex) else 0.0
-        sampling_err = (ex["smooth_dense_ppte_um"] - ex["smooth_ppte_um"]).abs() / exact if len(ex) else None
-        admissible = _admissible(current, result.quantities, ex, tol)
-        exact_objective = _verified_objective(current, result.quantities, ex)
-        if admissible:
-            candidates.append((exact_objective, not agrees, f"solve {it}", result))
-        rows.append({"iteration": it, "positions": int(sum(len(p) for p in result.positions.values())),
-                     "helical_slices": int(current._opts["helical_slices"]),
-                     "smoothing_um": float(current._opts["smoothing_um"]),
-                     "objective": float(result.solve.objective), "exact_objective": exact_objective,
-                     "admissible": admissible, "max_ppte_error": err,
-                     "max_stress_error": float(stress_err.max()) if len(ex) else 0.0,
-                     "exact_limit_shortfalls": ", ".join(f"{k} {v:.4g}" for k, v in shortfalls.items()),
-                     "smoothing_error": smoothing_err,
-                     "sampling_error": float(sampling_err.max()) if sampling_err is not None else 0.0,
-                     "worst_mesh": "" if worst is None else str(worst["mesh"]),
-                     "worst_load_case": "" if worst is None else str(worst["load_case"]),
-                     "ipopt_iterations": int(result.solve.iterations),
-                     "solve_time_s": float(result.solve.solve_time_s or 0.0),
-                     "wall_time_s": time.perf_counter() - t0})
-        if agrees:
-            status = "converged"
-            break
-        if it == max_refinements:
-            break
-        sets, added, stress_sliced = {}, 0, False
-        for mesh, fractions in result.positions.items():
-            rows_m = ex["mesh"] == mesh
-            sampling = ppte_disagreement(ex[rows_m].assign(ppte_um=ex.loc[rows_m, "smooth_dense_ppte_um"]),
-                                         "smooth_ppte_um", tol, abs_tol)
-            worst_positions = [f for fr in ex.loc[rows_m, "worst_fractions"] for f in fr] \
-                if (sampling > 0.5).any() else []
-            stressed = rows_m & (stress_err > stress_tol)
-            stress_new = new_fractions(fractions, [f for fr in ex.loc[stressed, "stress_fractions"] for f in fr]) \
-                if "stress_fractions" in ex else []
-            # a stress peak the NLP already samples and still misses: the face slicing (helical) is to blame
-            stress_sliced |= bool(stressed.any() and not stress_new and (ex.loc[stressed, "slices"] > 1).any())
-            new = new_fractions(fractions, worst_positions + stress_new)
-            added += len(new)
-            sets[mesh] = np.sort(np.concatenate([fractions, new]))
-        options = _remedies(current, ex, tol, raise_slices=stress_sliced)
-        if shortfalls:      # tighten each broken lower limit by 1.25x its exact shortfall for the re-solve
-            backoff = dict(current._opts.get("limit_backoff", {}))
-            for label, amount in shortfalls.items():
-                backoff[label] = backoff.get(label, 0.0) + 1.25 * amount
-            options["limit_backoff"] = backoff
-        if not added and not options:
-            status = "stalled: the exact worst positions are in the NLP's sets and the discretisation at its limits"
-            break
-        reuse = {k: v for k, v in current.models.items() if k.startswith(REUSED_MODELS)}
-        current = BuiltScene(current.scene, positions=sets, initial=result.values, reuse=reuse,
-                             parametric=current.parametric,
-                             options={**current._options_override, **options})
-    chosen, verified, objective = f"solve {len(rows) - 1} (last, not admissible)", False, float("nan")
-    if candidates:
-        best_objective = min(c[0] for c in candidates)
-        slack = tol * max(abs(best_objective), 1e-12)
-        verified_near = [c for c in candidates if not c[1] and c[0] <= best_objective + slack]
-        objective, unverified, chosen, best = min(verified_near or candidates, key=lambda c: c[0])
-        verified = not unverified
-        if chosen == "start":
-            start, q0, ex0 = best
-            result = dataclasses.replace(
-                result, values=start, quantities=q0, exact_check=ex0, positions=built_positions,
-                microgeometry={m: built.microgeometry_at(start, m) for m in built._ltca_meshes()})
-            chosen = "start (no verified solve improved on it)"
-        else:
-            result = best
-    table = pd.DataFrame(rows)
-    table.attrs.update(status=status, tolerance=tol, total_time_s=time.perf_counter() - t_start, chosen=chosen,
-                       verified=verified, verified_objective=objective if candidates else float("nan"))
-    result.refinement = table
-    return result
-
-
-__all__ = ["solve_refined", "ppte_disagreement", "ppte_agrees", "extreme_fractions", "peak_fractions", "new_fractions", "REUSED_MODELS"]
+__all__ = ["SceneRefinement", "solve_refined", "ppte_disagreement", "ppte_agrees", "exact_lower_limit_shortfalls",
+           "extreme_fractions", "peak_fractions", "new_fractions", "REUSED_MODELS"]

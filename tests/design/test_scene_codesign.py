@@ -83,7 +83,7 @@ def test_free_root_shift_with_reliefs_is_no_worse_than_the_sequential_design(tra
         assert result.values == pytest.approx(start)
     # the optimum's geometry is the train's at that root shift: every mesh follows at its centre distance
     moved = dataclasses.replace(train, root_profile_shift=result.values["train.root_profile_shift"])
-    assert built._numeric_pair("cam-fp", result.values).profile_shifts[1] == pytest.approx(
+    assert built.numeric_pair("cam-fp", result.values).profile_shifts[1] == pytest.approx(
         moved.profile_shifts["fp"], abs=1e-12)
 
 

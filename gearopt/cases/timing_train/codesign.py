@@ -33,8 +33,11 @@ import numpy as np
 import pandas as pd
 
 from ...contact.ltca import ltca
+from ...data import load_default_data, system_from_data, train_from_data, values
 from ...errors import GearoptInputError, SolveError
 from ...geometry.train import GearTrain
+from ...joints import joint_capacity
+from ...joints.walk_off import walk_off
 from ...validation import check_range
 from ...design.scene import DEFAULT_LTCA_OPTIONS, Scene, SceneResult
 from ...design.scene_spec import DesignVariable, Limit, LoadCase, Objective
@@ -184,9 +187,6 @@ def design_entry(result: SceneResult, flanks: dict[str, list[str]], macro: dict 
 
 
 def _axial_margins(data: dict, train: GearTrain, beta: float, torques: dict, speed_rpm: float) -> dict:
-    from ...joints import joint_capacity
-    from ...joints.walk_off import walk_off
-
     helical = dataclasses.replace(train, helix_angle_deg=beta)
     axial = walk_off(helical, torques).axial_force_N
     out = {}
@@ -249,8 +249,6 @@ def codesign_study(data: dict | None = None, *, options: Sequence[str] = ("spur"
     maximum by this fraction (:data:`CONTACT_STRESS_ALLOWANCE`). ``sequential_options``: ``ltca_options``
     overrides of the sequential design's scene only (fixed macro geometry; default :data:`SEQUENTIAL_OPTIONS`).
     ``codesign_ipopt``: Ipopt options of the co-design solves (default :data:`CODESIGN_IPOPT`)."""
-    from ...data import load_default_data, system_from_data, train_from_data, values
-
     check_range("contact_stress_allowance", contact_stress_allowance, 0.0, 0.5)
     data = data or load_default_data()
     v = values(data)

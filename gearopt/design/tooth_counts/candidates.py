@@ -12,6 +12,7 @@ from typing import Any, Mapping
 import numpy as np
 
 from ... import numerics as nm
+from ...data import load_default_data, values
 from ...errors import GearoptInputError
 from ...validation import check_range
 from ...geometry import involute as inv
@@ -73,8 +74,6 @@ def reference_speed_ratios(train: GearTrain, reference: str | Mapping[str, float
 
     ``data``: parsed data of the default schema (default: the packaged ``default_train.toml``).
     """
-    from ...data import load_default_data, values
-
     if isinstance(reference, Mapping):
         missing = sorted(set(train.gears) - set(reference))
         if missing:

@@ -241,7 +241,7 @@ def tooth_count_study(train: GearTrain, *, objective: str = "max_min_worst_case_
                                                     float(adm.at[idx, "root_shift_max"])), x0, kind))
     pieces = min(int(segments), len(items)) if start == "previous" else len(items)
     chunks = [items[a:b] for a, b in _bounds(len(items), pieces)]
-    from ...executor import using_executor
+    from ...executor import using_executor   # imported here: keeps multiprocessing out of `import gearopt`
 
     with using_executor(executor, workers=workers, progress=progress) as ex:
         # a worker process rebuilds the candidate models (CasADi functions) instead of receiving the cache

@@ -1,0 +1,51 @@
+"""The result of a solved scene (:class:`SceneResult`): the design, its quantities, the exact check, the build and
+the refinement, and the :class:`~gearopt.design.scene.BuiltScene` solved (``source``), from which the studies of
+:mod:`gearopt.studies` start."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+import pandas as pd
+
+from ..contact.microgeometry import Microgeometry
+from ..nlp.result import ProblemResult
+
+
+@dataclass
+class SceneResult:
+    """The solved scene: ``values`` (``"target.variable"`` -> value in the variable's unit), ``quantities`` (every
+    objective and limit quantity at the optimum: value, bounds, margin, unit -- the true maximum/PPTE, not the
+    epigraph bound), ``exact_check`` (exact LTCA of the optimum), ``microgeometry`` per LTCA mesh, ``solve``
+    (:class:`ProblemResult`: constraint and variable tables, multipliers), ``built`` (the build table) and
+    ``starts`` (the multi-start table, when ``solve(starts=n)``), ``refinement`` (one row per solve of the
+    semi-infinite refinement: positions, worst smooth-vs-exact PPTE error, Ipopt iterations and times) and
+    ``positions`` (per LTCA mesh, the final mesh positions as fractions of a base pitch), ``source`` (the
+    :class:`BuiltScene` solved; the studies of :mod:`gearopt.studies` start from it)."""
+
+    scene: str
+    values: dict[str, float]
+    solve: ProblemResult
+    quantities: pd.DataFrame
+    exact_check: pd.DataFrame
+    microgeometry: dict[str, Microgeometry]
+    built: pd.DataFrame
+    starts: pd.DataFrame | None = None
+    refinement: pd.DataFrame | None = None
+    positions: dict[str, np.ndarray] = field(default_factory=dict)
+    source: Any = field(default=None, repr=False, compare=False)
+
+    @property
+    def refinements(self) -> int:
+        """Re-solves the semi-infinite refinement needed (0: the first solve agreed with the exact model)."""
+        return 0 if self.refinement is None else int(len(self.refinement) - 1)
+
+    @property
+    def success_rate(self) -> float:
+        """Fraction of the multi-start solves that converged (1.0 for a single successful solve)."""
+        return 1.0 if self.starts is None else float(self.starts["success"].mean())
+
+
+__all__ = ["SceneResult"]
