@@ -147,5 +147,6 @@ def load_default_train(kind: str = "spur", path: str | Path | None = None) -> Ge
     return train_from_data(load_default_data(path), kind, source=str(path or default_data_path()))
 
 
-__all__ = ["validate_data", "parse_data_file", "schema_markdown", "default_data_path", "load_default_data", "load_thesis_tables", "load_default_train", "train_from_data", "values",
+# load_default_data and load_default_train are imported from gearopt itself (gearopt.__all__)
+__all__ = ["validate_data", "parse_data_file", "schema_markdown", "default_data_path", "load_thesis_tables", "train_from_data", "values",
            "missing_provenance", "provenance_tags", "TRAIN_KINDS"]
