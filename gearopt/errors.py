@@ -99,6 +99,7 @@ class BadInitialGuessError(GearoptInputError):
 
 __all__ = [
     # GearoptError, GearoptInputError and SolveError are imported from gearopt itself (gearopt.__all__)
-    "GeometryError", "ViolatedConstraint", "InfeasibleProblemError", "IterationLimitError", "NumericalSolveError", "BadInitialGuessError",
+    "GeometryError", "ViolatedConstraint", "InfeasibleProblemError", "IterationLimitError", "NumericalSolveError",
+    "BadInitialGuessError",
     "NonFiniteResultError", "BudgetExceededError", "DataFileError",
 ]

@@ -34,6 +34,7 @@ __all__ = [
     "TorsionalNetwork", "MeshStiffnessShape", "mesh_force", "axial_force_N", "contact_line_length_ratio",
     "restitution_coefficient", "Simulator", "Simulation", "simulate", "INTEGRATORS", "linear_matrices",
     "natural_frequencies_Hz", "mode_shapes", "damped_modes", "campbell_diagram", "forced_response",
-    "TimingModel",   # default_timing_model is imported from gearopt itself (gearopt.__all__) "speed_sweep", "simulation_statistics", "response_sensitivities",
+    # default_timing_model is imported from gearopt itself (gearopt.__all__)
+    "TimingModel", "speed_sweep", "simulation_statistics", "response_sensitivities",
     "node_accelerations", "walk_off_history", "PeriodicStateError",
 ]

@@ -20,6 +20,7 @@ from .scene_study import SceneStudy, relief_scene_from_data, scene_study
 from .sensitivity import SensitivityReport, sensitivity_report
 from .tolerances import Tolerance, default_tolerances
 
-__all__ = ["mesh_contact_study", "MeshContactStudy", "DESIGNS", "pareto_front", "ParetoFront", "verify_front", "sensitivity_report", "SensitivityReport", "kkt_sensitivity",
+__all__ = ["mesh_contact_study", "MeshContactStudy", "DESIGNS", "pareto_front", "ParetoFront", "verify_front",
+           "sensitivity_report", "SensitivityReport", "kkt_sensitivity",
            "KKTSensitivity", "robust_design", "monte_carlo", "sobol_indices", "MonteCarloResult", "Tolerance",
            "default_tolerances", "scene_study", "SceneStudy", "relief_scene_from_data"]
