@@ -6,8 +6,8 @@ The public surface has one documented import path per object:
   (``import gearopt as go; go.GearPair``);
 - every other public name is imported from its subpackage and is listed in that subpackage's ``__all__``
   (``from gearopt.rating import contact_stress_iso6336``, ``from gearopt.nlp import Problem``); the top-level
-  modules ``gearopt.errors``, ``gearopt.executor``, ``gearopt.numerics``, ``gearopt.units`` and
-  ``gearopt.validation`` are public in the same way;
+  modules ``gearopt.errors``, ``gearopt.executor``, ``gearopt.numerics``, ``gearopt.units``,
+  ``gearopt.validation`` and ``gearopt.compile_cache`` are public in the same way;
 - a name of :data:`__all__` is not listed again in its subpackage's ``__all__``, and no subpackage lists another's
   names; the modules inside a subpackage (``gearopt.contact.ltca_smooth``, ...) are its implementation.
 
