@@ -43,7 +43,8 @@ import numpy as np
 
 import gearopt as go
 from gearopt.design.scene import DesignVariable, Limit, LoadCase, Objective, Scene
-from gearopt.studies import Executor, monte_carlo, pareto_front
+from gearopt.executor import Executor
+from gearopt.studies import monte_carlo, pareto_front
 from gearopt.studies.epsilon import FrontSpec, epsilon_model
 from gearopt.studies.evaluator import scene_evaluator
 from gearopt.studies.pareto import run_segment

@@ -1,24 +1,43 @@
-"""gearopt: exact, differentiable gear-train design models on CasADi, optimised with Ipopt."""
+"""gearopt: exact, differentiable gear-train design models on CasADi, optimised with Ipopt.
 
-from . import numerics
-from .errors import (GearoptError, GearoptInputError, GeometryError, SolveError, InfeasibleProblemError,
-                     IterationLimitError, NumericalSolveError, BadInitialGuessError, NonFiniteResultError,
-                     BudgetExceededError, DataFileError, MissingSectionError)
-from .geometry import (GearPair, GearSpec, GearTrain, MeshSpec, PairTolerances, RackSpec, iso_tr_4467_shift_limits,
-                       shift_split_iso_tr_4467)
-from .data import load_default_train, load_default_data, load_system, System
+The public surface has one documented import path per object:
+
+- the names in :data:`__all__` below, the ones most studies need, are imported from the package itself
+  (``import gearopt as go; go.GearPair``);
+- every other public name is imported from its subpackage and is listed in that subpackage's ``__all__``
+  (``from gearopt.rating import contact_stress_iso6336``, ``from gearopt.nlp import Problem``); the top-level
+  modules ``gearopt.errors``, ``gearopt.executor``, ``gearopt.numerics``, ``gearopt.units``,
+  ``gearopt.validation`` and ``gearopt.compile_cache`` are public in the same way;
+- a name of :data:`__all__` is not listed again in its subpackage's ``__all__``, and no subpackage lists another's
+  names; the modules inside a subpackage (``gearopt.contact.ltca_smooth``, ...) are its implementation.
+
+``tests/test_public_surface.py`` holds the package to these rules; ``docs/architecture.md`` has the package map.
+"""
+
+from .errors import GearoptError, GearoptInputError, SolveError
+from .geometry import GearPair, GearTrain
+from .data import System, load_default_data, load_default_train, load_system
+from .contact import LTCAModel, Microgeometry, harris_map, ltca
+from .rating import rate_iso6336
+from .joints import press_fit, taper_fit, walk_off
+from .design import DesignVariable, Limit, LoadCase, Objective, Scene, optimise_microgeometry
 
 __version__ = "0.1.0"
-from .contact import LTCAModel, Microgeometry, harris_map, iso6336_stiffness, ltca, min_tip_relief_um
-from .rating import (contact_stress_iso6336, flash_temperature_blok_K, lewis_bending_stress_MPa, lewis_form_factor,
-                     material, root_stress_at_load_point, root_stress_iso6336)
-from .engine import AccessoryTorque, CylinderPressure, EngineExcitation, crank_torque, peak_pressure_bar, slider_crank
-from .joints import (bolt_preload_N, fit_interference_um, joint_margins, press_fit, quasi_static_mesh_torques_Nm,
-                     taper_fit, walk_off)
-from .blank import GearBlank, web_fatigue, web_stress
-from .dynamics import (MeshStiffnessShape, PeriodicStateError, TorsionalNetwork,
-                       node_accelerations, walk_off_history)
-from .dynamics.ltca_stiffness import ltca_mesh_stiffness
-from .report.dynamics_figures import campbell_table, plot_campbell
-from .design import (DesignVariable, Limit, LoadCase, Objective, Problem, Scene, enumerate_tooth_counts,
-                     optimise_microgeometry, optimise_shift_split, size_blank, size_joint, tooth_count_study)
+
+__all__ = [
+    # data: your system (gears, meshes with their design loads, joints, ...) parsed and validated once, or the
+    # packaged timing train; the raw validated file and its spur/helical train
+    "load_system", "System", "load_default_data", "load_default_train",
+    # geometry: one gear pair (numeric or symbolic) and a train of meshes at fixed centre distances
+    "GearPair", "GearTrain",
+    # tooth contact: microgeometry, the exact LTCA, its CasADi form, PPTE against torque
+    "Microgeometry", "ltca", "LTCAModel", "harris_map",
+    # strength rating
+    "rate_iso6336",
+    # shaft-hub joints
+    "press_fit", "taper_fit", "walk_off",
+    # design: declarative scenes and their spec records, the microgeometry NLP
+    "Scene", "LoadCase", "DesignVariable", "Objective", "Limit", "optimise_microgeometry",
+    # errors: the base classes (the specific ones are in gearopt.errors)
+    "GearoptError", "GearoptInputError", "SolveError",
+]

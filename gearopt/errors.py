@@ -103,7 +103,8 @@ class BadInitialGuessError(GearoptInputError):
 
 
 __all__ = [
-    "GearoptError", "GearoptInputError", "GeometryError", "ViolatedConstraint", "SolveError",
-    "InfeasibleProblemError", "IterationLimitError", "NumericalSolveError", "BadInitialGuessError",
+    # GearoptError, GearoptInputError and SolveError are imported from gearopt itself (gearopt.__all__)
+    "GeometryError", "ViolatedConstraint", "InfeasibleProblemError", "IterationLimitError", "NumericalSolveError",
+    "BadInitialGuessError",
     "NonFiniteResultError", "BudgetExceededError", "DataFileError",
 ]

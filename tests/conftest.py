@@ -19,13 +19,13 @@ LONGEST_FIRST: tuple[str, ...] = (
     "tests/design/test_microgeometry_nlp.py",
     "tests/benchmarks/test_benchmarks_quick.py::test_benchmark_quick_mode[bench_studies]",
     "tests/benchmarks/test_benchmarks_quick.py::test_benchmark_quick_mode[bench_stability]",
-    "tests/test_readme.py::test_readme_block_runs_alone[3]",
-    "tests/test_readme.py::test_readme_block_runs_alone[5]",
+    "tests/test_readme.py::test_readme_block_runs_alone[1]",        # LTCA + microgeometry NLP
+    "tests/test_readme.py::test_docs_example_runs_alone[2]",        # the co-design scene
     "tests/problems/test_studies_scripts.py",
     "tests/benchmarks/test_benchmarks_quick.py::test_benchmark_quick_mode[bench_microgeometry_nlp]",
     "tests/benchmarks/test_benchmarks_quick.py::test_benchmark_quick_mode[bench_dynamics_speed]",
-    "tests/test_readme.py::test_readme_block_runs_alone[1]",
-    "tests/test_readme.py::test_readme_block_runs_alone[4]",
+    "tests/test_readme.py::test_readme_block_runs_alone[2]",        # the scene, 8 starts
+    "tests/test_readme.py::test_docs_example_runs_alone[1]",        # fronts, Monte Carlo
     "tests/benchmarks/test_benchmarks_quick.py::test_benchmark_quick_mode[bench_codesign]",
     "tests/dynamics/test_dynamics_default_model.py",
     "tests/stability/test_stability_microgeometry.py",
@@ -36,7 +36,7 @@ LONGEST_FIRST: tuple[str, ...] = (
 """Units (files, or tests of a :data:`PER_TEST` file) by their measured duration, longest first."""
 
 PER_TEST: tuple[str, ...] = ("tests/benchmarks/test_benchmarks_quick.py", "tests/test_readme.py")
-"""Files whose tests are independent (each runs its own script or README block): one xdist unit per test."""
+"""Files whose tests are independent (each runs its own script or documentation block): one xdist unit per test."""
 
 
 def rank(scope: str) -> int:

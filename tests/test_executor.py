@@ -1,5 +1,5 @@
 """The one executor below every layer: tooth-count candidates (design) and speed sweeps (dynamics) give the same
-table on a process pool as serially, in item order; the studies' public import is the same object."""
+table on a process pool as serially, in item order; the module ``gearopt.studies.executor`` holds the same objects."""
 
 import numpy as np
 import pandas as pd
@@ -18,11 +18,12 @@ def _square_after(x):
     return x * x
 
 
-def test_studies_executor_is_the_bottom_layer_executor():
+def test_studies_executor_module_is_the_bottom_layer_executor():
     import gearopt.studies as studies
     import gearopt.studies.executor as old_path
 
-    assert studies.Executor is Executor and old_path.using_executor is using_executor
+    assert old_path.Executor is Executor and old_path.using_executor is using_executor
+    assert "Executor" not in studies.__all__          # one documented path: gearopt.executor
 
 
 def test_process_pool_returns_results_in_item_order_also_for_closures():

@@ -63,8 +63,8 @@ class Worker:
 def test_loadfile_starts_the_longest_units_and_splits_independent_files():
     collection = ["tests/test_cli.py::test_a", "tests/test_cli.py::test_b", "tests/test_cli.py::test_c",
                   "tests/problems/test_cam_gear_walkoff.py::test_outputs_written",
-                  "tests/test_readme.py::test_readme_block_runs_alone[3]",
-                  "tests/test_readme.py::test_readme_block_runs_alone[5]",
+                  "tests/test_readme.py::test_readme_block_runs_alone[2]",
+                  "tests/test_readme.py::test_docs_example_runs_alone[2]",
                   "tests/problems/test_helix_front_script.py::test_outputs_and_every_point_with_a_status",
                   "tests/problems/test_helix_front_script.py::test_front_makes_physical_sense"]
     scheduler = schedule().pytest_xdist_make_scheduler(Config("loadfile"), None)

@@ -1,4 +1,7 @@
-"""Tooth contact: microgeometry, mesh stiffness, tip-relief physics and loaded tooth contact analysis (LTCA)."""
+"""Tooth contact: microgeometry, mesh stiffness, tip-relief physics and loaded tooth contact analysis (LTCA).
+
+:class:`Microgeometry`, :func:`ltca`, :class:`LTCAModel` and :func:`harris_map` are imported from gearopt itself
+(``gearopt.__all__``); the ISO 6336-1 stiffness the LTCA uses is in :mod:`gearopt.rating`."""
 
 from .harris import harris_map
 from .layout import MeshLayout, mesh_layout
@@ -8,6 +11,9 @@ from .ltca_macro import MacroLTCAModel, MacroLTCAResult
 from .microgeometry import Microgeometry
 from .potential_energy import (ANCHOR_CONVENTIONS, PotentialEnergyOptions, potential_energy_mesh_stiffness,
                                potential_energy_single_stiffness, potential_energy_stiffness_profile)
-from ..rating.stiffness import (StiffnessValidityWarning, contact_line_length_mm, iso6336_stiffness, line_of_contact_stiffness,
-                        mesh_damping, mesh_stiffness_table)
 from .tip_relief import governing_tip_relief_um, min_tip_relief_table, min_tip_relief_um
+
+__all__ = ["MeshLayout", "mesh_layout", "LTCAResult", "SmoothLTCAResult", "MacroLTCAModel", "MacroLTCAResult",
+           "ANCHOR_CONVENTIONS", "PotentialEnergyOptions", "potential_energy_mesh_stiffness",
+           "potential_energy_single_stiffness", "potential_energy_stiffness_profile", "governing_tip_relief_um",
+           "min_tip_relief_table", "min_tip_relief_um"]

@@ -149,6 +149,8 @@ def load_default_train(kind: str = "spur", path: str | Path | None = None) -> Ge
     return train_from_data(load_default_data(path), kind, source=str(path or default_data_path()))
 
 
-__all__ = ["System", "Gear", "Mesh", "TrainVariant", "Joint", "DesignLoads", "DesignLimits", "Lubrication",
-           "DrivingTorque", "load_system", "system_from_data", "validate_data", "parse_data_file", "schema_markdown", "default_data_path", "load_default_data", "load_thesis_tables", "load_default_train", "train_from_data", "values",
+# load_system, System, load_default_data and load_default_train are imported from gearopt itself (gearopt.__all__)
+__all__ = ["Gear", "Mesh", "TrainVariant", "Joint", "DesignLoads", "DesignLimits", "Lubrication", "DrivingTorque",
+           "system_from_data", "validate_data", "parse_data_file", "schema_markdown", "default_data_path",
+           "load_thesis_tables", "train_from_data", "values",
            "missing_provenance", "provenance_tags", "TRAIN_KINDS"]

@@ -1,12 +1,11 @@
 """Design layer: the gear design problems built on the NLP framework :mod:`gearopt.nlp` -- scenes that build only
 what they need, and the NLPs of the toolbox: profile-shift split, tooth counts, microgeometry, joint and blank sizing.
 
-The framework's names (:class:`Problem`, :class:`ProblemResult`, :func:`multistart`, :func:`solve_elastic`, ...) are
-re-exported here for convenience."""
+:class:`Scene` and its spec records (:class:`LoadCase`, :class:`DesignVariable`, :class:`Objective`,
+:class:`Limit`) and :func:`optimise_microgeometry` are imported from gearopt itself (``gearopt.__all__``); the
+framework's names (:class:`~gearopt.nlp.Problem`, :func:`~gearopt.nlp.multistart`, ...) from :mod:`gearopt.nlp`."""
 
-from gearopt.nlp import (DEFAULT_CASADI_OPTIONS, DEFAULT_IPOPT_OPTIONS, ElasticResult, Finding, InitialGuessReport,
-                         InitialGuessWarning, MultiStartResult, Problem, ProblemResult, multistart,
-                         register_internal_package, solve_elastic)
+from gearopt.nlp import register_internal_package
 
 register_internal_package(__file__)  # constraints a design NLP declares point at the caller of the design layer
 from gearopt.design.microgeometry_nlp import MicrogeometryDesign, min_tip_relief_design, optimise_microgeometry
@@ -19,11 +18,9 @@ from gearopt.design.blank_sizing import BlankSizing, BlankSpec, WebDemand, size_
 from gearopt.design.scene import BuiltScene, DesignVariable, Limit, LoadCase, Objective, Scene, SceneResult
 from gearopt.design.train_design import loaded_flanks, rank_tooth_counts
 
-__all__ = ["Problem", "ProblemResult", "InitialGuessReport", "InitialGuessWarning", "Finding",
-           "DEFAULT_IPOPT_OPTIONS", "DEFAULT_CASADI_OPTIONS", "ElasticResult", "solve_elastic", "MultiStartResult",
-           "multistart", "optimise_microgeometry", "MicrogeometryDesign", "min_tip_relief_design",
+__all__ = ["MicrogeometryDesign", "min_tip_relief_design",
            "optimise_shift_split", "ToothCountEnumeration", "ToothCountStudy", "bonmin_cross_check",
            "enumerate_tooth_counts", "tooth_count_study", "JointDemand", "JointSizing", "PressFitSpec",
            "TaperFitSpec", "size_joint", "size_press_fit", "size_taper_fit", "suggest_fit", "BlankSizing",
-           "BlankSpec", "WebDemand", "size_blank", "web_demand_from_loads", "Scene", "BuiltScene", "SceneResult",
-           "LoadCase", "DesignVariable", "Objective", "Limit", "loaded_flanks", "rank_tooth_counts"]
+           "BlankSpec", "WebDemand", "size_blank", "web_demand_from_loads", "BuiltScene", "SceneResult",
+           "loaded_flanks", "rank_tooth_counts"]

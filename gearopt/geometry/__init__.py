@@ -5,4 +5,5 @@ from .shift import iso_tr_4467_shift_limits, shift_split_iso_tr_4467
 from .tolerances import PairTolerances
 from .train import GearSpec, GearTrain, MeshSpec, RackSpec
 
-__all__ = ["GearPair", "PairTolerances", "GearTrain", "GearSpec", "MeshSpec", "RackSpec", "iso_tr_4467_shift_limits", "shift_split_iso_tr_4467"]
+# GearPair and GearTrain are imported from gearopt itself (gearopt.__all__)
+__all__ = ["PairTolerances", "GearSpec", "MeshSpec", "RackSpec", "iso_tr_4467_shift_limits", "shift_split_iso_tr_4467"]

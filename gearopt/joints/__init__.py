@@ -36,13 +36,14 @@ from .walk_off import (
 )
 
 __all__ = [
-    "press_fit", "press_fit_pressure_MPa", "lame_compliance_mm_per_MPa", "roughness_smoothing_loss_um",
+    # press_fit, taper_fit and walk_off are imported from gearopt itself (gearopt.__all__)
+    "press_fit_pressure_MPa", "lame_compliance_mm_per_MPa", "roughness_smoothing_loss_um",
     "thermal_interference_change_um", "centrifugal_interference_loss_um", "shrink_fit_assembly_temperature_C",
-    "taper_fit", "cone_friction_radius_mm", "taper_slip_utilisation",
+    "cone_friction_radius_mm", "taper_slip_utilisation",
     "NUT_FACTORS", "nut_factor_range", "bolt_preload_N", "nut_torque_Nm", "nut_factor_from_friction",
     "thread_stress_area_mm2", "bolt_preload",
     "fit_interference_um", "hole_deviations_um", "shaft_deviations_um", "tolerance_grade_um",
-    "walk_off", "WalkOffResult", "gear_rotation_signs", "mesh_axial_force_N", "working_helix_angle_deg",
+    "WalkOffResult", "gear_rotation_signs", "mesh_axial_force_N", "working_helix_angle_deg",
     "quasi_static_mesh_torques_Nm", "press_fit_slip_utilisation", "joint_margins", "margin_history",
     "joint_capacity", "joint_capacities", "accessory_load_torques_Nm",
 ]

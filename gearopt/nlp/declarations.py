@@ -200,7 +200,7 @@ class Declarations:
 
         CasADi's ``detect_simple_bounds`` reads a constraint that is affine in one variable with a zero coefficient
         as a bound at infinity and Ipopt then reports an invalid problem. A constant constraint that holds is
-        recorded in :attr:`constant_constraints`; one that fails raises :class:`InfeasibleProblemError` now.
+        recorded in :attr:`constant_constraints`; one that fails raises :class:`InfeasibleProblemError` at declaration.
         """
         if not self._variables:
             return False

@@ -15,6 +15,8 @@ from .size_factors import RatingValidityWarning
 from .deflection import ShaftSupport, beam_shaft_misalignment_um, iso6336_shaft_misalignment_um
 from .scuffing import scuffing_safety_factors
 from .iso6336 import ISO6336Rating, rate_iso6336
+from .stiffness import (StiffnessValidityWarning, contact_line_length_mm, iso6336_stiffness, line_of_contact_stiffness,
+                        mesh_damping, mesh_stiffness_table)
 from .train_rating import iso6336_train_table
 
 __all__ = [
@@ -24,5 +26,6 @@ __all__ = [
     "lewis_form_factor_from_geometry", "Material", "material", "material_names", "critical_section_iso6336",
     "root_stress_at_load_point", "root_stress_iso6336", "Lubricant", "default_lubricant", "RatingValidityWarning",
     "ShaftSupport", "beam_shaft_misalignment_um", "iso6336_shaft_misalignment_um", "scuffing_safety_factors",
-    "ISO6336Rating", "rate_iso6336", "iso6336_train_table",
-]
+    "ISO6336Rating", "iso6336_train_table", "StiffnessValidityWarning", "contact_line_length_mm", "iso6336_stiffness",
+    "line_of_contact_stiffness", "mesh_damping", "mesh_stiffness_table",
+]   # rate_iso6336 is imported from gearopt itself (gearopt.__all__)

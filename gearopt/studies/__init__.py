@@ -7,12 +7,10 @@
 - :func:`monte_carlo`, :func:`sobol_indices`: distributions, probabilities of broken limits and Sobol indices over
   the tolerances (:class:`Tolerance`); :func:`robust_design`: the scene's limits held at the tolerance corners;
 - :func:`scene_study`: the three above for one scene, with a report section;
-- :func:`get_executor` / :class:`Executor`: serial, local processes or a Dask cluster for every batch
-  (:mod:`gearopt.executor`, re-exported).
+- every batch runs on :mod:`gearopt.executor` (serial, local processes or a Dask cluster).
 """
 
 from .contact_study import DESIGNS, MeshContactStudy, mesh_contact_study
-from .executor import Executor, get_executor, using_executor
 from .front_check import verify_front
 from .monte_carlo import MonteCarloResult, monte_carlo, sobol_indices
 from .parametric import KKTSensitivity, kkt_sensitivity
@@ -22,7 +20,7 @@ from .scene_study import SceneStudy, relief_scene_from_data, scene_study
 from .sensitivity import SensitivityReport, sensitivity_report
 from .tolerances import Tolerance, default_tolerances
 
-__all__ = ["mesh_contact_study", "MeshContactStudy", "DESIGNS", "Executor", "get_executor", "using_executor",
-           "pareto_front", "ParetoFront", "verify_front", "sensitivity_report", "SensitivityReport", "kkt_sensitivity",
+__all__ = ["mesh_contact_study", "MeshContactStudy", "DESIGNS", "pareto_front", "ParetoFront", "verify_front",
+           "sensitivity_report", "SensitivityReport", "kkt_sensitivity",
            "KKTSensitivity", "robust_design", "monte_carlo", "sobol_indices", "MonteCarloResult", "Tolerance",
            "default_tolerances", "scene_study", "SceneStudy", "relief_scene_from_data"]

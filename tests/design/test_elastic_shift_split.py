@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import gearopt as go
-from gearopt.design import Problem
+from gearopt.nlp import Problem
 from gearopt.design.shift_distribution import shift_split_problem as build_shift_split_problem
 from gearopt.errors import InfeasibleProblemError
 

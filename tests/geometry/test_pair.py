@@ -12,6 +12,7 @@ from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
 import gearopt as go
+from gearopt.geometry import PairTolerances, iso_tr_4467_shift_limits, shift_split_iso_tr_4467
 from gearopt.errors import GearoptInputError, GeometryError
 
 
@@ -95,7 +96,7 @@ def test_backlash_linearised_agrees_for_small_changes():
     p = go.GearPair.from_profile_shifts(teeth=(25, 50), profile_shifts=(0.2, 0.1), module_mm=3.0,
                                         helix_angle_deg=12.0, face_width_mm=20.0)
     g0 = p.geometry()
-    tol = go.PairTolerances(centre_distance_allowance_mm=(0.01, 0.03),
+    tol = PairTolerances(centre_distance_allowance_mm=(0.01, 0.03),
                             tooth_thickness_upper_allowance_um=(-40.0, -50.0),
                             tooth_thickness_lower_allowance_um=(-80.0, -90.0))
     g = p.with_options(tolerances=tol).geometry()
@@ -139,7 +140,7 @@ def _symbolic_pair():
     m = ca.SX.sym("m")
     b = ca.SX.sym("b")
     beta = ca.SX.sym("beta")
-    tol = go.PairTolerances(centre_distance_allowance_mm=(-0.02, 0.03),
+    tol = PairTolerances(centre_distance_allowance_mm=(-0.02, 0.03),
                             tooth_thickness_upper_allowance_um=(-30.0, -30.0),
                             tooth_thickness_lower_allowance_um=(-70.0, -70.0),
                             tip_diameter_allowance_mm=((-0.1, 0.0), (-0.1, 0.0)))
@@ -187,15 +188,15 @@ def test_from_centre_distance_symbolic_centre_distance_and_split():
 
 def test_iso_tr_4467_split_formula():
     # thesis Eq. 3.6: x1 = lambda (z2 - z1)/(z1 + z2) + sum_x z1/(z1 + z2)
-    x1, x2 = go.shift_split_iso_tr_4467((38, 76), 0.4242, 0.5)
+    x1, x2 = shift_split_iso_tr_4467((38, 76), 0.4242, 0.5)
     assert x1 == pytest.approx(0.5 * 38 / 114 + 0.4242 * 38 / 114)
     assert x1 + x2 == pytest.approx(0.4242)
 
 
 def test_iso_tr_4467_limits_thesis_equations():
-    assert go.iso_tr_4467_shift_limits(38) == pytest.approx(((20 - 38) / 60, 0.88))
-    assert go.iso_tr_4467_shift_limits(15) == pytest.approx((0.0375 * 5, 0.65))
-    assert go.iso_tr_4467_shift_limits(76) == (-0.5, 1.0)
+    assert iso_tr_4467_shift_limits(38) == pytest.approx(((20 - 38) / 60, 0.88))
+    assert iso_tr_4467_shift_limits(15) == pytest.approx((0.0375 * 5, 0.65))
+    assert iso_tr_4467_shift_limits(76) == (-0.5, 1.0)
 
 
 # --- checks and errors ---------------------------------------------------------------------------------------------

@@ -363,7 +363,7 @@ def test_vector_constraint_rows_and_report():
 def test_constant_constraint_is_recorded_not_sent_to_ipopt():
     # an affine constraint with a zero coefficient (x*0.5*2 - x) used to make Ipopt report Invalid_Problem_Definition
     # through CasADi's detect_simple_bounds when a second variable exists
-    from gearopt.design import Problem
+    from gearopt.nlp import Problem
 
     p = Problem("constant")
     x = p.variable("x", init=0.5, lower=-1.0, upper=1.0)
@@ -378,7 +378,7 @@ def test_constant_constraint_is_recorded_not_sent_to_ipopt():
 
 
 def test_violated_constant_constraint_raises_by_name():
-    from gearopt.design import Problem
+    from gearopt.nlp import Problem
     from gearopt.errors import InfeasibleProblemError
 
     p = Problem("constant_violated")

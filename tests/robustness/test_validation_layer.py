@@ -14,6 +14,9 @@ import numpy as np
 import pytest
 
 import gearopt as go
+from gearopt.engine import crank_torque
+from gearopt.nlp import Problem
+from gearopt.rating import contact_stress_iso6336, root_stress_iso6336
 from gearopt.errors import (BudgetExceededError, GearoptInputError, GeometryError, IterationLimitError,
                             NonFiniteResultError)
 from gearopt.validation import (check_array, check_int, check_names, check_per_gear, check_range, check_result,
@@ -129,8 +132,8 @@ def test_crank_torque_angle_and_pressures_are_checked():
                      (dict(crank_angle_deg="30"), "crank_angle_deg"),
                      (dict(crank_angle_deg=30.0, crankcase_pressure_bar=NAN), "crankcase_pressure_bar")):
         with pytest.raises(GearoptInputError, match=name):
-            go.crank_torque(**dict(base, **kw))
-    gas, inertia = go.crank_torque(crank_angle_deg=np.array([0.0, 30.0]), **base)  # arrays stay supported
+            crank_torque(**dict(base, **kw))
+    gas, inertia = crank_torque(crank_angle_deg=np.array([0.0, 30.0]), **base)  # arrays stay supported
     assert np.all(np.isfinite(gas)) and np.all(np.isfinite(inertia))
 
 
@@ -178,9 +181,9 @@ def test_contact_rating_outside_its_contact_ratio_range_raises_by_clause():
     pair.check()
     assert pair.geometry()["transverse_contact_ratio"] > 2.5
     with pytest.raises(GeometryError, match=r"1 <= eps_alpha < 2.5 \(ISO 6336-1/-2 clause 1"):
-        go.contact_stress_iso6336(pair, 300.0)
+        contact_stress_iso6336(pair, 300.0)
     with pytest.raises(GeometryError, match="eps_alpha"):
-        go.root_stress_iso6336(pair, 300.0)
+        root_stress_iso6336(pair, 300.0)
 
 
 # ------------------------------------------------------------------------------------------------------------------
@@ -192,14 +195,14 @@ def test_tip_below_base_circle_is_a_named_geometry_error_not_an_index_error():
     with pytest.raises(GearoptInputError, match="tip"):
         go.ltca(pair, 100.0)
     with pytest.raises(GearoptInputError, match="tip"):
-        go.contact_stress_iso6336(pair, 100.0)
+        contact_stress_iso6336(pair, 100.0)
 
 
 def test_huge_tips_are_rejected_quickly_by_the_ltca_and_the_ratings():
     pair = _pair(tip_diameters_mm=(400.0, 600.0))
     t0 = time.perf_counter()
-    for call in (lambda: go.ltca(pair, 100.0, slices=41), lambda: go.contact_stress_iso6336(pair, 100.0),
-                 lambda: go.root_stress_iso6336(pair, 100.0)):
+    for call in (lambda: go.ltca(pair, 100.0, slices=41), lambda: contact_stress_iso6336(pair, 100.0),
+                 lambda: root_stress_iso6336(pair, 100.0)):
         with pytest.raises(GearoptInputError):
             call()
     assert time.perf_counter() - t0 < 5.0
@@ -210,7 +213,7 @@ def test_huge_tips_are_rejected_quickly_by_the_ltca_and_the_ratings():
 # ------------------------------------------------------------------------------------------------------------------
 
 def test_problem_with_a_bound_beyond_ipopt_infinity_solves_with_a_note():
-    p = go.Problem("far bound")
+    p = Problem("far bound")
     with pytest.warns(UserWarning, match="beyond Ipopt's infinity"):
         x = p.variable("x", 1.0, lower=-5.0, upper=1e200)
     p.minimize((x - 2.0) ** 2)
@@ -221,7 +224,7 @@ def test_problem_with_a_bound_beyond_ipopt_infinity_solves_with_a_note():
 def test_ipopt_has_default_budgets_and_names_the_limit_hit():
     from gearopt.nlp.problem import DEFAULT_IPOPT_OPTIONS
     assert DEFAULT_IPOPT_OPTIONS["max_iter"] > 0 and DEFAULT_IPOPT_OPTIONS["max_wall_time"] > 0
-    p = go.Problem("rosenbrock")
+    p = Problem("rosenbrock")
     x = p.variable("x", -1.2)
     y = p.variable("y", 1.0)
     p.minimize((1 - x) ** 2 + 100 * (y - x ** 2) ** 2)

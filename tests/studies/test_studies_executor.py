@@ -9,7 +9,8 @@ import pytest
 import gearopt as go
 from gearopt.design.scene import DesignVariable, Limit, Objective, Scene
 from gearopt.errors import GearoptInputError
-from gearopt.studies import Executor, get_executor, pareto_front, using_executor
+from gearopt.executor import Executor, get_executor, using_executor
+from gearopt.studies import pareto_front
 from gearopt.studies.pareto import OK
 from gearopt.studies.executor import _progress_bar
 

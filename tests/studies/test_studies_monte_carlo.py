@@ -7,7 +7,8 @@ import pytest
 
 import gearopt as go
 from gearopt.errors import GearoptInputError
-from gearopt.studies import Tolerance, monte_carlo, robust_design, sobol_indices, using_executor
+from gearopt.executor import using_executor
+from gearopt.studies import Tolerance, monte_carlo, robust_design, sobol_indices
 from studies_scenes import MESH, RELIEF, relief_scene
 
 LCR = f"loaded_contact_ratio[{MESH}]@T150"
