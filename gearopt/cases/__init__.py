@@ -8,3 +8,5 @@ the meshes and joints its studies look at, the baselines it compares with, the s
   cam gear walked off its shaft; the cure is a spur train in the same housing), run by
   ``problems/cam_gear_walkoff.py``.
 """
+
+__all__: list[str] = []
