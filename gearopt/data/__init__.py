@@ -19,6 +19,7 @@ from ..geometry.train import GearSpec, GearTrain, MeshSpec, RackSpec
 from .schema import parse_data_file, schema_markdown, validate_data
 from .system import (DesignLimits, DesignLoads, DrivingTorque, Gear, Joint, Lubrication, Mesh, System, TrainVariant,
                      load_system, system_from_data)
+from .access import data_of, require_section
 
 DEFAULT_FILE = "default_train.toml"
 TRAIN_KINDS = ("spur", "helical")
@@ -152,3 +153,4 @@ def load_default_train(kind: str = "spur", path: str | Path | None = None) -> Ge
 __all__ = ["System", "Gear", "Mesh", "TrainVariant", "Joint", "DesignLoads", "DesignLimits", "Lubrication",
            "DrivingTorque", "load_system", "system_from_data", "validate_data", "parse_data_file", "schema_markdown", "default_data_path", "load_default_data", "load_thesis_tables", "load_default_train", "train_from_data", "values",
            "missing_provenance", "provenance_tags", "TRAIN_KINDS"]
+__all__ += ["data_of", "require_section"]
