@@ -259,21 +259,25 @@ def _engine(data, needed_by: str):
 
 def camshaft_torque_Nm(cam_angle_rad, data: System | dict):
     """Valve-train load torque [N m] at the cam angle [rad] (see :meth:`AccessoryTorque.camshaft`). Dual-typed."""
+    _engine(data, "camshaft_torque_Nm")
     return AccessoryTorque.camshaft(data)(cam_angle_rad)
 
 
 def fuel_pump_torque_Nm(pump_angle_rad, data: System | dict):
     """Common-rail pump load torque [N m] at the pump angle [rad] (:meth:`AccessoryTorque.fuel_pump`)."""
+    _engine(data, "fuel_pump_torque_Nm")
     return AccessoryTorque.fuel_pump(data)(pump_angle_rad)
 
 
 def air_compressor_torque_Nm(angle_rad, data: System | dict, loaded: bool = True):
     """Air-compressor load torque [N m] at its crank angle [rad] (:meth:`AccessoryTorque.air_compressor`)."""
+    _engine(data, "air_compressor_torque_Nm")
     return AccessoryTorque.air_compressor(data, loaded=loaded)(angle_rad)
 
 
 def lube_pump_torque_Nm(angle_rad, data: System | dict):
     """Lube-pump load torque [N m] at the pump angle [rad] (:meth:`AccessoryTorque.lube_pump`)."""
+    _engine(data, "lube_pump_torque_Nm")
     return AccessoryTorque.lube_pump(data)(angle_rad)
 
 
