@@ -39,6 +39,9 @@ def test_a_caller_passes_its_own_lubrication():
 
 
 def test_the_rating_layer_does_not_import_the_data_package():
+    # no load_default_data/load_system/values from gearopt.data in the rating layer (the material catalogue,
+    # rating/materials.py, still merges the packaged [materials] tables through importlib.resources: a catalogue,
+    # not a fallback for a caller's missing input)
     rating = pathlib.Path(gearopt.__file__).parent / "rating"
     bad = []
     for path in sorted(rating.rglob("*.py")):
