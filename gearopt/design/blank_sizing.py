@@ -35,6 +35,7 @@ from .. import numerics as nm
 from ..blank.blank import GearBlank
 from ..blank.catalogue import blank_from_data
 from ..blank.web import web_fatigue, web_stress
+from ..data import system_from_data
 from ..data import values as data_values
 from ..errors import GearoptInputError
 from ..validation import check_range
@@ -132,16 +133,15 @@ class WebDemand:
 
 def web_demand_from_loads(data: dict, train: GearTrain, gear: str, torques_Nm: dict | None = None, *,
                           reverse_factor: float = 1.0, root_rotation: str = "cw", name: str = "design") -> WebDemand:
-    """Web loads of ``gear`` under per-mesh torques (default the data's ``[design_loads]``: torque on each mesh's
-    driving gear), as the main job's web table takes them: joint torque (:func:`gearopt.joints.walk_off`), the
+    """Web loads of ``gear`` under per-mesh torques (default the data's design torques, ``[meshes.<name>]
+    design_torque_Nm``: torque on each mesh's driving gear), as the main job's web table takes them: joint torque (:func:`gearopt.joints.walk_off`), the
     in-plane force bounded by the sum of the transverse mesh-force magnitudes F_t / cos(alpha_wt), the net axial
     force."""
     if torques_Nm is None:
-        loads = data_values(data).get("design_loads")
-        if loads is None:
-            raise GearoptInputError("the data have no [design_loads] table; pass torques_Nm")
-        suffix = "_torque_Nm"
-        torques_Nm = {k[:-len(suffix)].replace("_", "-"): float(v) for k, v in loads.items() if k.endswith(suffix)}
+        torques_Nm = system_from_data(data).design_torques_Nm()
+        if not torques_Nm:
+            raise GearoptInputError("the data state no design torque ([meshes.<name>] design_torque_Nm); pass "
+                                    "torques_Nm")
     res = walk_off(train, torques_Nm, root_rotation=root_rotation)
     if gear not in res.joint_torque_Nm:
         raise GearoptInputError(f"gear={gear!r} is not a gear of the train ({list(train.gears)})")

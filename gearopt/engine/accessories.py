@@ -22,6 +22,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..data import System, require_section
 from ..errors import GearoptInputError
 from .fourier import FourierSeries
 from .kinematics import check_values, slider_crank
@@ -88,7 +89,7 @@ class AccessoryTorque:
 
     # ------------------------------------------------------------------------------------------------------------
     @classmethod
-    def camshaft(cls, data: dict | None = None, harmonics: int = 48) -> AccessoryTorque:
+    def camshaft(cls, data: System | dict, harmonics: int = 48) -> AccessoryTorque:
         """Valve-train load torque on the camshaft over the cam angle [rad] (6 cylinders, 12 lobes).
 
         Model [E]: each lobe lifts its tappet ``h = H ((1 + cos(pi psi / beta)) / 2)^2`` (C2 profile) over
@@ -102,7 +103,7 @@ class AccessoryTorque:
         ``valve_train_torque_mean_Nm + valve_train_torque_amplitude_Nm`` and the mean set to
         ``valve_train_torque_mean_Nm`` (friction).
         """
-        e = _engine(data)
+        e = _engine(data, "AccessoryTorque.camshaft")
         cam = e["camshaft"]
         order = list(e["firing_order"])
         interval = float(e["firing_interval_deg"])
@@ -135,7 +136,7 @@ class AccessoryTorque:
                               max_Nm=mean + float(cam["valve_train_torque_amplitude_Nm"]))
 
     @classmethod
-    def fuel_pump(cls, data: dict | None = None, harmonics: int = 48) -> AccessoryTorque:
+    def fuel_pump(cls, data: System | dict, harmonics: int = 48) -> AccessoryTorque:
         """Common-rail pump load torque over the pump angle [rad] (``engine.fuel_pump``: plungers, mean, peak).
 
         Model [E]: each of the n plungers delivers once per revolution, its torque pulse a periodic von Mises bump
@@ -146,7 +147,7 @@ class AccessoryTorque:
         from scipy.optimize import brentq
         from scipy.special import i0e
 
-        fp = _engine(data)["fuel_pump"]
+        fp = _engine(data, "AccessoryTorque.fuel_pump")["fuel_pump"]
         n = int(fp["plungers"])
         mean, peak = float(fp["torque_mean_Nm"]), float(fp["torque_peak_Nm"])
         check_values("fuel_pump.plungers", n, 1)
@@ -169,7 +170,7 @@ class AccessoryTorque:
                               "mean and peak")
 
     @classmethod
-    def air_compressor(cls, data: dict | None = None, loaded: bool = True, harmonics: int = 48) -> AccessoryTorque:
+    def air_compressor(cls, data: System | dict, loaded: bool = True, harmonics: int = 48) -> AccessoryTorque:
         """Single-cylinder air-compressor load torque over its crank angle [rad] (0 = piston TDC).
 
         Loaded [E]: ideal pV cycle (``engine.air_compressor`` bore, stroke, discharge pressure; suction 1 bar abs,
@@ -182,7 +183,7 @@ class AccessoryTorque:
         Unloaded [E]: the compressor's reciprocating-inertia shape ``-(s'/r)(s''/r)`` (zero mean) scaled to
         +-``torque_amplitude_unloaded_Nm``.
         """
-        ac = _engine(data)["air_compressor"]
+        ac = _engine(data, "AccessoryTorque.air_compressor")["air_compressor"]
         r = 0.5 * float(ac["stroke_mm"])
         rod = COMPRESSOR_ROD_TO_CRANK_RATIO * r
         if not loaded:
@@ -202,16 +203,16 @@ class AccessoryTorque:
                               mean_Nm=float(ac["torque_mean_loaded_Nm"]), max_Nm=float(ac["torque_peak_Nm"]))
 
     @classmethod
-    def lube_pump(cls, data: dict | None = None) -> AccessoryTorque:
+    def lube_pump(cls, data: System | dict) -> AccessoryTorque:
         """Gerotor lube-pump load torque over the pump angle [rad]: ``engine.lube_pump.torque_mean_Nm`` with a
         +-5 % ripple at the 7-tooth inner-rotor order [E] ("low ripple", docs/default-data.md sec. 2.6)."""
-        mean = float(_engine(data)["lube_pump"]["torque_mean_Nm"])
+        mean = float(_engine(data, "AccessoryTorque.lube_pump")["lube_pump"]["torque_mean_Nm"])
         z = LUBE_PUMP_ROTOR_TEETH
         return cls.from_model("lube_pump", lambda x: mean * (1.0 + LUBE_PUMP_RIPPLE_FRACTION * np.sin(z * x)), z,
                               "[E] mean from engine.lube_pump, 5 % ripple at the rotor-tooth order")
 
 
-def ideal_compressor_cycle(data: dict | None = None) -> dict:
+def ideal_compressor_cycle(data: System | dict) -> dict:
     """Ideal pV cycle of the single-cylinder air compressor (numeric; the shape behind
     :meth:`AccessoryTorque.air_compressor`).
 
@@ -222,7 +223,7 @@ def ideal_compressor_cycle(data: dict | None = None) -> dict:
     [rad], 0 = TDC), ``swept_volume_mm3``, ``clearance_volume_mm3``, ``suction_pressure_bar``,
     ``discharge_pressure_bar``, ``polytropic_exponent``, ``crank_radius_mm``, ``rod_length_mm``, ``area_mm2``.
     """
-    ac = _engine(data)["air_compressor"]
+    ac = _engine(data, "ideal_compressor_cycle")["air_compressor"]
     bore, stroke = float(ac["bore_mm"]), float(ac["stroke_mm"])
     r = 0.5 * stroke
     rod = COMPRESSOR_ROD_TO_CRANK_RATIO * r
@@ -246,34 +247,37 @@ def ideal_compressor_cycle(data: dict | None = None) -> dict:
             "area_mm2": area}
 
 
-def _engine(data):
-    if data is None:
-        from ..data import load_default_data
-        data = load_default_data()
-    return data.get("engine", data)
+def _engine(data, needed_by: str):
+    """The ``[engine]`` table of ``data`` (a System or a data dict): no data, or data without ``[engine]``, raise
+    naming the argument or the file and section (never the packaged data)."""
+    return require_section(data, "engine", needed_by)
 
 
 # --------------------------------------------------------------------------------------------------------------------
 # convenience functions (rebuild the map from the data on every call)
 # --------------------------------------------------------------------------------------------------------------------
 
-def camshaft_torque_Nm(cam_angle_rad, data: dict | None = None):
+def camshaft_torque_Nm(cam_angle_rad, data: System | dict):
     """Valve-train load torque [N m] at the cam angle [rad] (see :meth:`AccessoryTorque.camshaft`). Dual-typed."""
+    _engine(data, "camshaft_torque_Nm")
     return AccessoryTorque.camshaft(data)(cam_angle_rad)
 
 
-def fuel_pump_torque_Nm(pump_angle_rad, data: dict | None = None):
+def fuel_pump_torque_Nm(pump_angle_rad, data: System | dict):
     """Common-rail pump load torque [N m] at the pump angle [rad] (:meth:`AccessoryTorque.fuel_pump`)."""
+    _engine(data, "fuel_pump_torque_Nm")
     return AccessoryTorque.fuel_pump(data)(pump_angle_rad)
 
 
-def air_compressor_torque_Nm(angle_rad, loaded: bool = True, data: dict | None = None):
+def air_compressor_torque_Nm(angle_rad, data: System | dict, loaded: bool = True):
     """Air-compressor load torque [N m] at its crank angle [rad] (:meth:`AccessoryTorque.air_compressor`)."""
+    _engine(data, "air_compressor_torque_Nm")
     return AccessoryTorque.air_compressor(data, loaded=loaded)(angle_rad)
 
 
-def lube_pump_torque_Nm(angle_rad, data: dict | None = None):
+def lube_pump_torque_Nm(angle_rad, data: System | dict):
     """Lube-pump load torque [N m] at the pump angle [rad] (:meth:`AccessoryTorque.lube_pump`)."""
+    _engine(data, "lube_pump_torque_Nm")
     return AccessoryTorque.lube_pump(data)(angle_rad)
 
 

@@ -23,6 +23,7 @@ import math
 from dataclasses import dataclass, field
 
 from .. import numerics as nm
+from ..data import System, data_of, require_section
 from ..errors import GearoptInputError
 from .fourier import harmonic_basis
 from .kinematics import (
@@ -131,20 +132,19 @@ class EngineExcitation:
 
     # ------------------------------------------------------------------------------------------------------------
     @classmethod
-    def from_data(cls, data: dict | None = None, speed_rpm: float | None = None, load: float = 1.0,
+    def from_data(cls, data: System | dict, speed_rpm: float | None = None, load: float = 1.0,
                   pressure: str = "table", harmonics: int = DEFAULT_HARMONICS, scale_to_map: bool = True,
                   crankcase_pressure_bar: float = 1.0) -> EngineExcitation:
-        """The default engine (``engine`` table of ``data``, default the packaged data) at ``speed_rpm`` (default
-        rated) and ``load`` (0..1).
+        """The engine of ``data`` (its ``[engine]`` table; ``data`` a :class:`~gearopt.data.System` or its validated
+        dict, required: a file without ``[engine]`` raises :class:`~gearopt.errors.MissingSectionError`) at
+        ``speed_rpm`` (default the engine's rated speed) and ``load`` (0..1).
 
         ``pressure="table"``: the Mendes 2008 measured trace; ``"wiebe"``: the double-Wiebe model of
         ``engine.combustion``. With ``scale_to_map`` the trace is scaled to :func:`peak_pressure_bar` of the
         speed and load; otherwise the raw trace (152 bar measured, 180 bar Wiebe) is used at every speed.
         """
-        if data is None:
-            from ..data import load_default_data
-            data = load_default_data()
-        e = data["engine"]
+        e = require_section(data, "engine", "EngineExcitation.from_data")
+        data = data_of(data, "EngineExcitation.from_data")
         speed = e["rated_speed_rpm"] if speed_rpm is None else speed_rpm
         check_values("speed_rpm", speed, 0.0, low_inclusive=False, unit="rpm")
         check_values("load", load, 0.0, 1.0)

@@ -28,6 +28,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from .. import numerics as nm
+from ..data import System, require_section
 from ..errors import GearoptInputError
 from .fourier import FourierSeries, harmonic_basis
 from .kinematics import check_values, slider_crank
@@ -119,18 +120,21 @@ class CylinderPressure:
         return out if peak_bar is None else out.scaled_to_peak(peak_bar)
 
     @classmethod
-    def from_data(cls, data: dict | None = None, peak_bar: float | None = None,
+    def from_data(cls, data: System | dict, peak_bar: float | None = None,
                   harmonics: int = DEFAULT_HARMONICS) -> CylinderPressure:
-        """The packaged measured trace (Mendes et al. 2008 via openTorsion, ``engine.pressure_trace_*``)."""
-        e = _engine(data)
+        """The measured trace of the data's engine (``engine.pressure_trace_*``; the packaged file's is Mendes et al.
+        2008 via openTorsion). ``data``: a :class:`~gearopt.data.System` or its validated dict (required; a file
+        without ``[engine]`` raises :class:`~gearopt.errors.MissingSectionError`)."""
+        e = _engine(data, "CylinderPressure.from_data")
         return cls.from_table(e["pressure_trace_crank_deg"], 10.0 * np.asarray(e["pressure_trace_MPa"], dtype=float),
                               peak_bar=peak_bar, harmonics=harmonics,
                               source="Mendes, Meirelles, Zampieri 2008 measured trace (engine.pressure_trace_MPa)")
 
     @classmethod
     def from_double_wiebe(cls, peak_bar: float | None = None, harmonics: int = DEFAULT_HARMONICS,
-                          data: dict | None = None, **combustion) -> CylinderPressure:
-        """Fit the single-zone double-Wiebe cycle of :func:`double_wiebe_cycle` (``**engine.combustion`` keys)."""
+                          data: System | dict | None = None, **combustion) -> CylinderPressure:
+        """Fit the single-zone double-Wiebe cycle of :func:`double_wiebe_cycle` (``**engine.combustion`` keys;
+        those not given come from ``data``'s engine, see :func:`double_wiebe_cycle`)."""
         cyc = double_wiebe_cycle(data=data, **combustion)
         series = FourierSeries.fit_samples(cyc["pressure_bar"], CYCLE_DEG, harmonics)
         err = np.asarray(series(cyc["crank_deg"])) - cyc["pressure_bar"]
@@ -157,11 +161,10 @@ def _periodic_pchip(x, y, period):
     return lambda t: f(x0 + np.mod(np.asarray(t, dtype=float) - x0, period))
 
 
-def _engine(data):
-    if data is None:
-        from ..data import load_default_data
-        data = load_default_data()
-    return data.get("engine", data)
+def _engine(data, needed_by: str):
+    """The ``[engine]`` table of ``data`` (a System or a data dict): no data, or data without ``[engine]``, raise
+    naming the argument or the file and section (never the packaged data)."""
+    return require_section(data, "engine", needed_by)
 
 
 # ----------------------------------------------------------------------------------------------------------------
@@ -180,7 +183,7 @@ def double_wiebe_cycle(start_of_combustion_deg_atdc: float | None = None, premix
                        rod_length_mm: float | None = None, compression_ratio: float | None = None,
                        intake_valve_closing_deg_atdc: float = -180.0, exhaust_valve_opening_deg_atdc: float = 180.0,
                        blowdown_duration_deg: float = 60.0, exhaust_pressure_bar: float | None = None,
-                       samples: int = _DENSE_SAMPLES, data: dict | None = None, **extra) -> dict:
+                       samples: int = _DENSE_SAMPLES, data: System | dict | None = None, **extra) -> dict:
     """Single-zone closed-cycle pressure with double-Wiebe heat release, closed by a simple gas exchange.
 
     Model (docs/default-data.md sec. 2.5; Heywood, *Internal Combustion Engine Fundamentals*, ch. 9 single-zone
@@ -192,7 +195,8 @@ def double_wiebe_cycle(start_of_combustion_deg_atdc: float | None = None, premix
     to ``exhaust_pressure_bar`` along a C1 cosine ramp over ``blowdown_duration_deg``; exhaust stroke at the
     exhaust pressure, intake stroke at ``pressure_at_ivc_bar`` (boost), joined by a cosine ramp of 40 deg around
     the gas-exchange TDC if the two differ. Default IVC and EVO at BDC (the closed cycle of the data's expected
-    values). Missing arguments come from ``engine.combustion`` and ``engine`` of ``data`` (default data).
+    values). Arguments not given come from ``engine.combustion`` and ``engine`` of ``data`` (a System or a data
+    dict); with ``data=None`` every model argument must be given (a missing one raises naming it).
 
     Returns dict: ``crank_deg`` (uniform cycle grid, firing TDC at 360 deg), ``pressure_bar`` (abs),
     ``closed_cycle_imep_bar`` (integral of p dV from IVC to EVO over V_d), ``imep_bar`` (whole cycle),
@@ -202,13 +206,14 @@ def double_wiebe_cycle(start_of_combustion_deg_atdc: float | None = None, premix
     unknown = {k for k in extra if not k.endswith("_source") and k not in _IGNORED_COMBUSTION_KEYS}
     if unknown:
         raise GearoptInputError(f"double_wiebe_cycle: unknown parameters {sorted(unknown)}")
-    e = _engine(data)
+    e = {} if data is None else _engine(data, "double_wiebe_cycle")
     c = e.get("combustion", {})
     def pick(v, key, table=c):
         if v is not None:
             return float(v)
         if key not in table:
-            raise GearoptInputError(f"double_wiebe_cycle: {key} not given and not in the data")
+            where = "no data given" if data is None else "not in the data"
+            raise GearoptInputError(f"double_wiebe_cycle: {key} not given and {where}")
         return float(table[key])
     soc = pick(start_of_combustion_deg_atdc, "start_of_combustion_deg_atdc")
     f_p = pick(premixed_fraction, "premixed_fraction")
@@ -338,8 +343,10 @@ def imep_bar(pressure: CylinderPressure, bore_mm: float, stroke_mm: float, rod_l
 _MENDES_DERATE_START_RPM = 2200.0
 
 
-def peak_pressure_bar(speed_rpm, load=1.0, data: dict | None = None):
-    """Peak cylinder pressure [bar abs] of the default engine over speed [rpm] and load (0 = motored, 1 = full).
+def peak_pressure_bar(speed_rpm, load, data: System | dict):
+    """Peak cylinder pressure [bar abs] of the data's engine over speed [rpm] and load (0 = motored, 1 = full).
+    ``data``: a :class:`~gearopt.data.System` or its validated dict (required: the map is the data's ``[engine]``);
+    the numbers below are the packaged file's.
 
     Full load: ``engine.peak_cylinder_pressure_bar`` (170 bar [E]) up to ``engine.peak_pressure_derate_above_rpm``
     (2200 rpm); above it the governor's fuel derate follows the Mendes et al. (2008) measured full-load peak pressure
@@ -354,7 +361,7 @@ def peak_pressure_bar(speed_rpm, load=1.0, data: dict | None = None):
     """
     check_values("speed_rpm", speed_rpm, 0.0, low_inclusive=False, unit="rpm")
     check_values("load", load, 0.0, 1.0)
-    e = _engine(data)
+    e = _engine(data, "peak_pressure_bar")
     p_full = float(e["peak_cylinder_pressure_bar"])
     n0 = float(e["peak_pressure_derate_above_rpm"])
     n_hi = float(e["high_idle_speed_rpm"])

@@ -5,12 +5,12 @@ life, lubrication, size and scuffing factors (:func:`rate_iso6336`)."""
 
 from .contact_stress import (contact_stress_iso6336, hertz_contact_stress_pair_MPa, hertz_line_contact_stress_MPa,
                              thesis_contact_stress_MPa)
-from .flash_temperature import (contact_temperature_C, flash_temperature_blok_K, flash_temperature_pair_K,
-                                rolling_velocities_m_s, sliding_velocity_m_s)
+from .flash_temperature import (DEFAULT_FRICTION_COEFFICIENT, contact_temperature_C, flash_temperature_blok_K,
+                                flash_temperature_pair_K, rolling_velocities_m_s, sliding_velocity_m_s)
 from .lewis import lewis_bending_stress_MPa, lewis_form_factor, lewis_form_factor_from_geometry
 from .materials import Material, material, material_names
 from .root_stress import critical_section_iso6336, root_stress_at_load_point, root_stress_iso6336
-from .lubrication import Lubricant, default_lubricant
+from .lubrication import DEFAULT_OIL_TEMPERATURE_C, Lubricant, default_lubricant
 from .size_factors import RatingValidityWarning
 from .deflection import ShaftSupport, beam_shaft_misalignment_um, iso6336_shaft_misalignment_um
 from .scuffing import scuffing_safety_factors
@@ -27,5 +27,6 @@ __all__ = [
     "root_stress_at_load_point", "root_stress_iso6336", "Lubricant", "default_lubricant", "RatingValidityWarning",
     "ShaftSupport", "beam_shaft_misalignment_um", "iso6336_shaft_misalignment_um", "scuffing_safety_factors",
     "ISO6336Rating", "iso6336_train_table", "StiffnessValidityWarning", "contact_line_length_mm", "iso6336_stiffness",
-    "line_of_contact_stiffness", "mesh_damping", "mesh_stiffness_table",
+    "line_of_contact_stiffness", "mesh_damping", "mesh_stiffness_table", "DEFAULT_FRICTION_COEFFICIENT",
+    "DEFAULT_OIL_TEMPERATURE_C",
 ]   # rate_iso6336 is imported from gearopt itself (gearopt.__all__)

@@ -29,13 +29,13 @@ Hertzian line contact, constant friction. Helical pairs are evaluated in the tra
 from __future__ import annotations
 
 import math
-from functools import lru_cache
 
 from .. import numerics as nm
 from .hertz import plane_strain_compliance_per_MPa
 from ..errors import GearoptInputError
 from ..validation import check_range
 from ..units import RAD_PER_DEG, rpm2rad_per_s
+from .lubrication import DEFAULT_OIL_TEMPERATURE_C
 from .materials import material_pair
 from .root_stress import _check_array
 
@@ -46,19 +46,11 @@ _UNIT_FACTOR = math.sqrt(1000.0)
 _SPEED_FLOOR_M_S = 1e-9
 
 
-@lru_cache(maxsize=1)
-def _lubrication_defaults() -> dict:
-    from ..data import load_default_data, values
-
-    return values(load_default_data())["lubrication"]
-
-
-def _default_friction() -> float:
-    return float(_lubrication_defaults()["mean_friction_coefficient"])
-
-
-def _default_oil_temperature_C() -> float:
-    return float(_lubrication_defaults()["oil_temperature_C"])
+#: Library default mean tooth friction coefficient (Blok): [E] docs/default-data.md sec. 3 flash-temperature example
+#: (mineral engine oil, ground flanks). A library default, not read from any data file: a caller with a system passes
+#: its own (``friction=system.lubrication.mean_friction_coefficient``). Equal to the packaged default_train.toml's
+#: ``[lubrication] mean_friction_coefficient`` (tests/rating/test_library_defaults.py keeps them equal).
+DEFAULT_FRICTION_COEFFICIENT = 0.06
 
 
 def flash_temperature_blok_K(load_N_per_mm, half_width_mm, v1_m_s, v2_m_s, friction, B_M1, B_M2=None, *,
@@ -135,11 +127,14 @@ def flash_temperature_pair_K(pair, torque_Nm, speed_rpm, roll_length_mm, *, driv
             b = min(b1, b2).
         speed_rpm: speed of gear ``speed_gear`` [rpm].
         roll_length_mm: contact point(s) as roll length on gear 1 [mm] (scalar, array or CasADi).
-        friction: mean friction coefficient (default: the packaged data's [lubrication] value, 0.06).
+        friction: mean friction coefficient (default :data:`DEFAULT_FRICTION_COEFFICIENT`, 0.06, an [E] library
+            default; pass ``system.lubrication.mean_friction_coefficient`` for a system's own).
         load_share: X_Gamma, the fraction of the load on this tooth pair (1 single contact; ~0.5 in double contact).
         material: name/Material or 2-tuple: E, nu (Hertz half-width) and B_M of each gear.
-        bulk_temperature_C: bulk temperature theta_M [C] for the contact temperature (default: the packaged
-            data's oil temperature, a lower bound of the bulk temperature).
+        bulk_temperature_C: bulk temperature theta_M [C] for the contact temperature (default
+            :data:`~gearopt.rating.lubrication.DEFAULT_OIL_TEMPERATURE_C`, 100 C, an [E] library default oil
+            temperature, a lower bound of the bulk temperature; pass ``system.lubrication.oil_temperature_C`` for a
+            system's own).
         sliding_smoothing_m_s: see :func:`flash_temperature_blok_K`.
         parts: return a dict instead of theta_fl alone.
 
@@ -151,7 +146,7 @@ def flash_temperature_pair_K(pair, torque_Nm, speed_rpm, roll_length_mm, *, driv
         raise GearoptInputError(f"driving_gear={driving_gear!r} must be 1 or 2")
     check_range("torque_Nm", torque_Nm, 0.0, None, low_inclusive=False, unit="N m")
     check_range("load_share", load_share, 0.0, 1.0, low_inclusive=False)
-    mu = _default_friction() if friction is None else friction
+    mu = DEFAULT_FRICTION_COEFFICIENT if friction is None else friction
     m1, m2 = material_pair(material)
     g = pair.geometry()
     t1t2 = _path_length_mm(g)
@@ -170,11 +165,11 @@ def flash_temperature_pair_K(pair, torque_Nm, speed_rpm, roll_length_mm, *, driv
                                      sliding_smoothing_m_s=sliding_smoothing_m_s)
     if not parts:
         return theta
-    bulk = _default_oil_temperature_C() if bulk_temperature_C is None else bulk_temperature_C
+    bulk = DEFAULT_OIL_TEMPERATURE_C if bulk_temperature_C is None else bulk_temperature_C
     return {"flash_temperature_K": theta, "contact_temperature_C": contact_temperature_C(bulk, theta),
             "half_width_mm": half_width, "load_N_per_mm": w, "v1_m_s": v1, "v2_m_s": v2,
             "sliding_velocity_m_s": v1 - v2, "radii_mm": (rho1, rho2), "friction": mu}
 
 
-__all__ = ["BLOK_CONSTANT", "flash_temperature_blok_K", "contact_temperature_C", "rolling_velocities_m_s",
-           "sliding_velocity_m_s", "flash_temperature_pair_K"]
+__all__ = ["BLOK_CONSTANT", "DEFAULT_FRICTION_COEFFICIENT", "flash_temperature_blok_K", "contact_temperature_C",
+           "rolling_velocities_m_s", "sliding_velocity_m_s", "flash_temperature_pair_K"]

@@ -25,6 +25,12 @@ LUBRICATION_TYPES = ("oil_bath", "spray")
 FZG_TESTS = ("A/8.3/90", "A/16.6/90", "A10/16.6R/90")
 _KELVIN = 273.15
 
+#: Library default oil (sump/spray, bulk) temperature [C]: [E] a typical heavy-duty diesel sump/gallery oil
+#: temperature at rated load (90-110 C). A library default, not read from any data file: a caller with a system
+#: passes its own (``system.lubrication.oil_temperature_C``). Equal to the packaged default_train.toml's
+#: ``[lubrication] oil_temperature_C`` (tests/rating/test_library_defaults.py keeps them equal).
+DEFAULT_OIL_TEMPERATURE_C = 100.0
+
 
 @dataclass(frozen=True)
 class Lubricant:
@@ -146,14 +152,14 @@ __all__ = ["BASE_OILS", "LUBRICATION_TYPES", "FZG_TESTS", "Lubricant", "lubrican
            "work_hardening_factor"]
 
 
-def default_lubricant() -> Lubricant:
-    """The default engine oil of gearopt's train: SAE 15W-40 class mineral engine oil ([E] typical data sheet values
-    nu_40 = 108 mm^2/s, nu_100 = 14.5 mm^2/s, rho_15 = 880 kg/m^3, FZG A/8.3/90 failure load stage 12) at the packaged
-    default oil temperature (``[lubrication] oil_temperature_C`` of default_train.toml, 100 C)."""
-    from ..data import load_default_data, values
+def default_lubricant(oil_temperature_C: float = DEFAULT_OIL_TEMPERATURE_C) -> Lubricant:
+    """The library's default engine oil: SAE 15W-40 class mineral engine oil ([E] typical data sheet values
+    nu_40 = 108 mm^2/s, nu_100 = 14.5 mm^2/s, rho_15 = 880 kg/m^3, FZG A/8.3/90 failure load stage 12) at
+    ``oil_temperature_C`` [C] (default :data:`DEFAULT_OIL_TEMPERATURE_C`, 100 C, an [E] library default).
 
-    oil_c = float(values(load_default_data())["lubrication"]["oil_temperature_C"])
-    return Lubricant(108.0, 14.5, 880.0, oil_c, 12)
+    No data file is read: a caller with a system passes its oil temperature,
+    ``default_lubricant(system.lubrication.oil_temperature_C)``."""
+    return Lubricant(108.0, 14.5, 880.0, oil_temperature_C, 12)
 
 
-__all__ += ["default_lubricant"]
+__all__ += ["default_lubricant", "DEFAULT_OIL_TEMPERATURE_C"]

@@ -18,7 +18,7 @@ import pandas as pd
 from ..blank.blank import rim_thickness_factor
 from ..blank.catalogue import blank_from_data
 from ..blank.web import web_fatigue, web_stress
-from ..data import load_default_data, system_from_data, train_from_data, values
+from ..data import System, data_of, require_section, system_from_data, train_from_data, values
 from ..errors import GearoptInputError
 from ..geometry.train import GearTrain
 from ..joints.catalogue import accessory_load_torques_Nm, joint_capacity
@@ -54,12 +54,14 @@ def _min(x) -> float:
     return float(np.min(np.atleast_1d(np.asarray(x, dtype=float))))
 
 
-def joint_table(data: dict | None = None, train: str | GearTrain = "spur",
+def joint_table(data: System | dict, train: str | GearTrain = "spur",
                 torques_Nm: Mapping[str, Any] | str | None = None, *, root_rotation: str = "cw",
                 inertia_torques_Nm: Mapping[str, Any] | None = None, interference: str = "nominal",
                 nut_factor: str = "nominal", smoothing: bool = False, speed_rpm: float = 0.0) -> pd.DataFrame:
     """One row per joint (crank, cam, lpi, lpg, ac, fp): capacity, demand and margins.
 
+    ``data``: a :class:`~gearopt.data.System` or its validated dict (required; its ``[joints]``, and ``[engine]``
+    for the quasi-static case, else :class:`~gearopt.errors.MissingSectionError`).
     ``train``: ``"spur"``/``"helical"`` (built from ``data``) or a :class:`GearTrain`. ``torques_Nm``: {mesh: torque
     on the mesh's first gear [N m], + when it drives}, floats or arrays of one torque history (meshes left out
     carry none); ``None`` uses the quasi-static accessory peak case (:data:`QUASI_STATIC_CASE`); ``"design"`` the
@@ -74,7 +76,8 @@ def joint_table(data: dict | None = None, train: str | GearTrain = "spur",
     history of the slip margin under torque and axial load together), ``hub_von_mises_MPa``, ``hub_yield_safety``,
     ``note``. ``df.attrs`` holds the load case and conventions.
     """
-    data = load_default_data() if data is None else data
+    require_section(data, "joints", "joint_table")
+    data = data_of(data, "joint_table")
     tr = _train(data, train)
     torques_Nm, case = _load_case(data, tr, torques_Nm)
     result = walk_off(tr, torques_Nm, root_rotation=root_rotation, inertia_torques_Nm=inertia_torques_Nm)
@@ -116,11 +119,12 @@ def joint_table(data: dict | None = None, train: str | GearTrain = "spur",
     return df
 
 
-def blank_table(data: dict | None = None, train: str | GearTrain = "spur") -> pd.DataFrame:
+def blank_table(data: System | dict, train: str | GearTrain = "spur") -> pd.DataFrame:
     """One row per gear: blank kind, ``mass_kg``, ``inertia_kgm2``, ``solid_inertia_kgm2`` (same teeth and bore,
     no web), ``inertia_reduction_percent``, ``data_inertia_kgm2`` (the data file's value, for comparison),
-    ``backup_ratio``, ``rim_thickness_factor`` (AGMA K_B) and ``assumed`` inputs."""
-    data = load_default_data() if data is None else data
+    ``backup_ratio``, ``rim_thickness_factor`` (AGMA K_B) and ``assumed`` inputs. ``data``: a
+    :class:`~gearopt.data.System` or its validated dict (required)."""
+    data = data_of(data, "blank_table")
     tr = _train(data, train)
     gears = values(data)["gears"]
     rows = []
@@ -145,11 +149,12 @@ def _load_case(data: dict, tr: GearTrain, torques_Nm):
             raise GearoptInputError(f"torques_Nm={torques_Nm!r}: give a dict of per-mesh torques, None or 'design'")
         return design_load_torques_Nm(data), "[design_loads] of the data (static design torques on the driving gears)"
     if torques_Nm is None:
+        require_section(data, "engine", "the quasi-static accessory load case (torques_Nm=None)")
         return quasi_static_mesh_torques_Nm(tr, accessory_load_torques_Nm(data, "peak")), QUASI_STATIC_CASE
     return torques_Nm, "given per-mesh torques"
 
 
-def web_table(data: dict | None = None, train: str | GearTrain = "spur",
+def web_table(data: System | dict, train: str | GearTrain = "spur",
               torques_Nm: Mapping[str, Any] | str | None = None, *, root_rotation: str = "cw",
               inertia_torques_Nm: Mapping[str, Any] | None = None, stress_concentration: float = 1.0) -> pd.DataFrame:
     """Web stress and Goodman/EFR fatigue margins of every webbed gear (thesis sec. 3.10 / 4.6, closed-form model of
@@ -161,10 +166,11 @@ def web_table(data: dict | None = None, train: str | GearTrain = "spur",
     positive value, the reverse stress the largest negative magnitude. A single load case is also applied reversed
     (thesis: every tooth force forward, then reverse), so its forward-reverse case is fully reversed. Material: the
     gear's ``[materials.*]`` endurance, ultimate and yield strengths. ``stress_concentration`` K_t at the pockets.
+    ``data``: a :class:`~gearopt.data.System` or its validated dict (required).
     Columns: loads, ``forward_stress_MPa``, ``reverse_stress_MPa`` and per case ``<case>_efr_MPa``,
     ``<case>_fatigue_margin`` (S_e/EFR), and ``yield_margin``.
     """
-    data = load_default_data() if data is None else data
+    data = data_of(data, "web_table")
     tr = _train(data, train)
     torques, case = _load_case(data, tr, torques_Nm)
     result = walk_off(tr, torques, root_rotation=root_rotation, inertia_torques_Nm=inertia_torques_Nm)

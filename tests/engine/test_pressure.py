@@ -174,28 +174,28 @@ def test_pressure_symbolic_equals_numeric_and_derivative(wiebe):
 # ----------------------------------------------------------------------------------------------------------------
 def test_peak_pressure_map():
     # full load 170 bar [E] up to 2200 rpm, Mendes derate shape stretched to high idle, held beyond
-    assert float(peak_pressure_bar(750.0)) == pytest.approx(170.0)
-    assert float(peak_pressure_bar(2200.0)) == pytest.approx(170.0)
+    assert float(peak_pressure_bar(750.0, 1.0, DATA)) == pytest.approx(170.0)
+    assert float(peak_pressure_bar(2200.0, 1.0, DATA)) == pytest.approx(170.0)
     mendes = DATA["engine"]["mendes_2008"]
     ratio_end = mendes["peak_pressure_MPa"][-1] / 15.1
-    assert float(peak_pressure_bar(2850.0)) == pytest.approx(170.0 * ratio_end)
-    assert float(peak_pressure_bar(3000.0)) == pytest.approx(170.0 * ratio_end)
+    assert float(peak_pressure_bar(2850.0, 1.0, DATA)) == pytest.approx(170.0 * ratio_end)
+    assert float(peak_pressure_bar(3000.0, 1.0, DATA)) == pytest.approx(170.0 * ratio_end)
     # the Mendes 2300 rpm point (13.5/15.1) maps to 2200 + 100 * 650/350 rpm
-    assert float(peak_pressure_bar(2200.0 + 100.0 * 650.0 / 350.0)) == pytest.approx(170.0 * 13.5 / 15.1)
+    assert float(peak_pressure_bar(2200.0 + 100.0 * 650.0 / 350.0, 1.0, DATA)) == pytest.approx(170.0 * 13.5 / 15.1)
     n = np.linspace(500, 3200, 271)
-    p = peak_pressure_bar(n)
+    p = peak_pressure_bar(n, 1.0, DATA)
     assert np.all(np.diff(p) <= 1e-12)                       # non-increasing with speed at full load
     # part load: motored peak at load 0, linear in load
     p_mot = motored_peak_pressure_bar(17.3, 1.34)
     assert p_mot == pytest.approx(17.3 ** 1.34)
-    assert float(peak_pressure_bar(1500.0, 0.0)) == pytest.approx(p_mot)
-    assert float(peak_pressure_bar(1500.0, 0.5)) == pytest.approx(0.5 * (p_mot + 170.0))
+    assert float(peak_pressure_bar(1500.0, 0.0, DATA)) == pytest.approx(p_mot)
+    assert float(peak_pressure_bar(1500.0, 0.5, DATA)) == pytest.approx(0.5 * (p_mot + 170.0))
     # dual-typed: same numbers from SX, derivative -> slope of the active segment
     s = ca.SX.sym("n")
-    f = ca.Function("f", [s], [peak_pressure_bar(s), ca.jacobian(peak_pressure_bar(s), s)])
+    f = ca.Function("f", [s], [peak_pressure_bar(s, 1.0, DATA), ca.jacobian(peak_pressure_bar(s, 1.0, DATA), s)])
     v, d = f(2500.0)
-    assert float(v) == pytest.approx(float(peak_pressure_bar(2500.0)))
-    fd = (float(peak_pressure_bar(2501.0)) - float(peak_pressure_bar(2499.0))) / 2.0
+    assert float(v) == pytest.approx(float(peak_pressure_bar(2500.0, 1.0, DATA)))
+    fd = (float(peak_pressure_bar(2501.0, 1.0, DATA)) - float(peak_pressure_bar(2499.0, 1.0, DATA))) / 2.0
     assert float(d) == pytest.approx(fd, rel=1e-9)
 
 
@@ -204,7 +204,7 @@ def test_peak_pressure_map():
                                           ({"speed_rpm": 1000.0, "load": -0.1}, "load")])
 def test_map_bad_input(kwargs, word):
     with pytest.raises(GearoptInputError, match=word):
-        peak_pressure_bar(**kwargs)
+        peak_pressure_bar(**{"load": 1.0, **kwargs}, data=DATA)
 
 
 def test_table_and_wiebe_bad_input():

@@ -18,7 +18,7 @@ COLUMNS = ["gear", "type", "pressure_MPa", "torque_capacity_Nm", "axial_capacity
 
 
 def test_helical_table_columns_and_data_capacities():
-    df = joint_table(train="helical")
+    df = joint_table(load_default_data(), train="helical")
     assert list(df.index) == ["crank", "cam", "lpi", "lpg", "ac", "fp"]
     assert all(c in df.columns for c in COLUMNS)
     # default_train.toml [C] values: pressures 32.61 / 103.24 / 40.00 / 111.0 MPa; capacities 779.2 / 858.2 /
@@ -40,7 +40,7 @@ def test_helical_table_columns_and_data_capacities():
 
 
 def test_spur_table_axial_margins_inf_with_note():
-    df = joint_table(train="spur")
+    df = joint_table(load_default_data(), train="spur")
     assert (df["axial_force_N"] == 0.0).all()
     assert (df["axial_margin"] == math.inf).all()
     assert df["note"].str.contains("spur: no axial tooth force").all()
@@ -53,7 +53,7 @@ def test_spur_table_axial_margins_inf_with_note():
 def test_history_gives_the_minimum_margin_over_time():
     t = np.linspace(0, 2 * np.pi, 40)
     torques = {"crank-cam": 190 + 150 * np.sin(3 * t), "cam-ac": 240 * np.cos(t), "cam-fp": 90 + 60 * np.sin(6 * t)}
-    df = joint_table(train="helical", torques_Nm=torques)
+    df = joint_table(load_default_data(), train="helical", torques_Nm=torques)
     r = walk_off(go.load_default_train("helical"), torques)
     T, F = r.joint_torque_Nm["cam"], r.axial_force_N["cam"]
     worst = min(joint_margins("press_fit", T[i], F[i], df.loc["cam", "torque_capacity_Nm"],
@@ -80,7 +80,7 @@ def test_design_loads_and_weakest_tolerances():
 
 
 def test_blank_table():
-    df = blank_table(train="spur")
+    df = blank_table(load_default_data(), train="spur")
     assert list(df.index) == ["crank", "cam", "ac", "fp", "lpi", "lpg"]
     assert df.loc["cam", "blank"] == "pocketed" and df.loc["crank", "blank"] == "solid"
     assert df.loc["cam", "inertia_kgm2"] == pytest.approx(0.0305, rel=0.01)
@@ -91,7 +91,7 @@ def test_blank_table():
 
 
 def test_web_table_single_case_and_history():
-    df = web_table(train="helical", torques_Nm="design")
+    df = web_table(load_default_data(), train="helical", torques_Nm="design")
     assert list(df.index) == ["cam", "ac", "fp"]  # the webbed gears
     # a single load case is applied forward and reversed: the forward-reverse case is fully reversed
     assert np.allclose(df["forward_stress_MPa"], df["reverse_stress_MPa"])
@@ -113,7 +113,7 @@ def test_web_table_single_case_and_history():
         500.0 / (0.5 * s["von_mises_MPa"] / (1 - 0.5 * s["von_mises_MPa"] / 1000.0)), rel=1e-12)
     # a history that only drives forward has no reverse stress: reverse margin inf, forward-reverse = forward
     t = np.linspace(0.0, 1.0, 20)
-    h = web_table(train="helical", torques_Nm={"crank-cam": 250 + 100 * t, "cam-ac": 240 + 0 * t,
+    h = web_table(load_default_data(), train="helical", torques_Nm={"crank-cam": 250 + 100 * t, "cam-ac": 240 + 0 * t,
                                                 "cam-fp": 150 + 0 * t})
     assert h.loc["cam", "reverse_stress_MPa"] == 0.0 and h.loc["cam", "reverse_fatigue_margin"] == math.inf
     assert h.loc["cam", "forward_reverse_fatigue_margin"] == pytest.approx(h.loc["cam", "forward_fatigue_margin"])

@@ -7,12 +7,12 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field, replace
 from fractions import Fraction
-from typing import Any, Mapping
+from typing import TYPE_CHECKING, Any, Mapping
 
 import numpy as np
 
 from ... import numerics as nm
-from ...data import load_default_data, values
+from ...data import data_of, values
 from ...errors import GearoptInputError
 from ...validation import check_range
 from ...geometry import involute as inv
@@ -20,6 +20,9 @@ from ...geometry.shift import (check_centre_distance_reachable, iso_tr_4467_shif
                                working_pressure_angle_from_centre_distance)
 from ...geometry.train import GearTrain
 from ...units import DEG_PER_RAD, RAD_PER_DEG
+
+if TYPE_CHECKING:
+    from ...data import System
 
 
 OBJECTIVES = ("max_min_worst_case_contact_ratio", "max_min_tip_thickness")
@@ -58,7 +61,7 @@ def _ratios_from_teeth(train: GearTrain, teeth: Mapping[str, int]) -> dict[str, 
 
 
 def reference_speed_ratios(train: GearTrain, reference: str | Mapping[str, float] = "teeth",
-                           data: Mapping[str, Any] | None = None) -> dict[str, float]:
+                           data: System | Mapping[str, Any] | None = None) -> dict[str, float]:
     """Reference speed of every gear relative to the train's root gear (magnitudes, dimensionless).
 
     ``reference``:
@@ -72,7 +75,9 @@ def reference_speed_ratios(train: GearTrain, reference: str | Mapping[str, float
       error of the spur tooth counts against the helical pair), propagated from the root;
     - a mapping gear -> ratio (every gear of the train; the root's value is divided out).
 
-    ``data``: parsed data of the default schema (default: the packaged ``default_train.toml``).
+    ``data``: a :class:`~gearopt.data.System` or the validated dict of a data file; required for ``"data"`` and
+    ``"helical_original"`` (``None`` raises naming the argument: the packaged data are never read behind the
+    caller's back), unused otherwise.
     """
     if isinstance(reference, Mapping):
         missing = sorted(set(train.gears) - set(reference))
@@ -88,7 +93,11 @@ def reference_speed_ratios(train: GearTrain, reference: str | Mapping[str, float
     teeth = {g: spec.teeth for g, spec in train.gears.items()}
     if reference == "teeth":
         return _ratios_from_teeth(train, teeth)
-    d = values(dict(data) if data is not None else load_default_data())
+    if data is None:
+        raise GearoptInputError(f"reference={reference!r} reads the data file: pass data=... (the System of your "
+                                f"file, gearopt.load_system(path), or its dict); data=None is not read from the "
+                                f"packaged default")
+    d = values(dict(data_of(data, f"reference_speed_ratios(reference={reference!r})")))
     if reference == "data":
         out = {}
         for g in train.gears:

@@ -179,7 +179,7 @@ def enumerate_tooth_counts(train: GearTrain, *, ratio_tolerance_percent: Mapping
             4467 recommended shift range; smallest normal backlash [mm], ``None`` = unchecked).
         precheck: run the sampled feasibility check of the nonlinear limits (stage ``precheck``).
         precheck_samples: root shifts sampled per candidate (>= 2).
-        data: parsed data for ``reference`` "data"/"helical_original" (default: the packaged data).
+        data: the System or data dict for ``reference`` "data"/"helical_original" (required for those).
         max_partial_assignments: guard against an enumeration explosion (raise above it).
 
     Returns:
