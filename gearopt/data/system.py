@@ -17,7 +17,6 @@ from __future__ import annotations
 import copy
 from dataclasses import dataclass, field
 from pathlib import Path
-from types import MappingProxyType
 from typing import Any, Mapping
 
 from ..errors import DataFileError, GearoptInputError, MissingSectionError
@@ -27,15 +26,28 @@ from .schema_keys import SECTION_USES
 
 
 
+class ReadOnlyMap(dict):
+    """A dict that refuses changes (the records' tables): read like a dict, pickled like one (a :class:`System`
+    crosses process boundaries with the scenes and models that hold it)."""
+
+    def _refuse(self, *args, **kwargs):
+        raise TypeError("a System's tables are read-only: load the changed file again (gearopt.load_system)")
+
+    __setitem__ = __delitem__ = clear = pop = popitem = setdefault = update = __ior__ = _refuse
+
+    def __reduce__(self):
+        return ReadOnlyMap, (dict(self),)
+
+
 def _frozen(mapping: Mapping[str, Any]) -> Mapping[str, Any]:
-    """A read-only deep view of a nested mapping (lists become tuples)."""
+    """A read-only deep copy of a nested mapping (lists become tuples)."""
     def conv(v):
         if isinstance(v, Mapping):
             return _frozen(v)
         if isinstance(v, list):
             return tuple(conv(e) for e in v)
         return v
-    return MappingProxyType({k: conv(v) for k, v in mapping.items()})
+    return ReadOnlyMap({k: conv(v) for k, v in mapping.items()})
 
 
 def _plain(values: Mapping[str, Any]) -> dict[str, Any]:
@@ -385,9 +397,9 @@ def system_from_data(data: Mapping[str, Any], *, source: str = "<data>") -> Syst
                                    speed_rpm=float(e["speed_rpm"]) if "speed_rpm" in e else None)
     elif "engine" in d:
         excitation = "engine"
-    return System(source=source, title=str(d.get("title", "")), rack=rack, gears=MappingProxyType(gears),
-                  meshes=MappingProxyType(meshes), trains=MappingProxyType(trains), design_loads=loads,
-                  design_limits=limits, lubrication=lub, joints=MappingProxyType(joints),
+    return System(source=source, title=str(d.get("title", "")), rack=rack, gears=ReadOnlyMap(gears),
+                  meshes=ReadOnlyMap(meshes), trains=ReadOnlyMap(trains), design_loads=loads,
+                  design_limits=limits, lubrication=lub, joints=ReadOnlyMap(joints),
                   materials=_frozen(d.get("materials", {})), excitation=excitation,
                   sections=frozenset(k for k in data if not k.endswith("_source")), _data=copy.deepcopy(dict(data)))
 

@@ -64,6 +64,7 @@ import pandas as pd
 from ..contact.ltca_macro import DEFAULT_ENGAGEMENT_WIDTH_MM
 from ..contact.ltca_smooth import DEFAULT_SMOOTHING_UM
 from ..contact.microgeometry import Microgeometry
+from ..data import data_of, values
 from ..errors import GearoptInputError
 from ..geometry.pair import GearPair
 from ..geometry.train import GearTrain
@@ -112,7 +113,10 @@ class Scene:
         variables, objectives, limits: :class:`DesignVariable`, :class:`Objective`, :class:`Limit` lists.
         microgeometry: fixed modifications per mesh (free ones come from ``variables``).
         driving_gear: 1 or 2, per mesh (mapping) or for all.
-        data: the data set of joints and blanks (default: the packaged default data).
+        data: the scene's data set: a :class:`~gearopt.data.System` (``gearopt.load_system(path)``) or the
+            validated dict of a data file; joint, blank and rating-material quantities need it (an error names a
+            missing one), and its ``[lubrication]`` sets the oil temperature and friction coefficient of contact
+            temperatures unless ``ltca_options`` give them.
         ltca_options: overrides of :data:`DEFAULT_LTCA_OPTIONS`; iso6336_options: keyword arguments of
             :func:`~gearopt.rating.contact_stress_iso6336` / :func:`~gearopt.rating.root_stress_iso6336` (K_A, ...).
         objective_aggregate: how several objectives combine: ``"sum"`` (their weighted, scaled sum) or ``"max"``
@@ -132,7 +136,7 @@ class Scene:
     limits: Sequence[Limit] = ()
     microgeometry: Mapping[str, Microgeometry] = field(default_factory=dict)
     driving_gear: int | Mapping[str, int] = 1
-    data: dict | None = None
+    data: Any = None
     ltca_options: Mapping[str, Any] = field(default_factory=dict)
     iso6336_options: Mapping[str, Any] = field(default_factory=dict)
     objective_aggregate: str = "sum"
@@ -165,6 +169,18 @@ class Scene:
         return BuiltScene(self, positions=positions, initial=initial, parametric=parametric)
 
 
+def _lubrication_options(data) -> dict[str, float]:
+    """The LTCA options the data's ``[lubrication]`` sets: the oil (bulk) temperature and the mean friction
+    coefficient of the contact temperatures (none without data or the section)."""
+    if data is None:
+        return {}
+    lub = values(data_of(data, "Scene")).get("lubrication")
+    if not lub:
+        return {}
+    return {"bulk_temperature_C": float(lub["oil_temperature_C"]),
+            "friction_coefficient": float(lub["mean_friction_coefficient"])}
+
+
 class BuiltScene:
     """A built scene: its models (``models``, in build order ``built``), its :class:`Problem` and :meth:`solve`.
 
@@ -184,7 +200,8 @@ class BuiltScene:
         self.scene = scene
         self.parametric = bool(parametric)
         self._options_override = dict(options or {})
-        self.options: dict[str, Any] = {**DEFAULT_LTCA_OPTIONS, **dict(scene.ltca_options), **self._options_override}
+        self.options: dict[str, Any] = {**DEFAULT_LTCA_OPTIONS, **_lubrication_options(scene.data),
+                                        **dict(scene.ltca_options), **self._options_override}
         unknown = set(scene.ltca_options) - set(DEFAULT_LTCA_OPTIONS)
         if unknown:
             raise GearoptInputError(f"ltca_options {sorted(unknown)} are unknown ({sorted(DEFAULT_LTCA_OPTIONS)})")

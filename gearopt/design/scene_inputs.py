@@ -18,7 +18,7 @@ import numpy as np
 
 from .. import numerics as nm
 from ..blank import blank_from_data
-from ..data import load_default_data, values
+from ..data import data_of, values
 from ..dynamics import walk_off_history
 from ..errors import GearoptInputError
 from ..joints import joint_capacity
@@ -36,8 +36,9 @@ joint's capacity depends on most (friction, interference or preload, fit geometr
 
 
 class SceneInputs:
-    """The data set of a scene (``scene.data``, else the packaged default data, loaded once as the model
-    ``data:default``), the dynamic load cases resolved against it, and the data that enter a parametric NLP.
+    """The data set of a scene (``scene.data``: a :class:`~gearopt.data.System` or a validated data dict; required
+    by joint, blank and rating-material quantities), the dynamic load cases resolved against it, and the data that
+    enter a parametric NLP.
 
     Public interface: :meth:`data`, :meth:`values`, :meth:`joint_names`, :meth:`joint_entry`,
     :meth:`joint_overrides`, :meth:`joint_capacity`, :meth:`blank`, :meth:`rating_materials`,
@@ -54,10 +55,14 @@ class SceneInputs:
     # -- the data set ----------------------------------------------------------------------------------------------
 
     def data(self) -> dict:
-        """The data set as loaded (the scene's, else the packaged default data)."""
+        """The scene's data set (a :class:`~gearopt.data.System` or the validated dict of a data file); a scene
+        without one raises naming what needs it (the packaged data are never read behind the caller's back)."""
         if self.scene.data is None:
-            return self.cache.get("data:default", load_default_data, "packaged default data")
-        return self.scene.data
+            raise GearoptInputError(f"scene {self.scene.name!r} needs a data set for its joints, blanks or rating "
+                                    "materials: give Scene(data=gearopt.load_system(path)) (or the packaged timing "
+                                    "train's gearopt.load_system())")
+        return self.cache.get("data:validated", lambda: data_of(self.scene.data, f"scene {self.scene.name!r}"),
+                              "the scene's data set")
 
     def values(self) -> dict:
         """The data set's values (units stripped, :func:`gearopt.data.values`)."""

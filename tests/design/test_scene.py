@@ -107,7 +107,7 @@ def test_micro_scene_optimum_is_a_local_minimum_of_the_smooth_model_and_passes_t
 
 def test_joint_and_blank_scene_reaches_the_analytic_optimum(train):
     demand_Nm, target = 400.0, 2.0
-    scene = Scene("joint+blank", train=train,
+    scene = Scene("joint+blank", train=train, data=go.load_system(),
                   load_cases=[LoadCase("design", speed_rpm=2500.0, joint_torque_Nm={"cam": demand_Nm},
                                        joint_axial_force_N={"cam": 2000.0})],
                   variables=[DesignVariable("interference_um", "cam", 10.0, 150.0),
@@ -135,7 +135,7 @@ def test_dynamic_load_case_builds_the_timing_model_once(train):
     from gearopt.cases.timing_train import timing_model
 
     system = go.load_system()
-    scene = Scene("dyn", train=train, load_cases=[LoadCase.from_dynamics("rated", 2500.0)],
+    scene = Scene("dyn", train=train, data=system, load_cases=[LoadCase.from_dynamics("rated", 2500.0)],
                   dynamics_model=lambda kind: timing_model(system, kind),
                   variables=[DesignVariable("interference_um", "cam", 10.0, 150.0)],
                   objectives=[Objective("torque_margin", "cam", sense="max")],
@@ -179,7 +179,7 @@ def test_bad_scenes_raise_clear_errors(train):
         LoadCase("dyn", dynamics={"kind": "spur"})
     # a limit no variable can change, violated: typed failure naming it
     with pytest.raises(InfeasibleProblemError, match=r"contact_stress_iso6336_MPa\[crank-cam\]@d"):
-        Scene("x", train=train, load_cases=[LoadCase("d", 300.0)],
+        Scene("x", train=train, data=go.load_system(), load_cases=[LoadCase("d", 300.0)],
               variables=[DesignVariable("interference_um", "cam", 10.0, 150.0)],
               objectives=[Objective("torque_capacity_Nm", "cam", sense="max")],
               limits=[Limit("contact_stress_iso6336_MPa", MESH, upper=100.0)]).build()

@@ -18,7 +18,7 @@ TORQUES = {"crank-cam": 300.0, "cam-ac": 240.0, "cam-fp": 150.0}
 
 def _scene(limits, objective_sense="max", upper=8.0):
     case = LoadCase("over", TORQUES, speed_rpm=3000.0)
-    return Scene("thrust", train=go.load_default_train("spur"), load_cases=[case],
+    return Scene("thrust", train=go.load_default_train("spur"), data=go.load_system(), load_cases=[case],
                  variables=[DesignVariable("helix_angle_deg", "train", lower=0.0, upper=upper, init=3.0)],
                  objectives=[Objective("transverse_contact_ratio", "crank-cam", sense=objective_sense)],
                  limits=limits)

@@ -128,7 +128,7 @@ def test_walk_off_margin_limits_the_helix_angle_in_the_same_nlp(train):
     cap = joint_capacity(data, "cam", speed_rpm=2500.0)["axial_capacity_N"]
     case = LoadCase("overspeed", {m: t for m, t in torques.items() if m in ("crank-cam", "cam-ac", "cam-fp")},
                     speed_rpm=2500.0)
-    scene = Scene("helix", train=train, load_cases=[case],
+    scene = Scene("helix", train=train, data=go.load_system(), load_cases=[case],
                   variables=[DesignVariable("helix_angle_deg", "train", lower=4.0, upper=10.0, init=5.0)],
                   objectives=[Objective("transverse_contact_ratio", MESH, sense="max")],
                   limits=[Limit("axial_margin", "cam", lower=cap / abs(axial))])
@@ -137,7 +137,8 @@ def test_walk_off_margin_limits_the_helix_angle_in_the_same_nlp(train):
     assert beta == pytest.approx(8.0, abs=1e-3)
     margin = result.quantities.query("quantity == 'axial_margin'")["value"].iloc[0]
     assert margin == pytest.approx(cap / abs(axial), rel=1e-4)
-    free = Scene("helix", train=train, load_cases=[case], variables=scene.variables, objectives=scene.objectives)
+    free = Scene("helix", train=train, data=go.load_system(), load_cases=[case], variables=scene.variables,
+                 objectives=scene.objectives)
     assert free.build().solve().values["train.helix_angle_deg"] == pytest.approx(10.0, abs=1e-4)
 
 

@@ -56,7 +56,7 @@ def test_progress_bar_is_off_when_stderr_is_not_a_terminal():
 def test_front_segments_on_processes_equal_the_serial_front():
     # a front through the executor (this file runs before the Dask test, so the pool forks): the cam blank,
     # minimum inertia against rim backup ratio (fast); two ε segments run as two tasks
-    blank = Scene("blank", train=go.load_default_train("spur"),
+    blank = Scene("blank", train=go.load_default_train("spur"), data=go.load_system(),
                   variables=[DesignVariable("web_thickness_mm", "cam", 4.0, 20.0),
                              DesignVariable("rim_thickness_mm", "cam", 4.0, 20.0)],
                   objectives=[Objective("inertia_kgm2", "cam")], limits=[Limit("rim_backup_ratio", "cam", lower=1.2)])

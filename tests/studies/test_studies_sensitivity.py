@@ -110,7 +110,7 @@ def test_report_needs_a_solved_scene(tmp_path, report):
 
 
 def joint_scene(demand_Nm: float = 400.0, margin: float = 2.0) -> Scene:
-    return Scene("joint", train=go.load_default_train("spur"),
+    return Scene("joint", train=go.load_default_train("spur"), data=go.load_system(),
                  load_cases=[LoadCase("design", speed_rpm=2500.0, joint_torque_Nm={"cam": demand_Nm},
                                       joint_axial_force_N={"cam": 2000.0})],
                  variables=[DesignVariable("interference_um", "cam", 10.0, 150.0)],
