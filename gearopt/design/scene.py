@@ -281,6 +281,7 @@ class BuiltScene(ContactModels, TrainModels, QuantityTerms):
         if lc.dynamics is None:
             return lc
         from ..dynamics import default_timing_model, walk_off_history
+        from ..geometry.forces import mesh_torque_Nm
 
         dyn = lc.dynamics
         model = self._model(f"dynamics:{dyn['kind']}", lambda: default_timing_model(dyn["kind"]),
@@ -293,7 +294,7 @@ class BuiltScene(ContactModels, TrainModels, QuantityTerms):
         for mesh in sim.mesh_force_N.columns:
             force = np.abs(sim.mesh_force_N[mesh].to_numpy())
             stat = force.max() if dyn["statistic"] == "peak" else np.sqrt(np.mean(force ** 2))
-            torques[mesh] = float(stat * sim.mesh_base_radii_mm[mesh][0] * 1e-3)
+            torques[mesh] = float(mesh_torque_Nm(stat, sim.mesh_base_radii_mm[mesh][0]))
         joints = {t for t, needs in self._needs.items() if "joint" in needs}
         jt, ja = {}, {}
         for joint in sorted(joints):
