@@ -448,7 +448,7 @@ class BuiltScene(ContactModels, TrainModels, QuantityTerms):
         """The quantity table (as ``SceneResult.quantities``) at any solve of ``problem``."""
         return self._quantity_table(solved)
 
-    def _joint(self, joint: str, lc: LoadCase | None) -> dict:
+    def _joint(self, joint: str, lc: LoadCase | None):
         from ..joints import joint_capacity
 
         overrides = {variable_kind(name).key or name: x for name, x in self._free(joint, "joint").items()}

@@ -48,7 +48,7 @@ class QuantityTerms:
         if kind.target_kind == "joint":
             cap = self._joint(target, lc)
             if not kind.per_load_case:
-                return cap[name]
+                return getattr(cap, name)
             torque_Nm, axial_N = self.joint_torque_Nm(target, lc), self.joint_axial_force_N(target, lc)
 
             def torque():   # a datum becomes a parameter only where a quantity uses it (Opti drops unused ones)
@@ -57,14 +57,14 @@ class QuantityTerms:
             def axial():
                 return self._datum(f"joint_axial_force_N[{target}]@{lc.name}", axial_N, "N")
             if name == "torque_margin":
-                return _margin(cap["torque_capacity_Nm"], torque(), target, "torque", torque_Nm)
+                return _margin(cap.torque_capacity_Nm, torque(), target, "torque", torque_Nm)
             if name == "axial_margin":
-                return _margin(cap["axial_capacity_N"], axial(), target, "axial force", axial_N)
+                return _margin(cap.axial_capacity_N, axial(), target, "axial force", axial_N)
             if name == "axial_utilisation":       # squared (scene_terms): smooth where the thrust vanishes
-                return (axial() / cap["axial_capacity_N"]) ** 2
+                return (axial() / cap.axial_capacity_N) ** 2
             from ..joints.walk_off import joint_margins
-            return joint_margins(cap["type"], torque(), axial(), cap["torque_capacity_Nm"],
-                                 cap["axial_capacity_N"])["slip_utilisation"]
+            return joint_margins(cap.type, torque(), axial(), cap.torque_capacity_Nm,
+                                 cap.axial_capacity_N)["slip_utilisation"]
         blank = self._blank(target)
         return blank.backup_ratio if name == "rim_backup_ratio" else getattr(blank, name)()
 
@@ -184,7 +184,8 @@ class QuantityTerms:
         demand = (self.joint_axial_force_N if kind.name == "axial_margin" else self.joint_torque_Nm)(lim.target, lc)
         if not nm.is_symbolic(demand):
             return False
-        cap = self._joint(lim.target, lc)["axial_capacity_N" if kind.name == "axial_margin" else "torque_capacity_Nm"]
+        cap = getattr(self._joint(lim.target, lc),
+                      "axial_capacity_N" if kind.name == "axial_margin" else "torque_capacity_Nm")
         ratio = cap / nm.fmax(nm.sqrt(demand * demand), 1e-9)
         self._record(label, lim.quantity, lim.target, lc, kind, ratio, lim.lower, None, "limit")
         if lim.lower <= 0.0:

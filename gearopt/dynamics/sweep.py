@@ -139,7 +139,7 @@ def walk_off_history(model, sim, joint: str = "cam", interference: str = "nomina
         extra.update(joint_torque_method="mesh_sum", gear_inertia_kgm2=j_g, gear_inertia_source=source)
     axial = np.asarray(res.axial_force_N[gear], dtype=float) * np.ones(len(sim.time_s))
     cap = joint_capacity(data, joint, interference=interference, speed_rpm=sim.speed_rpm)
-    hist = margin_history(cap["type"], torque, axial, cap["torque_capacity_Nm"], cap["axial_capacity_N"])
+    hist = margin_history(cap.type, torque, axial, cap.torque_capacity_Nm, cap.axial_capacity_N)
     summary = {k: v for k, v in hist.items() if k.startswith(("min_", "max_", "argmin_"))}
     margins = {k: np.atleast_1d(hist[k]) * np.ones(len(sim.time_s)) for k in ("torque_margin", "axial_margin")}
     return {"axial_force_N": axial, "joint_torque_Nm": torque, "capacity": cap, **extra, **summary, **margins}
