@@ -25,6 +25,7 @@ import numpy as np
 import pandas as pd
 
 from ..errors import GearoptInputError
+from ..geometry.forces import axial_force_N
 from ..validation import check_range
 
 #: Field rate of the source study: 213 walk-offs in 247 853 engines in 24 months (thesis sec. 1).
@@ -206,7 +207,7 @@ def _creep_summary(rows: pd.DataFrame, distance_mm: float) -> dict:
 #: helix angle over the present one, dynamics of the present train kept: an approximation) and a shift of the
 #: cam fit's interference range.
 HELICAL_ALTERNATIVES = {
-    "helical_helix_3deg": {"thrust_scale": math.tan(math.radians(3.0)) / math.tan(math.radians(6.0)),
+    "helical_helix_3deg": {"thrust_scale": float(axial_force_N(1.0, 3.0) / axial_force_N(1.0, 6.0)),
                            "interference_shift_um": 0.0,
                            "description": "helix angle 3 deg instead of 6 deg (thrust x tan 3/tan 6; dynamics of "
                                           "the 6 deg train kept)"},

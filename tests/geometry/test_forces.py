@@ -101,3 +101,10 @@ def test_mesh_torque_is_the_former_force_times_radius(force, r_mm):
     np.testing.assert_array_equal(mesh_torque_Nm(force * -1.0, r_mm), force * -1.0 * r_m)
     # the walk-off history and the scene's dynamic load case wrote (F r) 1e-3: the same to the last bits
     np.testing.assert_allclose(mesh_torque_Nm(force, r_mm), force * r_mm * 1e-3, rtol=4e-16, atol=0.0)
+
+
+def test_failure_study_thrust_scale_is_the_former_tan_ratio():
+    from gearopt.studies.failure import HELICAL_ALTERNATIVES
+
+    scale = HELICAL_ALTERNATIVES["helical_helix_3deg"]["thrust_scale"]
+    assert type(scale) is float and scale == math.tan(math.radians(3.0)) / math.tan(math.radians(6.0))
