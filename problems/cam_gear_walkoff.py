@@ -43,6 +43,7 @@ import pandas as pd
 import gearopt as go
 from gearopt.data import load_default_data, load_thesis_tables, system_from_data, train_from_data
 from gearopt.design.shift_distribution import optimise_shift_split
+from gearopt.geometry.forces import mesh_torque_Nm
 from gearopt.data import values as data_values
 from gearopt.report import contact_headlines as headlines
 from gearopt.report import ltca_figures as figs
@@ -309,10 +310,11 @@ def dynamic_design_torques(data: dict, dyn: dict) -> pd.DataFrame:
         for mesh in RATED_MESHES:
             if mesh not in sim.mesh_force_N.columns:
                 continue
-            radius_m = sim.mesh_base_radii_mm[mesh][0] * 1e-3
+            radius_mm = sim.mesh_base_radii_mm[mesh][0]
             force = np.abs(sim.mesh_force_N[mesh].to_numpy())
-            per_cycle = force[: force.size - force.size % sim.cycles].reshape(sim.cycles, -1).max(axis=1) * radius_m
-            torque = float(np.max(force) * radius_m)
+            per_cycle = mesh_torque_Nm(force[: force.size - force.size % sim.cycles].reshape(sim.cycles, -1)
+                                       .max(axis=1), radius_mm)
+            torque = float(mesh_torque_Nm(np.max(force), radius_mm))
             rows.append({"train": kind, "speed_rpm": speed, "backlash": lash, "mesh": mesh,
                          "design_torque_Nm": design[mesh], "range_top_Nm": top * design[mesh],
                          "peak_dynamic_torque_Nm": torque, "ratio_to_range_top": torque / (top * design[mesh]),

@@ -244,20 +244,20 @@ def press_fit_sizing_margins(spec: PressFitSpec, interference_um, demand: JointD
     T, Fa = float(demand.torque_Nm), float(demand.axial_force_N)
     required = math.hypot(2000.0 * T / float(d), Fa)
     return {
-        "weakest_effective_interference_um": weak["effective_interference_um"],
-        "weakest_pressure_MPa": weak["pressure_MPa"],
-        "torque_capacity_Nm": weak["torque_capacity_Nm"],
-        "axial_capacity_N": weak["axial_capacity_N"],
+        "weakest_effective_interference_um": weak.effective_interference_um,
+        "weakest_pressure_MPa": weak.pressure_MPa,
+        "torque_capacity_Nm": weak.torque_capacity_Nm,
+        "axial_capacity_N": weak.axial_capacity_N,
         "required_friction_force_N": required,
-        "torque_margin": _ratio(weak["torque_capacity_Nm"], T),
-        "axial_margin": _ratio(weak["axial_capacity_N"], Fa),
-        "combined_margin": _ratio(weak["axial_capacity_N"], required),
-        "hub_von_mises_rest_MPa": rest["hub_von_mises_MPa"],
-        "hub_von_mises_speed_MPa": fast["hub_von_mises_MPa"],
-        "shaft_von_mises_rest_MPa": rest["shaft_von_mises_MPa"],
-        "shaft_von_mises_speed_MPa": fast["shaft_von_mises_MPa"],
-        "hub_yield_safety": nm.fmin(rest["hub_yield_safety"], fast["hub_yield_safety"]),
-        "shaft_yield_safety": nm.fmin(rest["shaft_yield_safety"], fast["shaft_yield_safety"]),
+        "torque_margin": _ratio(weak.torque_capacity_Nm, T),
+        "axial_margin": _ratio(weak.axial_capacity_N, Fa),
+        "combined_margin": _ratio(weak.axial_capacity_N, required),
+        "hub_von_mises_rest_MPa": rest.hub_von_mises_MPa,
+        "hub_von_mises_speed_MPa": fast.hub_von_mises_MPa,
+        "shaft_von_mises_rest_MPa": rest.shaft_von_mises_MPa,
+        "shaft_von_mises_speed_MPa": fast.shaft_von_mises_MPa,
+        "hub_yield_safety": nm.fmin(rest.hub_yield_safety, fast.hub_yield_safety),
+        "shaft_yield_safety": nm.fmin(rest.shaft_yield_safety, fast.shaft_yield_safety),
     }
 
 
@@ -279,16 +279,16 @@ def taper_fit_sizing_margins(spec: TaperFitSpec, nut_torque_Nm, demand: JointDem
               hub_outer_diameter_mm=spec.hub_outer_diameter_mm, hub_yield_MPa=spec.hub_yield_MPa)
     weak = taper_fit(*args, nut_factor=spec.nut_factor_max, **kw)
     strong = taper_fit(*args, nut_factor=spec.nut_factor_min, **kw)
-    t_cap = weak["torque_capacity_Nm"] if capacity == "thesis" else weak["torque_capacity_engagement_friction_Nm"]
-    W = weak["bolt_preload_N"]
+    t_cap = weak.torque_capacity_Nm if capacity == "thesis" else weak.torque_capacity_engagement_friction_Nm
+    W = weak.bolt_preload_N
     T, Fa = float(demand.torque_Nm), float(demand.axial_force_N)
     util = abs(T) / t_cap + abs(Fa) / W
-    out = {"preload_N": W, "preload_max_N": strong["bolt_preload_N"], "torque_capacity_Nm": t_cap,
+    out = {"preload_N": W, "preload_max_N": strong.bolt_preload_N, "torque_capacity_Nm": t_cap,
            "axial_capacity_N": W, "torque_margin": _ratio(t_cap, T), "axial_margin": _ratio(W, Fa),
            "slip_utilisation": util, "combined_margin": 1.0 / util,
-           "hub_von_mises_MPa": strong["hub_von_mises_MPa"], "hub_yield_safety": strong["hub_yield_safety"]}
+           "hub_von_mises_MPa": strong.hub_von_mises_MPa, "hub_yield_safety": strong.hub_yield_safety}
     if spec.proof_strength_MPa is not None:
-        stress = strong["bolt_preload_N"] / spec.thread_stress_area_mm2
+        stress = strong.bolt_preload_N / spec.thread_stress_area_mm2
         out["thread_stress_MPa"] = stress
         out["proof_utilisation"] = stress / spec.proof_strength_MPa
     return out

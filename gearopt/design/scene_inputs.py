@@ -21,6 +21,7 @@ from ..blank import blank_from_data
 from ..data import data_of, values
 from ..dynamics import walk_off_history
 from ..errors import GearoptInputError
+from ..geometry.forces import mesh_torque_Nm
 from ..joints import joint_capacity
 from ..nlp.problem import Problem
 from ..rating.materials import material_pair
@@ -131,7 +132,7 @@ class SceneInputs:
         for mesh in sim.mesh_force_N.columns:
             force = np.abs(sim.mesh_force_N[mesh].to_numpy())
             stat = force.max() if dyn["statistic"] == "peak" else np.sqrt(np.mean(force ** 2))
-            torques[mesh] = float(stat * sim.mesh_base_radii_mm[mesh][0] * 1e-3)
+            torques[mesh] = float(mesh_torque_Nm(stat, sim.mesh_base_radii_mm[mesh][0]))
         jt, ja = {}, {}
         for joint in sorted(joints):
             w = walk_off_history(model, sim, joint)

@@ -231,7 +231,7 @@ class SceneTranscription:
         if kind.target_kind == "joint":
             cap = self.graph.joint(target, lc)
             if not kind.per_load_case:
-                return cap[name]
+                return getattr(cap, name)
             torque_Nm, axial_N = self.graph.joint_torque_Nm(target, lc), self.graph.joint_axial_force_N(target, lc)
 
             def torque():   # a datum becomes a parameter only where a quantity uses it (Opti drops unused ones)
@@ -240,13 +240,13 @@ class SceneTranscription:
             def axial():
                 return self.inputs.datum(f"joint_axial_force_N[{target}]@{lc.name}", axial_N, "N")
             if name == "torque_margin":
-                return _margin(cap["torque_capacity_Nm"], torque(), target, "torque", torque_Nm)
+                return _margin(cap.torque_capacity_Nm, torque(), target, "torque", torque_Nm)
             if name == "axial_margin":
-                return _margin(cap["axial_capacity_N"], axial(), target, "axial force", axial_N)
+                return _margin(cap.axial_capacity_N, axial(), target, "axial force", axial_N)
             if name == "axial_utilisation":       # squared (scene_terms): smooth where the thrust vanishes
-                return (axial() / cap["axial_capacity_N"]) ** 2
-            return joint_margins(cap["type"], torque(), axial(), cap["torque_capacity_Nm"],
-                                 cap["axial_capacity_N"])["slip_utilisation"]
+                return (axial() / cap.axial_capacity_N) ** 2
+            return joint_margins(cap.type, torque(), axial(), cap.torque_capacity_Nm,
+                                 cap.axial_capacity_N)["slip_utilisation"]
         blank = self.graph.blank(target)
         return blank.backup_ratio if name == "rim_backup_ratio" else getattr(blank, name)()
 
@@ -366,7 +366,8 @@ class SceneTranscription:
         demand = (self.graph.joint_axial_force_N if kind.name == "axial_margin" else self.graph.joint_torque_Nm)(lim.target, lc)
         if not nm.is_symbolic(demand):
             return False
-        cap = self.graph.joint(lim.target, lc)["axial_capacity_N" if kind.name == "axial_margin" else "torque_capacity_Nm"]
+        cap = getattr(self.graph.joint(lim.target, lc),
+                      "axial_capacity_N" if kind.name == "axial_margin" else "torque_capacity_Nm")
         ratio = cap / nm.fmax(nm.sqrt(demand * demand), 1e-9)
         self._record(label, lim.quantity, lim.target, lc, kind, ratio, lim.lower, None, "limit")
         if lim.lower <= 0.0:

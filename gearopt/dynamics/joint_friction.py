@@ -87,6 +87,7 @@ import pandas as pd
 from .. import compile_cache
 from .. import numerics as nm
 from ..errors import GearoptInputError, SolveError
+from ..geometry.forces import mesh_torque_Nm
 from ..validation import check_range
 from .buffered_call import BufferedFunction
 from .joint_element import (  # noqa: F401 -- the element's names are part of this module's interface
@@ -179,9 +180,9 @@ def joint_equations(network: TorsionalNetwork, joints, lash: bool = True) -> Joi
             if j.gear_node not in (m.gear_1, m.gear_2):
                 continue
             s1 = _sign(ratios[m.gear_1])
-            r_gear = (m.base_radii_mm[0] if m.gear_1 == j.gear_node else m.base_radii_mm[1]) * 1e-3
+            r_gear_mm = m.base_radii_mm[0] if m.gear_1 == j.gear_node else m.base_radii_mm[1]
             force = eq.outputs[out_index[("mesh_force_N", m.name)]]
-            torque = torque - force * s1 * r_gear
+            torque = torque - mesh_torque_Nm(force * s1, r_gear_mm)
             thrust = thrust + float(signs.get(m.name, 0.0)) * eq.outputs[out_index[("axial_force_N", m.name)]]
         unknown = set(signs) - {m.name for m in network.meshes.values()
                                 if j.gear_node in (m.gear_1, m.gear_2)}

@@ -41,6 +41,7 @@ import numpy as np
 
 from .. import numerics as nm
 from ..errors import GearoptInputError
+from ..geometry.forces import axial_force_N  # noqa: F401 -- the thrust F_bt tan(beta_b) of a mesh force; re-exported
 from ..validation import check_range
 
 #: Default width of the smooth dead zone [m] (0.05 um; force error at first touch k w ln 2 ~ 20 N at 5.5e8 N/m).
@@ -209,14 +210,6 @@ def mesh_force(deflection_m, deflection_rate_m_s, stiffness_N_per_m, damping_N_s
     back = k * nm.softplus(back_gap, w) - c * dd * g_back
     return {"force_N": drive - back, "drive_force_N": drive, "back_force_N": back,
             "drive_contact": s_drive, "back_contact": s_back}
-
-
-def axial_force_N(transverse_force_N, base_helix_angle_deg):
-    """Axial (thrust) force of a helical mesh [N] from the force along the transverse line of action [N]:
-    ``F_a = F_bt tan(beta_b)``, which equals ``F_t tan(beta)`` at the reference circle (``F_t = F_bt cos alpha_t``,
-    ``tan beta_b = tan beta cos alpha_t``, ISO 21771) and ``F_tw tan(beta_w)`` at the working circle. Signed like
-    the transverse force (the thrust reverses with the loaded flank). Dual-typed."""
-    return transverse_force_N * nm.tan(base_helix_angle_deg * (math.pi / 180.0))
 
 
 def restitution_coefficient(damping_ratio):

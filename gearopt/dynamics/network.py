@@ -45,12 +45,12 @@ import numpy as np
 
 from .. import numerics as nm
 from ..errors import GearoptInputError
+from ..geometry.forces import axial_force_N, mesh_torque_Nm
 from ..validation import check_int, check_range
 from .mesh import (
     DEFAULT_CONTACT_WIDTH_M,
     DEFAULT_DAMPING_WIDTH_M,
     MeshStiffnessShape,
-    axial_force_N,
     mesh_force,
 )
 
@@ -502,8 +502,8 @@ def _build_equations(net: TorsionalNetwork, lash: bool) -> NetworkEquations:
         f = mesh_force(nm.clip(delta, -DEFLECTION_LIMIT_M, DEFLECTION_LIMIT_M), delta_rate, k, c,
                        par[f"{m.name}.backlash_mm"] * 1e-3 if lash else None, width, m.damping_width_um * 1e-6)
         force = f["force_N"]
-        torque[m.gear_1] = torque[m.gear_1] - force * s1 * r1
-        torque[m.gear_2] = torque[m.gear_2] - force * s1 * r2
+        torque[m.gear_1] = torque[m.gear_1] - mesh_torque_Nm(force * s1, m.base_radii_mm[0])
+        torque[m.gear_2] = torque[m.gear_2] - mesh_torque_Nm(force * s1, m.base_radii_mm[1])
         outputs += [force, f["drive_force_N"], f["back_force_N"], delta * 1e6, k, f["drive_contact"],
                     f["back_contact"], axial_force_N(force, m.base_helix_angle_deg)]
         out_names += [(q, m.name) for q in ("mesh_force_N", "drive_force_N", "back_force_N",

@@ -17,6 +17,7 @@ import numpy as np
 import pandas as pd
 
 from ..errors import GearoptInputError
+from ..geometry.forces import mesh_torque_Nm
 from ..validation import check_range
 
 
@@ -34,7 +35,7 @@ def simulation_statistics(sim, shafts=()) -> pd.DataFrame:
     n_cyc = max(1, sim.cycles)
     rows = []
     for mesh, s in summary.iterrows():
-        r2 = sim.mesh_base_radii_mm[mesh][1] * 1e-3
+        r2_mm = sim.mesh_base_radii_mm[mesh][1]
         f = sim.mesh_force_N[mesh]
         sep = s.get("drive_separations_integrated", s["drive_separations_sampled"])
         imp = s.get("back_impacts_integrated", s["back_impacts_sampled"])
@@ -42,8 +43,8 @@ def simulation_statistics(sim, shafts=()) -> pd.DataFrame:
                      "peak_back_force_N": s["peak_back_force_N"], "mean_force_N": s["mean_force_N"],
                      "rms_force_N": s["rms_force_N"], "min_force_N": s["min_force_N"],
                      "peak_axial_force_N": s["peak_axial_force_N"],
-                     "peak_gear_2_torque_Nm": float(np.max(np.abs(f))) * r2,
-                     "rms_gear_2_torque_Nm": s["rms_force_N"] * r2,
+                     "peak_gear_2_torque_Nm": mesh_torque_Nm(float(np.max(np.abs(f))), r2_mm),
+                     "rms_gear_2_torque_Nm": mesh_torque_Nm(s["rms_force_N"], r2_mm),
                      "drive_separations_per_cycle": float(sep) / n_cyc, "back_impacts_per_cycle": float(imp) / n_cyc})
     for name in shafts:
         if name not in sim.shaft_torque_Nm.columns:
@@ -106,7 +107,7 @@ def walk_off_history(model, sim, joint: str = "cam", interference: str = "nomina
         raise GearoptInputError(f"joint={joint!r} is not in [joints] ({sorted(joints)})")
     gear = joints[joint]["gear"]
     node = getattr(model, "gear_nodes", {}).get(gear, gear)
-    torques = {mesh: sim.mesh_force_N[mesh].to_numpy() * sim.mesh_base_radii_mm[mesh][0] * 1e-3
+    torques = {mesh: mesh_torque_Nm(sim.mesh_force_N[mesh].to_numpy(), sim.mesh_base_radii_mm[mesh][0])
                for mesh in sim.mesh_force_N.columns}
     extra = {}
     if node == gear:
@@ -138,7 +139,7 @@ def walk_off_history(model, sim, joint: str = "cam", interference: str = "nomina
         extra.update(joint_torque_method="mesh_sum", gear_inertia_kgm2=j_g, gear_inertia_source=source)
     axial = np.asarray(res.axial_force_N[gear], dtype=float) * np.ones(len(sim.time_s))
     cap = joint_capacity(data, joint, interference=interference, speed_rpm=sim.speed_rpm)
-    hist = margin_history(cap["type"], torque, axial, cap["torque_capacity_Nm"], cap["axial_capacity_N"])
+    hist = margin_history(cap.type, torque, axial, cap.torque_capacity_Nm, cap.axial_capacity_N)
     summary = {k: v for k, v in hist.items() if k.startswith(("min_", "max_", "argmin_"))}
     margins = {k: np.atleast_1d(hist[k]) * np.ones(len(sim.time_s)) for k in ("torque_margin", "axial_margin")}
     return {"axial_force_N": axial, "joint_torque_Nm": torque, "capacity": cap, **extra, **summary, **margins}

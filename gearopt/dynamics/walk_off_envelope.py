@@ -112,7 +112,7 @@ def fit_capacity_N(data: dict, joint: str, *, interference_um: float | None = No
                   max(delta, 0.0), shaft["E_MPa"], shaft["poisson_ratio"], hub["E_MPa"], hub["poisson_ratio"], mu,
                   smoothing_loss_um=smoothing_loss_um, speed_rpm=speed_rpm,
                   shaft_density_kg_m3=shaft["density_kg_m3"], hub_density_kg_m3=hub["density_kg_m3"])
-    return float(r["axial_capacity_N"])
+    return float(r.axial_capacity_N)
 
 
 def fit_cases(data: dict, joint: str, speed_rpm: float) -> dict:

@@ -11,9 +11,10 @@ from .bolt import (
     nut_torque_Nm,
     thread_stress_area_mm2,
 )
-from .catalogue import accessory_load_torques_Nm, joint_capacities, joint_capacity
+from .catalogue import JointCapacity, accessory_load_torques_Nm, joint_capacities, joint_capacity
 from .iso286 import fit_interference_um, hole_deviations_um, shaft_deviations_um, tolerance_grade_um
 from .press_fit import (
+    PressFitResult,
     centrifugal_interference_loss_um,
     lame_compliance_mm_per_MPa,
     press_fit,
@@ -22,7 +23,7 @@ from .press_fit import (
     shrink_fit_assembly_temperature_C,
     thermal_interference_change_um,
 )
-from .taper_fit import cone_friction_radius_mm, taper_fit, taper_slip_utilisation
+from .taper_fit import TaperFitResult, cone_friction_radius_mm, taper_fit, taper_slip_utilisation
 from .walk_off import (
     WalkOffResult,
     gear_rotation_signs,
@@ -37,13 +38,13 @@ from .walk_off import (
 
 __all__ = [
     # press_fit, taper_fit and walk_off are imported from gearopt itself (gearopt.__all__)
-    "press_fit_pressure_MPa", "lame_compliance_mm_per_MPa", "roughness_smoothing_loss_um",
+    "PressFitResult", "press_fit_pressure_MPa", "lame_compliance_mm_per_MPa", "roughness_smoothing_loss_um",
     "thermal_interference_change_um", "centrifugal_interference_loss_um", "shrink_fit_assembly_temperature_C",
-    "cone_friction_radius_mm", "taper_slip_utilisation",
+    "TaperFitResult", "cone_friction_radius_mm", "taper_slip_utilisation",
     "NUT_FACTORS", "nut_factor_range", "bolt_preload_N", "nut_torque_Nm", "nut_factor_from_friction",
     "thread_stress_area_mm2", "bolt_preload",
     "fit_interference_um", "hole_deviations_um", "shaft_deviations_um", "tolerance_grade_um",
     "WalkOffResult", "gear_rotation_signs", "mesh_axial_force_N", "working_helix_angle_deg",
     "quasi_static_mesh_torques_Nm", "press_fit_slip_utilisation", "joint_margins", "margin_history",
-    "joint_capacity", "joint_capacities", "accessory_load_torques_Nm",
+    "joint_capacity", "joint_capacities", "JointCapacity", "accessory_load_torques_Nm",
 ]

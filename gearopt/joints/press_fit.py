@@ -22,6 +22,8 @@ temperatures deg C, density kg/m^3. Every function accepts floats, numpy arrays 
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -29,6 +31,7 @@ from .. import numerics as nm
 from ..errors import GearoptInputError
 from ..validation import check_choice, check_result
 from ._checks import check_range_any as check_range
+from ._record import ResultRecord
 
 #: DIN 7190 smoothing rules: diametral loss = factor x (Rz_shaft + Rz_hub).
 #: [V] MESYS manual "Surface roughness of shaft and housing" (mesys.ag/manual): DIN 7190-1:2017 reduces the effective
@@ -106,6 +109,54 @@ def von_mises_plane_MPa(sigma_1, sigma_2):
     return nm.sqrt(sigma_1 ** 2 - sigma_1 * sigma_2 + sigma_2 ** 2)
 
 
+@dataclass(frozen=True, eq=False)
+class PressFitResult(ResultRecord):
+    """Capacity and stresses of a press/shrink fit (:func:`press_fit`). Values are floats, numpy arrays (array
+    inputs) or CasADi expressions (symbolic inputs); the optional fields are ``None`` when not computed.
+    ``to_dict()`` gives the set fields as a plain dict."""
+
+    smoothing_loss_um: Any
+    """Diametral interference lost to the smoothing of the surface roughness (DIN 7190) [um]."""
+    thermal_interference_change_um: Any
+    """Diametral interference change from the parts' temperatures and expansion coefficients [um] (+ = tighter)."""
+    centrifugal_interference_loss_um: Any
+    """Diametral interference lost at ``speed_rpm`` (rotating free discs) [um]."""
+    effective_interference_um: Any
+    """Nominal interference - smoothing loss + thermal change - centrifugal loss [um]."""
+    pressure_MPa: Any
+    """Fit pressure p [MPa] (Lame, plane stress)."""
+    friction_force_N: Any
+    """Friction force the fit can hold, mu p pi d l [N]."""
+    axial_capacity_N: Any
+    """Axial capacity [N] (= ``friction_force_N``)."""
+    torque_capacity_Nm: Any
+    """Torque capacity F d / 2 [N m]."""
+    torque_capacity_with_axial_Nm: Any
+    """Torque still held under ``axial_force_N``: d/2 sqrt(F^2 - F_a^2) [N m] (friction-force resultant)."""
+    release_speed_rpm: Any
+    """Speed at which the centrifugal loss eats the interference at rest [rpm] (``inf``: never released)."""
+    hub_hoop_stress_MPa: Any
+    """Hoop stress at the hub bore, including the centrifugal hoop stress [MPa]."""
+    hub_radial_stress_MPa: Any
+    """Radial stress at the hub bore, -p [MPa]."""
+    hub_von_mises_MPa: Any
+    """Von Mises stress at the hub bore [MPa]."""
+    hub_outer_hoop_stress_MPa: Any
+    """Hoop stress at the hub's outer diameter [MPa]."""
+    shaft_hoop_stress_MPa: Any
+    """Hoop stress of the shaft at the fit surface [MPa]."""
+    shaft_radial_stress_MPa: Any
+    """Radial stress of the shaft at the fit surface, -p [MPa]."""
+    shaft_von_mises_MPa: Any
+    """Largest von Mises stress of the shaft [MPa] (bore of a hollow shaft, uniform p in a solid one)."""
+    fit_lost: Any = None
+    """Numeric inputs only: the effective interference is <= 0 (pressure then 0); bool or bool array."""
+    hub_yield_safety: Any = None
+    """Hub yield strength / hub von Mises stress (with ``hub_yield_MPa``; ``inf`` at zero stress)."""
+    shaft_yield_safety: Any = None
+    """Shaft yield strength / shaft von Mises stress (with ``shaft_yield_MPa``; ``inf`` at zero stress)."""
+
+
 def _check_press_fit(d, di, do, length, delta, Es, nus, Eh, nuh, mu):
     check_range("shaft_diameter_mm", d, 0.0, None, low_inclusive=False, unit="mm")
     check_range("shaft_bore_mm", di, 0.0, None, unit="mm")
@@ -130,7 +181,7 @@ def press_fit(shaft_diameter_mm, shaft_bore_mm, hub_outer_diameter_mm, length_mm
               smoothing_rule: str = "din7190_2001", shaft_temperature_C=20.0, hub_temperature_C=20.0,
               reference_temperature_C=20.0, shaft_expansion_per_K=11.5e-6, hub_expansion_per_K=11.5e-6,
               speed_rpm=0.0, shaft_density_kg_m3=7850.0, hub_density_kg_m3=7850.0, axial_force_N=0.0,
-              shaft_yield_MPa=None, hub_yield_MPa=None) -> dict:
+              shaft_yield_MPa=None, hub_yield_MPa=None) -> PressFitResult:
     """Capacity and stresses of a press/shrink fit (elastic; see the module docstring for model and sources).
 
     Arguments: ``shaft_diameter_mm`` d (= hub bore, the fit diameter), ``shaft_bore_mm`` d_i (0 = solid),
@@ -143,7 +194,7 @@ def press_fit(shaft_diameter_mm, shaft_bore_mm, hub_outer_diameter_mm, length_mm
     densities [kg/m^3] for the centrifugal loss; ``axial_force_N`` for the torque still held under an axial load;
     yield strengths [MPa] for safety factors (von Mises).
 
-    Returns a dict: ``effective_interference_um`` (and its parts ``smoothing_loss_um``,
+    Returns a :class:`PressFitResult`: ``effective_interference_um`` (and its parts ``smoothing_loss_um``,
     ``thermal_interference_change_um``, ``centrifugal_interference_loss_um``), ``fit_lost`` (numeric only: the
     effective interference is <= 0, pressure then 0), ``pressure_MPa``, ``friction_force_N`` = ``axial_capacity_N``
     (mu p pi d l), ``torque_capacity_Nm`` (F d/2), ``torque_capacity_with_axial_Nm`` (d/2 sqrt(F^2 - F_a^2): the
@@ -243,7 +294,7 @@ def press_fit(shaft_diameter_mm, shaft_bore_mm, hub_outer_diameter_mm, length_mm
             "interference_um": interference_um, "speed_rpm": speed_rpm})
         check_result("press_fit", {k: out[k] for k in INFINITE_OK if k in out}, {"shaft_diameter_mm": d},
                      allow_inf=True)
-    return out
+    return PressFitResult(**out)
 
 
 #: Outputs of :func:`press_fit` that may be ``+inf``: ``release_speed_rpm`` when the centrifugal loss never eats
@@ -283,6 +334,6 @@ def shrink_fit_assembly_temperature_C(shaft_diameter_mm, max_interference_um, as
         hub_expansion_per_K * shaft_diameter_mm)
 
 
-__all__ = ["press_fit", "press_fit_pressure_MPa", "lame_compliance_mm_per_MPa", "roughness_smoothing_loss_um",
-           "thermal_interference_change_um", "centrifugal_interference_loss_um", "von_mises_plane_MPa",
-           "shrink_fit_assembly_temperature_C", "SMOOTHING_FACTORS"]
+__all__ = ["press_fit", "PressFitResult", "press_fit_pressure_MPa", "lame_compliance_mm_per_MPa",
+           "roughness_smoothing_loss_um", "thermal_interference_change_um", "centrifugal_interference_loss_um",
+           "von_mises_plane_MPa", "shrink_fit_assembly_temperature_C", "SMOOTHING_FACTORS"]

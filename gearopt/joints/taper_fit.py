@@ -34,6 +34,8 @@ Units: mm, deg, N, N m, MPa. Every function accepts floats, numpy arrays or CasA
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -41,6 +43,7 @@ from .. import numerics as nm
 from ..errors import GearoptInputError
 from ..validation import check_result
 from ._checks import check_range_any as check_range
+from ._record import ResultRecord
 from .bolt import bolt_preload_N as _preload_from_nut_torque
 
 THEORIES = ("uniform_pressure", "uniform_wear")
@@ -57,6 +60,41 @@ def cone_friction_radius_mm(large_diameter_mm, small_diameter_mm, theory: str = 
     raise GearoptInputError(f"theory={theory!r} must be one of {THEORIES}")
 
 
+@dataclass(frozen=True, eq=False)
+class TaperFitResult(ResultRecord):
+    """Capacity of a nut-clamped taper fit (:func:`taper_fit`). Values are floats, numpy arrays or CasADi
+    expressions; the optional fields are ``None`` when not computed. ``to_dict()`` gives the set fields."""
+
+    theory: str
+    """``"uniform_pressure"`` (thesis Eq. 3.48) or ``"uniform_wear"``."""
+    bolt_preload_N: Any
+    """Nut preload W [N] (given, or from the nut torque, thesis Eq. 3.49)."""
+    axial_capacity_N: Any
+    """Axial load towards the nut that unloads the cone [N] (= W)."""
+    torque_capacity_Nm: Any
+    """Torque capacity, thesis form W = N sin(theta) [N m]."""
+    torque_capacity_engagement_friction_Nm: Any
+    """Torque capacity with the engagement friction, W = N (sin(theta) + mu cos(theta)) [N m]."""
+    normal_force_N: Any
+    """Total normal force on the cone, thesis form [N]."""
+    friction_radius_mm: Any
+    """Friction radius r_f of the cone band [mm]."""
+    taper_length_mm: Any
+    """(D - d) / (2 tan(theta)) [mm]."""
+    contact_pressure_MPa: Any
+    """Cone pressure [MPa]: mean (uniform pressure) or peak at the small end (uniform wear)."""
+    contact_pressure_engagement_friction_MPa: Any
+    """Cone pressure with the engagement friction [MPa]."""
+    self_locking: Any = None
+    """tan(theta) < mu (numeric half angle and friction only)."""
+    hub_hoop_stress_MPa: Any = None
+    """Hoop stress at the hub bore (with ``hub_outer_diameter_mm``; Lame) [MPa]."""
+    hub_von_mises_MPa: Any = None
+    """Von Mises stress at the hub bore (with ``hub_outer_diameter_mm``) [MPa]."""
+    hub_yield_safety: Any = None
+    """Hub yield strength / von Mises stress (with ``hub_yield_MPa``; ``inf`` without preload)."""
+
+
 def _check_taper(D, d, theta_deg, mu):
     check_range("large_diameter_mm", D, 0.0, None, low_inclusive=False, unit="mm")
     check_range("small_diameter_mm", d, 0.0, None, low_inclusive=False, unit="mm")
@@ -69,20 +107,20 @@ def _check_taper(D, d, theta_deg, mu):
 
 def taper_fit(large_diameter_mm, small_diameter_mm, half_angle_deg, friction, bolt_preload_N=None,
               nut_torque_Nm=None, nut_factor=0.2, thread_diameter_mm=None, theory: str = "uniform_pressure", *,
-              hub_outer_diameter_mm=None, hub_yield_MPa=None) -> dict:
+              hub_outer_diameter_mm=None, hub_yield_MPa=None) -> TaperFitResult:
     """Torque capacity of a nut-clamped taper fit (cone-clutch analogy; see the module docstring).
 
     Give either ``bolt_preload_N`` W, or ``nut_torque_Nm`` with ``nut_factor`` and ``thread_diameter_mm``
     (W = T_n/(k d), thesis Eq. 3.49). ``theory``: ``"uniform_pressure"`` (thesis Eq. 3.48) or ``"uniform_wear"``.
 
-    Returns ``torque_capacity_Nm`` (thesis form, W = N sin(theta)), ``torque_capacity_engagement_friction_Nm``
-    (W = N (sin(theta) + mu cos(theta))), ``bolt_preload_N``, ``axial_capacity_N`` (= W: the axial load towards the
-    nut that unloads the cone), ``normal_force_N`` (total normal force on the cone, thesis form),
-    ``friction_radius_mm``, ``taper_length_mm`` ((D - d)/(2 tan(theta))), ``contact_pressure_MPa`` (mean for
-    uniform pressure, peak at the small end for uniform wear), ``contact_pressure_engagement_friction_MPa``,
-    ``self_locking`` (tan(theta) < mu, numeric only) and, with ``hub_outer_diameter_mm``, ``hub_hoop_stress_MPa``
-    and ``hub_von_mises_MPa`` (Lame, at the bore) and with ``hub_yield_MPa`` the ``hub_yield_safety`` (``inf`` without
-    preload: a margin with zero demand).
+    Returns a :class:`TaperFitResult`: ``torque_capacity_Nm`` (thesis form, W = N sin(theta)),
+    ``torque_capacity_engagement_friction_Nm`` (W = N (sin(theta) + mu cos(theta))), ``bolt_preload_N``,
+    ``axial_capacity_N`` (= W: the axial load towards the nut that unloads the cone), ``normal_force_N`` (total
+    normal force on the cone, thesis form), ``friction_radius_mm``, ``taper_length_mm`` ((D - d)/(2 tan(theta))),
+    ``contact_pressure_MPa`` (mean for uniform pressure, peak at the small end for uniform wear),
+    ``contact_pressure_engagement_friction_MPa``, ``self_locking`` (tan(theta) < mu, numeric only) and, with
+    ``hub_outer_diameter_mm``, ``hub_hoop_stress_MPa`` and ``hub_von_mises_MPa`` (Lame, at the bore) and with
+    ``hub_yield_MPa`` the ``hub_yield_safety`` (``inf`` without preload: a margin with zero demand).
 
     Errors: half angle outside (0, 45) deg, friction outside (0, 1), small diameter >= large diameter, no or two
     preload inputs.
@@ -146,7 +184,7 @@ def taper_fit(large_diameter_mm, small_diameter_mm, half_angle_deg, friction, bo
         check_result("taper_fit", {k: v for k, v in numbers.items() if k != "hub_yield_safety"},
                      {"large_diameter_mm": D, "small_diameter_mm": d, "half_angle_deg": theta_deg, "friction": mu,
                       "bolt_preload_N": bolt_preload_N, "nut_torque_Nm": nut_torque_Nm})
-    return out
+    return TaperFitResult(**out)
 
 
 def _is_zero(x) -> bool:
@@ -159,4 +197,4 @@ def taper_slip_utilisation(torque_Nm, axial_force_off_N, torque_capacity_Nm, bol
     return nm.fabs(torque_Nm) / torque_capacity_Nm + nm.fmax(axial_force_off_N, 0.0) / bolt_preload_N
 
 
-__all__ = ["taper_fit", "cone_friction_radius_mm", "taper_slip_utilisation", "THEORIES"]
+__all__ = ["taper_fit", "TaperFitResult", "cone_friction_radius_mm", "taper_slip_utilisation", "THEORIES"]

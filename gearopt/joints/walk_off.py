@@ -19,11 +19,12 @@ to the flank, and the flank contains the helix tangent t = sin(beta) e_theta + h
 -1 left hand, on the pitch cylinder). Hence F . t = 0 gives ``F_z = -h tan(beta) F_theta`` with F_theta the
 tangential force on the gear in +theta (counter-clockwise from the front) direction. Evaluated at the working pitch
 circle (F_t,w = 2000 T/d_w, tan(beta_w) = tan(beta) d_w/d) or the reference circle (2000 T/d, tan(beta)) the product
-is the same, ``2000 T tan(beta)/d`` (tested). Newton's third law holds mesh by mesh (opposite hands, equal F_theta).
-A gear meshing with several others (the cam gear: crank-cam, cam-AC, cam-FP) sums its meshes with their signs; as
-all its meshes share its hand and helix, the net thrust is ``2000 tan(beta) (T_joint + J alpha) / d`` -- the
-quasi-static thrust of the cam gear follows the camshaft's own torque, while the accessory loads cancel through
-the gear (a property the tests check).
+is the same, ``2000 T tan(beta)/d`` (tested; :func:`gearopt.geometry.forces.axial_force_N`, the package's one
+thrust function, and ``mesh_axial_force_N`` of a torque, re-exported here). Newton's third law holds mesh by mesh
+(opposite hands, equal F_theta). A gear meshing with several others (the cam gear: crank-cam, cam-AC, cam-FP) sums
+its meshes with their signs; as all its meshes share its hand and helix, the net thrust is
+``2000 tan(beta) (T_joint + J alpha) / d`` -- the quasi-static thrust of the cam gear follows the camshaft's own
+torque, while the accessory loads cancel through the gear (a property the tests check).
 
 Margins: ``torque_margin = torque_capacity / |joint torque|``, ``axial_margin = axial_capacity / |axial force|``,
 and a combined margin from the joint's slip utilisation (press fit: friction-force resultant
@@ -45,6 +46,9 @@ import pandas as pd
 from .. import numerics as nm
 from ..errors import GearoptInputError
 from ._checks import check_range_any
+from ..geometry import forces
+from ..geometry.forces import mesh_axial_force_N, tangential_force_N
+from ..geometry.involute import helix_angle_at
 from ..geometry.train import GearTrain
 from ..units import RAD_PER_DEG
 
@@ -52,15 +56,10 @@ ROTATIONS = {"ccw": 1.0, "cw": -1.0}
 HANDS = {"right": 1.0, "left": -1.0}
 
 
-def mesh_axial_force_N(torque_Nm, pitch_diameter_mm, helix_angle_deg):
-    """Magnitude-form axial force of a helical mesh on a gear [N]: ``F_t tan(beta) = 2000 T tan(beta) / d``, with
-    the torque on that gear [N m] and a matching pair (d, beta): reference or working pitch circle."""
-    return 2000.0 * torque_Nm * nm.tan(helix_angle_deg * RAD_PER_DEG) / pitch_diameter_mm
-
-
 def working_helix_angle_deg(helix_angle_deg, reference_diameter_mm, working_diameter_mm):
-    """Helix angle on the working pitch cylinder [deg]: ``tan(beta_w) = tan(beta) d_w / d`` (ISO 21771)."""
-    return nm.atan(nm.tan(helix_angle_deg * RAD_PER_DEG) * working_diameter_mm / reference_diameter_mm) / RAD_PER_DEG
+    """Helix angle on the working pitch cylinder [deg]: ``tan(beta_w) = tan(beta) d_w / d`` (ISO 21771 eq. 14,
+    :func:`gearopt.geometry.involute.helix_angle_at`)."""
+    return helix_angle_at(working_diameter_mm, reference_diameter_mm, helix_angle_deg * RAD_PER_DEG) / RAD_PER_DEG
 
 
 @dataclass(frozen=True)
@@ -119,7 +118,7 @@ def walk_off(train: GearTrain, mesh_torques_Nm: Mapping[str, Any], *, root_rotat
         geo = pair.geometry()
         d_w = geo["working_pitch_diameter_mm"]
         d_ref = geo["pitch_diameter_mm"]
-        F_t = 2000.0 * T1 / d_w[0]  # transmitted tangential force at the working pitch circle [N], + = 1 drives 2
+        F_t = tangential_force_N(T1, d_w[0])  # transmitted force at the working pitch circle [N], + = 1 drives 2
         for i, gear in enumerate(pair.names):
             s = signs[gear]
             # torque on this gear from the mesh in its own sense of rotation: the driver is braked, the driven pushed
@@ -129,7 +128,7 @@ def walk_off(train: GearTrain, mesh_torques_Nm: Mapping[str, Any], *, root_rotat
             if helical:
                 h = HANDS[train.helix_hands[gear]]
                 beta_w = working_helix_angle_deg(beta_deg, d_ref[i], d_w[i])
-                f_z = -h * nm.tan(beta_w * RAD_PER_DEG) * f_theta
+                f_z = -h * forces.axial_force_N(f_theta, beta_w)
             else:
                 beta_w, f_z = 0.0, 0.0 * f_theta
             axial[gear] = axial[gear] + f_z

@@ -25,6 +25,7 @@ import math
 from .. import numerics as nm
 from .hertz import hertz_half_width_mm
 from ..errors import GearoptInputError
+from ..geometry.forces import tangential_force_N
 from ..validation import check_range, per_gear
 from .validity import check_rating_validity, checked_rating
 from ..units import RAD_PER_DEG
@@ -174,7 +175,7 @@ def nominal_tangential_force_N(pair, torque_Nm, driving_gear: int = 1):
     on gear ``driving_gear`` and d its reference diameter [mm] (the same F_t on both gears). Dual-typed."""
     _driving_torque(torque_Nm, driving_gear)
     g = pair.geometry()
-    return 2000.0 * torque_Nm / g["pitch_diameter_mm"][driving_gear - 1]
+    return tangential_force_N(torque_Nm, g["pitch_diameter_mm"][driving_gear - 1])
 
 
 def _check_factors(**factors):

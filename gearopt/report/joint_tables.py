@@ -86,11 +86,11 @@ def joint_table(data: System | dict, train: str | GearTrain = "spur",
     for name in values(data).get("joints", {}):
         cap = joint_capacity(data, name, interference=interference, nut_factor=nut_factor, smoothing=smoothing,
                              speed_rpm=speed_rpm)
-        gear = cap["gear"]
+        gear = cap.gear
         if gear not in tr.gears:
             raise GearoptInputError(f"[joints.{name}] gear={gear!r} is not a gear of the train")
         T, F = result.joint_torque_Nm[gear], result.axial_force_N[gear]
-        m = joint_margins(cap["type"], T, F, cap["torque_capacity_Nm"], cap["axial_capacity_N"])
+        m = joint_margins(cap.type, T, F, cap.torque_capacity_Nm, cap.axial_capacity_N)
         t_abs, t_signed = _worst(T)
         f_abs, f_signed = _worst(F)
         notes = []
@@ -101,17 +101,17 @@ def joint_table(data: System | dict, train: str | GearTrain = "spur",
         if t_abs == 0.0:
             notes.append("no net torque through the joint in this load case (an idler passes its torque through), "
                          "torque margin inf")
-        if cap["type"] == "taper_nut":
+        if cap.type == "taper_nut":
             notes.append(f"thesis Eq. 3.48 (upper bound; hub stress at its pressure); with engagement friction "
-                         f"{cap['torque_capacity_engagement_friction_Nm']:.0f} N m; axial load taken as pulling off "
+                         f"{cap.torque_capacity_engagement_friction_Nm:.0f} N m; axial load taken as pulling off "
                          f"the taper")
         rows.append({
-            "joint": name, "gear": gear, "type": cap["type"], "fit": cap["fit"],
-            "pressure_MPa": cap["pressure_MPa"], "torque_capacity_Nm": cap["torque_capacity_Nm"],
-            "axial_capacity_N": cap["axial_capacity_N"], "torque_Nm": t_signed, "axial_force_N": f_signed,
+            "joint": name, "gear": gear, "type": cap.type, "fit": cap.fit,
+            "pressure_MPa": cap.pressure_MPa, "torque_capacity_Nm": cap.torque_capacity_Nm,
+            "axial_capacity_N": cap.axial_capacity_N, "torque_Nm": t_signed, "axial_force_N": f_signed,
             "torque_margin": _min(m["torque_margin"]), "axial_margin": _min(m["axial_margin"]),
-            "combined_margin": _min(m["combined_margin"]), "hub_von_mises_MPa": cap["hub_von_mises_MPa"],
-            "hub_yield_safety": cap["hub_yield_safety"], "note": "; ".join(notes)})
+            "combined_margin": _min(m["combined_margin"]), "hub_von_mises_MPa": cap.hub_von_mises_MPa,
+            "hub_yield_safety": cap.hub_yield_safety, "note": "; ".join(notes)})
     df = pd.DataFrame(rows).set_index("joint")
     df.attrs.update(train=tr.name, helix_angle_deg=float(tr.helix_angle_deg), load_case=case,
                     root_rotation=root_rotation, interference=interference, nut_factor=nut_factor,

@@ -62,17 +62,17 @@ def test_press_fit_optimum_reevaluated_with_press_fit_model(data):
     weakest = press_fit(42.0, 0.0, 70.0, 25.0, v["interference_min_um"], roughness_Rz_um=(4.0, 6.3),
                         speed_rpm=3000.0, **mat)
     resultant = math.hypot(2000.0 * 210.0 / 42.0, 5000.0)
-    assert weakest["friction_force_N"] / resultant == pytest.approx(1.5, rel=1e-6)
+    assert weakest.friction_force_N / resultant == pytest.approx(1.5, rel=1e-6)
     # the slower case holds more (smaller centrifugal loss)
     rated = press_fit(42.0, 0.0, 70.0, 25.0, v["interference_min_um"], roughness_Rz_um=(4.0, 6.3),
                       speed_rpm=2500.0, **mat)
-    assert rated["friction_force_N"] / resultant > 1.5
+    assert rated.friction_force_N / resultant > 1.5
     assert res.active_constraints == ["overspeed:slip_reserve_N"]
     # stresses at the largest interference are inside the limits and match the model
     strongest = press_fit(42.0, 0.0, 70.0, 25.0, v["interference_max_um"], roughness_Rz_um=(4.0, 6.3),
                           hub_yield_MPa=700.0, shaft_yield_MPa=650.0, **mat)
-    assert strongest["hub_yield_safety"] > 1.2
-    assert res.margins.loc["overspeed", "hub_von_mises_rest_MPa"] == pytest.approx(strongest["hub_von_mises_MPa"])
+    assert strongest.hub_yield_safety > 1.2
+    assert res.margins.loc["overspeed", "hub_von_mises_rest_MPa"] == pytest.approx(strongest.hub_von_mises_MPa)
     # the suggested ISO 286 fit realises the interval: min >= required, max <= allowed
     fit = res.fit
     assert fit is not None
@@ -106,9 +106,9 @@ def test_max_margin_objective_ends_on_the_hub_stress_limit():
                          tolerance_band_um=20.0, min_hub_yield_safety=1.5)
     v = res.values
     strongest = press_fit(40.0, 0.0, 80.0, 30.0, v["interference_max_um"], E, NU, E, NU, 0.12, hub_yield_MPa=700.0)
-    assert strongest["hub_yield_safety"] == pytest.approx(1.5, rel=1e-6)
+    assert strongest.hub_yield_safety == pytest.approx(1.5, rel=1e-6)
     weakest = press_fit(40.0, 0.0, 80.0, 30.0, v["interference_min_um"], E, NU, E, NU, 0.12)
-    assert weakest["torque_capacity_Nm"] / 400.0 == pytest.approx(v["margin"], rel=1e-6)
+    assert weakest.torque_capacity_Nm / 400.0 == pytest.approx(v["margin"], rel=1e-6)
     assert v["allowed_max_interference_um"] == pytest.approx(v["interference_max_um"], rel=1e-6)
     assert any(n.endswith("hub_von_mises_rest_MPa") for n in res.active_constraints)
 
@@ -169,7 +169,7 @@ def test_taper_nut_torque_matches_cone_clutch_closed_form(theory):
     # independent re-evaluation with the numeric taper model at the largest nut factor
     t = taper_fit(D, d, math.degrees(th), 0.15, nut_torque_Nm=res.values["nut_torque_Nm"], nut_factor=0.16,
                   thread_diameter_mm=16.0, theory=theory)
-    u = taper_slip_utilisation(T, Fa, t["torque_capacity_Nm"], t["bolt_preload_N"])
+    u = taper_slip_utilisation(T, Fa, t.torque_capacity_Nm, t.bolt_preload_N)
     assert 1.0 / u == pytest.approx(S, rel=1e-6)
 
 
@@ -180,7 +180,7 @@ def test_taper_separate_and_engagement_friction():
     assert min(m["torque_margin"], m["axial_margin"]) == pytest.approx(1.5, rel=1e-6)
     t = taper_fit(30.0, 26.25, math.degrees(math.atan(1 / 16)), 0.15, nut_torque_Nm=sep.values["nut_torque_Nm"],
                   nut_factor=0.16, thread_diameter_mm=16.0)
-    assert t["torque_capacity_engagement_friction_Nm"] / 120.0 == pytest.approx(m["torque_margin"], rel=1e-9)
+    assert t.torque_capacity_engagement_friction_Nm / 120.0 == pytest.approx(m["torque_margin"], rel=1e-9)
     comb = size_taper_fit(spec, JointDemand(120.0, 3000.0), capacity="engagement_friction")
     assert comb.values["nut_torque_Nm"] > sep.values["nut_torque_Nm"]     # the combined criterion is stricter
 

@@ -128,7 +128,7 @@ def test_joint_and_blank_scene_reaches_the_analytic_optimum(train):
     # least capacity meeting the margin: re-evaluated with the numeric joint model at 2500 rpm
     cap = joint_capacity(go.load_default_data(), "cam", speed_rpm=2500.0,
                          overrides={"diametral_interference_um": v["cam.interference_um"]})
-    assert cap["torque_capacity_Nm"] == pytest.approx(target * demand_Nm, rel=1e-6)
+    assert cap.torque_capacity_Nm == pytest.approx(target * demand_Nm, rel=1e-6)
 
 
 def test_dynamic_load_case_builds_the_timing_model_once(train):

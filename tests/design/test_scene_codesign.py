@@ -125,7 +125,7 @@ def test_walk_off_margin_limits_the_helix_angle_in_the_same_nlp(train):
     torques = quasi_static_mesh_torques_Nm(train, loads)
     helical8 = dataclasses.replace(train, helix_angle_deg=8.0)
     axial = walk_off(helical8, torques).axial_force_N["cam"]
-    cap = joint_capacity(data, "cam", speed_rpm=2500.0)["axial_capacity_N"]
+    cap = joint_capacity(data, "cam", speed_rpm=2500.0).axial_capacity_N
     case = LoadCase("overspeed", {m: t for m, t in torques.items() if m in ("crank-cam", "cam-ac", "cam-fp")},
                     speed_rpm=2500.0)
     scene = Scene("helix", train=train, data=go.load_system(), load_cases=[case],

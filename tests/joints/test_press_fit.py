@@ -34,10 +34,10 @@ def test_acceptance_interface_call():
                   shaft_E_MPa=210e3, shaft_nu=0.3, hub_E_MPa=210e3, hub_nu=0.3, friction=0.12)
     # same material, solid shaft: p = E delta (D^2 - d^2) / (2 d D^2) (Shigley Eq. 3-57 written for diameters)
     p = 210e3 * 0.040 * (80 ** 2 - 50 ** 2) / (2 * 50 * 80 ** 2)
-    assert r["pressure_MPa"] == pytest.approx(p, rel=1e-12)
-    assert r["torque_capacity_Nm"] == pytest.approx(0.12 * p * math.pi * 50 * 40 * 25 / 1000, rel=1e-12)
-    assert r["axial_capacity_N"] == pytest.approx(0.12 * p * math.pi * 50 * 40, rel=1e-12)
-    assert r["hub_hoop_stress_MPa"] == pytest.approx(p * (80 ** 2 + 50 ** 2) / (80 ** 2 - 50 ** 2), rel=1e-12)
+    assert r.pressure_MPa == pytest.approx(p, rel=1e-12)
+    assert r.torque_capacity_Nm == pytest.approx(0.12 * p * math.pi * 50 * 40 * 25 / 1000, rel=1e-12)
+    assert r.axial_capacity_N == pytest.approx(0.12 * p * math.pi * 50 * 40, rel=1e-12)
+    assert r.hub_hoop_stress_MPa == pytest.approx(p * (80 ** 2 + 50 ** 2) / (80 ** 2 - 50 ** 2), rel=1e-12)
 
 
 def test_shigley_solution_5_35_hollow_shaft_stresses():
@@ -48,13 +48,13 @@ def test_shigley_solution_5_35_hollow_shaft_stresses():
     r = press_fit(50.0, 25.0, 75.0, 10.0, 20.0, 207e3, 0.3, 207e3, 0.3, 0.1)
     # the manual prints 4 significant digits and carries the rounded p = 19.41 on: relative tolerance 5e-4
     tol = dict(rel=5e-4)
-    assert r["pressure_MPa"] == pytest.approx(19.41, **tol)
-    assert r["shaft_hoop_stress_MPa"] == pytest.approx(-32.35, **tol)
-    assert von_mises_plane_MPa(r["shaft_hoop_stress_MPa"], r["shaft_radial_stress_MPa"]) == pytest.approx(28.20, **tol)
-    assert r["hub_hoop_stress_MPa"] == pytest.approx(50.47, **tol)
-    assert r["hub_von_mises_MPa"] == pytest.approx(62.48, **tol)
+    assert r.pressure_MPa == pytest.approx(19.41, **tol)
+    assert r.shaft_hoop_stress_MPa == pytest.approx(-32.35, **tol)
+    assert von_mises_plane_MPa(r.shaft_hoop_stress_MPa, r.shaft_radial_stress_MPa) == pytest.approx(28.20, **tol)
+    assert r.hub_hoop_stress_MPa == pytest.approx(50.47, **tol)
+    assert r.hub_von_mises_MPa == pytest.approx(62.48, **tol)
     # the hollow shaft's largest stress is at its bore: 2 p d^2/(d^2 - d_i^2)
-    assert r["shaft_von_mises_MPa"] == pytest.approx(2 * r["pressure_MPa"] * 2500 / 1875, rel=1e-12)
+    assert r.shaft_von_mises_MPa == pytest.approx(2 * r.pressure_MPa * 2500 / 1875, rel=1e-12)
 
 
 def test_shigley_solution_5_34b_solid_shaft_us_units():
@@ -62,28 +62,28 @@ def test_shigley_solution_5_34b_solid_shaft_us_units():
     # R = 1 in, r_o = 1.5 in -> p = 4167 psi, (sigma_t)_i = -4167, sigma'_i = 4167 psi, (sigma_t)_o = 10 830 psi,
     # sigma'_o = 13 410 psi. The formula is unit-consistent: lengths in inches, the "um" argument in milli-inches.
     r = press_fit(2.0, 0.0, 3.0, 1.0, 1.0, 30e6, 0.292, 30e6, 0.292, 0.1)
-    assert r["pressure_MPa"] == pytest.approx(4167, abs=0.5)
-    assert r["shaft_von_mises_MPa"] == pytest.approx(4167, abs=0.5)
-    assert r["hub_hoop_stress_MPa"] == pytest.approx(10830, abs=5.0)  # printed to 4 significant digits
-    assert r["hub_von_mises_MPa"] == pytest.approx(13410, abs=5.0)
+    assert r.pressure_MPa == pytest.approx(4167, abs=0.5)
+    assert r.shaft_von_mises_MPa == pytest.approx(4167, abs=0.5)
+    assert r.hub_hoop_stress_MPa == pytest.approx(10830, abs=5.0)  # printed to 4 significant digits
+    assert r.hub_von_mises_MPa == pytest.approx(13410, abs=5.0)
 
 
 def test_shigley_solution_3_68_solid_shaft():
     # Shigley's MED solutions manual 3-68 (coursehero excerpt "47-ch-03 budynas SM ch03"): delta = 0.001 in radial,
     # r_i = 0, R = 0.5 in, r_o = 1 in, E 30 Mpsi, nu 0.292 -> p = 2.25e4 psi, (sigma_t)_o at the bore = 37 500 psi.
     r = press_fit(1.0, 0.0, 2.0, 1.0, 2.0, 30e6, 0.292, 30e6, 0.292, 0.1)
-    assert r["pressure_MPa"] == pytest.approx(22500.0, rel=1e-9)
-    assert r["hub_hoop_stress_MPa"] == pytest.approx(37500.0, rel=1e-9)
+    assert r.pressure_MPa == pytest.approx(22500.0, rel=1e-9)
+    assert r.hub_hoop_stress_MPa == pytest.approx(37500.0, rel=1e-9)
 
 
 def test_published_calculator_example_torque():
     # novasolver.jp shrink-fit stress tool, its stated defaults: D_b 100, D_o 150 mm, delta 0.1 mm (diametral),
     # E 210 GPa, L 50 mm, mu 0.15 -> p ~ 58.3 MPa, sigma_theta,max ~ 151.7 MPa, T ~ 6.87 kN m.
     r = press_fit(100.0, 0.0, 150.0, 50.0, 100.0, 210e3, 0.3, 210e3, 0.3, 0.15)
-    assert r["pressure_MPa"] == pytest.approx(58.3, abs=0.05)
-    assert r["hub_hoop_stress_MPa"] == pytest.approx(151.7, abs=0.05)
-    assert r["torque_capacity_Nm"] / 1000 == pytest.approx(6.87, abs=0.005)
-    assert r["shaft_hoop_stress_MPa"] == pytest.approx(-r["pressure_MPa"])
+    assert r.pressure_MPa == pytest.approx(58.3, abs=0.05)
+    assert r.hub_hoop_stress_MPa == pytest.approx(151.7, abs=0.05)
+    assert r.torque_capacity_Nm / 1000 == pytest.approx(6.87, abs=0.005)
+    assert r.shaft_hoop_stress_MPa == pytest.approx(-r.pressure_MPa)
 
 
 def test_default_data_joint_values_reproduced():
@@ -97,11 +97,11 @@ def test_default_data_joint_values_reproduced():
         r = press_fit(j["shaft_diameter_mm"], j["shaft_bore_diameter_mm"], j["hub_outer_diameter_mm"],
                       j["fit_length_mm"], j["diametral_interference_um"], shaft["E_MPa"], shaft["poisson_ratio"],
                       hub["E_MPa"], hub["poisson_ratio"], j["friction_coefficient"])
-        assert r["pressure_MPa"] == pytest.approx(p, abs=0.006 if p < 100 else 0.06), name
-        assert r["torque_capacity_Nm"] == pytest.approx(T, abs=0.06), name
+        assert r.pressure_MPa == pytest.approx(p, abs=0.006 if p < 100 else 0.06), name
+        assert r.torque_capacity_Nm == pytest.approx(T, abs=0.06), name
         if F is not None:
-            assert r["friction_force_N"] == pytest.approx(F, abs=0.6), name
-            assert r["hub_hoop_stress_MPa"] == pytest.approx(hoop, abs=0.06), name
+            assert r.friction_force_N == pytest.approx(F, abs=0.6), name
+            assert r.hub_hoop_stress_MPa == pytest.approx(hoop, abs=0.06), name
     # min/max interference of the cam H7/u6 fit: 70.9 / 135.6 MPa in the data notes
     j = d["joints"]["cam"]
     for key, p in (("diametral_interference_min_um", 70.9), ("diametral_interference_max_um", 135.6)):
@@ -171,8 +171,8 @@ def test_smoothing_loss_rules():
     assert roughness_smoothing_loss_um(4.0, 6.3) == pytest.approx(8.24)
     assert roughness_smoothing_loss_um(4.0, 6.3, "din7190_2017") == pytest.approx(4.12)
     r = press_fit(42.0, 0.0, 70.0, 25.0, 65.5, 210e3, 0.3, 206e3, 0.3, 0.12, roughness_Rz_um=(4.0, 6.3))
-    assert r["effective_interference_um"] == pytest.approx(65.5 - 8.24)
-    assert r["pressure_MPa"] == pytest.approx(press_fit_pressure_MPa(65.5 - 8.24, 42.0, 0.0, 70.0, 210e3, 0.3,
+    assert r.effective_interference_um == pytest.approx(65.5 - 8.24)
+    assert r.pressure_MPa == pytest.approx(press_fit_pressure_MPa(65.5 - 8.24, 42.0, 0.0, 70.0, 210e3, 0.3,
                                                                      206e3, 0.3), rel=1e-12)
     with pytest.raises(GearoptInputError, match="smoothing_rule"):
         roughness_smoothing_loss_um(4.0, 6.3, "iso")
@@ -184,12 +184,12 @@ def test_thermal_effect_and_shrink_temperature():
     base = dict(shaft_diameter_mm=42.0, shaft_bore_mm=0.0, hub_outer_diameter_mm=70.0, length_mm=25.0,
                 interference_um=65.5, friction=0.12, **STEEL)
     same = press_fit(**base, shaft_temperature_C=120.0, hub_temperature_C=120.0)
-    assert same["thermal_interference_change_um"] == pytest.approx(0.0, abs=1e-12)  # equal alpha, equal T
+    assert same.thermal_interference_change_um == pytest.approx(0.0, abs=1e-12)  # equal alpha, equal T
     hot_hub = press_fit(**base, hub_temperature_C=70.0)
-    assert hot_hub["thermal_interference_change_um"] == pytest.approx(-42.0 * 11.5e-6 * 50.0 * 1e3, rel=1e-12)
+    assert hot_hub.thermal_interference_change_um == pytest.approx(-42.0 * 11.5e-6 * 50.0 * 1e3, rel=1e-12)
     # aluminium hub (alpha 23e-6) on steel, both at 100 C: the hub grows away, the fit loosens
     al = press_fit(**base, shaft_temperature_C=100.0, hub_temperature_C=100.0, hub_expansion_per_K=23e-6)
-    assert al["thermal_interference_change_um"] == pytest.approx(42.0 * (11.5e-6 - 23e-6) * 80.0 * 1e3)
+    assert al.thermal_interference_change_um == pytest.approx(42.0 * (11.5e-6 - 23e-6) * 80.0 * 1e3)
     # a hub heated to the shrink temperature opens by exactly the interference + clearance
     T = shrink_fit_assembly_temperature_C(42.0, 86.0, 20.0)
     assert 1e3 * 42.0 * 11.5e-6 * (T - 20.0) == pytest.approx(106.0, rel=1e-12)
@@ -227,35 +227,35 @@ def test_centrifugal_thin_ring_hoop_stress_and_release_speed():
     r = press_fit(100.0, 0.0, 100.2, 10.0, 5.0, 210e3, 0.3, 210e3, 0.3, 0.1, speed_rpm=3000.0)
     v = 3000.0 * 2 * math.pi / 60 * 0.0501  # m/s at the mean radius
     r0 = press_fit(100.0, 0.0, 100.2, 10.0, 5.0, 210e3, 0.3, 210e3, 0.3, 0.1)
-    centrifugal_hoop = r["hub_hoop_stress_MPa"] - r["pressure_MPa"] * (100.2 ** 2 + 100 ** 2) / (100.2 ** 2 - 100 ** 2)
+    centrifugal_hoop = r.hub_hoop_stress_MPa - r.pressure_MPa * (100.2 ** 2 + 100 ** 2) / (100.2 ** 2 - 100 ** 2)
     assert centrifugal_hoop == pytest.approx(7850 * v ** 2 / 1e6, rel=3e-3)
-    assert r["pressure_MPa"] < r0["pressure_MPa"]
+    assert r.pressure_MPa < r0.pressure_MPa
     # at the release speed the interference is used up: no pressure, fit lost
     c = press_fit(42.0, 0.0, 70.0, 25.0, 65.5, 210e3, 0.3, 206e3, 0.3, 0.12)
     at = press_fit(42.0, 0.0, 70.0, 25.0, 65.5, 210e3, 0.3, 206e3, 0.3, 0.12,
-                   speed_rpm=1.0001 * c["release_speed_rpm"])
-    assert at["fit_lost"] and at["pressure_MPa"] == 0.0 and at["torque_capacity_Nm"] == 0.0
+                   speed_rpm=1.0001 * c.release_speed_rpm)
+    assert at.fit_lost and at.pressure_MPa == 0.0 and at.torque_capacity_Nm == 0.0
     below = press_fit(42.0, 0.0, 70.0, 25.0, 65.5, 210e3, 0.3, 206e3, 0.3, 0.12,
-                      speed_rpm=0.99 * c["release_speed_rpm"])
-    assert not below["fit_lost"] and below["pressure_MPa"] > 0.0
+                      speed_rpm=0.99 * c.release_speed_rpm)
+    assert not below.fit_lost and below.pressure_MPa > 0.0
 
 
 def test_combined_torque_and_axial_capacity():
     r = press_fit(42.0, 0.0, 70.0, 25.0, 65.5, 210e3, 0.3, 206e3, 0.3, 0.12)
-    F = r["friction_force_N"]
+    F = r.friction_force_N
     r2 = press_fit(42.0, 0.0, 70.0, 25.0, 65.5, 210e3, 0.3, 206e3, 0.3, 0.12, axial_force_N=0.6 * F)
-    assert r2["torque_capacity_with_axial_Nm"] == pytest.approx(0.8 * r["torque_capacity_Nm"], rel=1e-12)  # 3-4-5
+    assert r2.torque_capacity_with_axial_Nm == pytest.approx(0.8 * r.torque_capacity_Nm, rel=1e-12)  # 3-4-5
     r3 = press_fit(42.0, 0.0, 70.0, 25.0, 65.5, 210e3, 0.3, 206e3, 0.3, 0.12, axial_force_N=1.5 * F)
-    assert r3["torque_capacity_with_axial_Nm"] == 0.0
+    assert r3.torque_capacity_with_axial_Nm == 0.0
 
 
 def test_yield_safety_and_array_input():
     r = press_fit(42.0, 0.0, 70.0, 25.0, np.array([45.0, 65.5, 86.0]), 210e3, 0.3, 206e3, 0.3, 0.12,
                   hub_yield_MPa=700.0, shaft_yield_MPa=650.0)
-    assert r["pressure_MPa"].shape == (3,) and np.all(np.diff(r["pressure_MPa"]) > 0)
-    assert np.allclose(r["hub_yield_safety"], 700.0 / r["hub_von_mises_MPa"])
-    assert np.allclose(r["shaft_yield_safety"], 650.0 / r["pressure_MPa"])
-    assert r["fit_lost"].tolist() == [False, False, False]
+    assert r.pressure_MPa.shape == (3,) and np.all(np.diff(r.pressure_MPa) > 0)
+    assert np.allclose(r.hub_yield_safety, 700.0 / r.hub_von_mises_MPa)
+    assert np.allclose(r.shaft_yield_safety, 650.0 / r.pressure_MPa)
+    assert r.fit_lost.tolist() == [False, False, False]
 
 
 # ----------------------------------------------------------------------------------------------------------------
@@ -292,7 +292,7 @@ def test_casadi_derivatives_match_finite_differences():
                       roughness_Rz_um=(4.0, 6.3), axial_force_N=5000.0)
         keys = ("pressure_MPa", "torque_capacity_Nm", "torque_capacity_with_axial_Nm", "hub_von_mises_MPa",
                 "shaft_von_mises_MPa")
-        return lib([r[k] for k in keys])
+        return lib([getattr(r, k) for k in keys])
 
     f = ca.Function("f", [x], [outputs(x, lambda l: ca.vertcat(*l))])
     jac = ca.Function("J", [x], [ca.jacobian(f(x), x)])

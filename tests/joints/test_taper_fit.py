@@ -32,9 +32,9 @@ def _quadrature(D, d, theta_deg, mu, W, theory):
 def test_capacity_matches_quadrature_over_the_cone(theory, D, d, theta):
     r = taper_fit(D, d, theta, 0.15, bolt_preload_N=50000.0, theory=theory)
     T, p0 = _quadrature(D, d, theta, 0.15, 50000.0, theory)
-    assert r["torque_capacity_Nm"] == pytest.approx(T, rel=1e-10)
+    assert r.torque_capacity_Nm == pytest.approx(T, rel=1e-10)
     p_expected = p0 if theory == "uniform_pressure" else p0 / (d / 2)  # p = c/r peaks at the small end
-    assert r["contact_pressure_MPa"] == pytest.approx(p_expected, rel=1e-10)
+    assert r.contact_pressure_MPa == pytest.approx(p_expected, rel=1e-10)
 
 
 def test_default_data_taper_values_reproduced():
@@ -47,24 +47,24 @@ def test_default_data_taper_values_reproduced():
         r = taper_fit(j["taper_large_diameter_mm"], j["taper_small_diameter_mm"], j["taper_half_angle_deg"],
                       j["friction_coefficient"], nut_torque_Nm=j["nut_torque_Nm"], nut_factor=j["nut_factor"],
                       thread_diameter_mm=j["nut_thread_diameter_mm"])
-        assert r["bolt_preload_N"] == pytest.approx(W, abs=0.5)
-        assert r["torque_capacity_Nm"] == pytest.approx(T, abs=0.5)
-        assert r["taper_length_mm"] == pytest.approx(j["taper_length_mm"], abs=1e-3)
+        assert r.bolt_preload_N == pytest.approx(W, abs=0.5)
+        assert r.torque_capacity_Nm == pytest.approx(T, abs=0.5)
+        assert r.taper_length_mm == pytest.approx(j["taper_length_mm"], abs=1e-3)
         for k, Tk in by_k.items():
             rk = taper_fit(j["taper_large_diameter_mm"], j["taper_small_diameter_mm"], j["taper_half_angle_deg"],
                            j["friction_coefficient"], nut_torque_Nm=j["nut_torque_Nm"], nut_factor=k,
                            thread_diameter_mm=j["nut_thread_diameter_mm"])
-            assert rk["torque_capacity_Nm"] == pytest.approx(Tk, abs=0.6)
+            assert rk.torque_capacity_Nm == pytest.approx(Tk, abs=0.6)
 
 
 def test_thesis_equation_3_48_form_and_theory_ordering():
     W, mu, D, d, th = 40000.0, 0.12, 40.0, 32.0, 4.0
     r = taper_fit(D, d, th, mu, bolt_preload_N=W)
     s = math.sin(math.radians(th))
-    assert r["torque_capacity_Nm"] * 1000 == pytest.approx(W * mu / (3 * s) * (D ** 3 - d ** 3) / (D ** 2 - d ** 2))
+    assert r.torque_capacity_Nm * 1000 == pytest.approx(W * mu / (3 * s) * (D ** 3 - d ** 3) / (D ** 2 - d ** 2))
     w = taper_fit(D, d, th, mu, bolt_preload_N=W, theory="uniform_wear")
-    assert w["torque_capacity_Nm"] * 1000 == pytest.approx(W * mu * (D + d) / (4 * s))
-    assert r["torque_capacity_Nm"] > w["torque_capacity_Nm"]  # uniform pressure is the less conservative model
+    assert w.torque_capacity_Nm * 1000 == pytest.approx(W * mu * (D + d) / (4 * s))
+    assert r.torque_capacity_Nm > w.torque_capacity_Nm  # uniform pressure is the less conservative model
 
 
 def test_narrow_band_limit_both_theories_agree():
@@ -80,22 +80,22 @@ def test_engagement_friction_reduces_locked_normal_force():
     r = taper_fit(30.0, 26.25, 3.5763, 0.15, bolt_preload_N=62500.0)
     th = math.radians(3.5763)
     ratio = math.sin(th) / (math.sin(th) + 0.15 * math.cos(th))
-    assert r["torque_capacity_engagement_friction_Nm"] == pytest.approx(ratio * r["torque_capacity_Nm"])
+    assert r.torque_capacity_engagement_friction_Nm == pytest.approx(ratio * r.torque_capacity_Nm)
     assert 3.3 < 1 / ratio < 3.5  # the 1:8 taper loses a factor ~3.4 (module docstring)
-    assert r["self_locking"]
+    assert r.self_locking
     # vanishing friction: the engagement correction disappears
     r0 = taper_fit(30.0, 26.25, 3.5763, 1e-9, bolt_preload_N=62500.0)
-    assert r0["torque_capacity_engagement_friction_Nm"] / r0["torque_capacity_Nm"] == pytest.approx(1.0, abs=1e-7)
-    assert not taper_fit(30.0, 20.0, 30.0, 0.15, bolt_preload_N=1000.0)["self_locking"]
+    assert r0.torque_capacity_engagement_friction_Nm / r0.torque_capacity_Nm == pytest.approx(1.0, abs=1e-7)
+    assert not taper_fit(30.0, 20.0, 30.0, 0.15, bolt_preload_N=1000.0).self_locking
 
 
 def test_hub_stress_is_lame_at_the_mean_diameter():
     r = taper_fit(30.0, 26.25, 3.5763, 0.15, bolt_preload_N=62500.0, hub_outer_diameter_mm=60.0, hub_yield_MPa=700.0)
-    p, dm = r["contact_pressure_MPa"], 28.125
+    p, dm = r.contact_pressure_MPa, 28.125
     hoop = p * (3600 + dm ** 2) / (3600 - dm ** 2)
-    assert r["hub_hoop_stress_MPa"] == pytest.approx(hoop)
-    assert r["hub_von_mises_MPa"] == pytest.approx(math.sqrt(hoop ** 2 + hoop * p + p ** 2))
-    assert r["hub_yield_safety"] == pytest.approx(700.0 / r["hub_von_mises_MPa"])
+    assert r.hub_hoop_stress_MPa == pytest.approx(hoop)
+    assert r.hub_von_mises_MPa == pytest.approx(math.sqrt(hoop ** 2 + hoop * p + p ** 2))
+    assert r.hub_yield_safety == pytest.approx(700.0 / r.hub_von_mises_MPa)
 
 
 def test_slip_utilisation_linear_interaction():
@@ -137,7 +137,7 @@ def test_casadi_derivatives_match_finite_differences():
         for theory in ("uniform_pressure", "uniform_wear"):
             r = taper_fit(v[3], 26.25, v[1], v[2], nut_torque_Nm=v[0], nut_factor=0.15, thread_diameter_mm=16.0,
                           theory=theory, hub_outer_diameter_mm=60.0)
-            out += [r["torque_capacity_Nm"], r["torque_capacity_engagement_friction_Nm"], r["hub_von_mises_MPa"]]
+            out += [r.torque_capacity_Nm, r.torque_capacity_engagement_friction_Nm, r.hub_von_mises_MPa]
         return lib(out)
 
     f = ca.Function("f", [x], [outputs(x, lambda l: ca.vertcat(*l))])

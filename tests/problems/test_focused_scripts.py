@@ -119,7 +119,7 @@ def test_sized_press_fits_hold_the_target_when_reevaluated(joint_run):
         weakest = press_fit(d, 0.0, do, l, r["sized_interference_min_um"], 210000.0, 0.3, 206000.0, 0.3, 0.12,
                             roughness_Rz_um=(4.0, 6.3), speed_rpm=r["overspeed_rpm"])
         demand = math.hypot(2000.0 * r["rated_torque_Nm"] / d, r["rated_axial_force_N"])
-        assert weakest["friction_force_N"] / demand == pytest.approx(1.5, rel=1e-6)
+        assert weakest.friction_force_N / demand == pytest.approx(1.5, rel=1e-6)
         # the suggested ISO 286 fit lies inside the admissible interval
         assert r["suggested_fit_min_um"] >= r["required_min_interference_um"] - 1e-9
         assert r["suggested_fit_max_um"] <= r["allowed_max_interference_um"] + 1e-9
@@ -137,7 +137,7 @@ def test_sized_taper_nuts_hold_the_target_when_reevaluated(joint_run):
         D, d, theta, thread = geometry[r["joint"]]
         t = taper_fit(D, d, theta, 0.15, nut_torque_Nm=r["sized_nut_torque_Nm"], nut_factor=0.16,
                       thread_diameter_mm=thread)
-        u = taper_slip_utilisation(r["rated_torque_Nm"], abs(r["rated_axial_force_N"]), t["torque_capacity_Nm"],
-                                   t["bolt_preload_N"])
+        u = taper_slip_utilisation(r["rated_torque_Nm"], abs(r["rated_axial_force_N"]), t.torque_capacity_Nm,
+                                   t.bolt_preload_N)
         assert 1.0 / u == pytest.approx(1.5, rel=1e-6)
         assert r["sized_nut_torque_Nm"] < r["present_nut_torque_Nm"]   # the data's nut torques hold with room

@@ -1,6 +1,7 @@
 """Rating table of a train: rows and columns for the default spur and helical trains, agreement with the direct
 rating calls, material overrides, errors."""
 
+import pandas as pd
 import pytest
 
 import gearopt as go
@@ -47,3 +48,21 @@ def test_errors():
         rating_table(train, {"crank-moon": 10.0})
     with pytest.raises(GearoptInputError, match="empty"):
         rating_table(train, {})
+
+
+def test_the_table_is_the_one_train_rating_table_with_given_factors():
+    from gearopt.rating import iso6336_train_table
+
+    train = go.load_default_train("helical")
+    torques = {"crank-cam": 300.0, "cam-ac": 120.0}
+    loads = dict(K_v=1.2, K_Hbeta=1.3, K_Halpha=1.05, K_Fbeta=1.2, K_Falpha=1.1)
+    df = rating_table(train, torques, K_A=1.25, materials={"cam": "42CrMo4"}, **loads)
+    same = iso6336_train_table(train, torques, factors="given", application_factor=1.25, materials={"cam": "42CrMo4"},
+                               **loads)
+    pd.testing.assert_frame_equal(df, same, check_exact=True)
+    with pytest.raises(GearoptInputError, match="factors='computed'"):
+        iso6336_train_table(train, torques, factors="given", life_h=1000.0)
+    with pytest.raises(GearoptInputError, match="root_speed_rpm"):
+        iso6336_train_table(train, torques)
+    with pytest.raises(GearoptInputError, match="factors="):
+        iso6336_train_table(train, torques, 2500.0, factors="guessed")

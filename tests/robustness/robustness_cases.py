@@ -192,7 +192,8 @@ def call_root_rating(**kw):
 
 
 def _negative_safety(result) -> str | None:
-    for key, v in result.items():
+    items = result.to_dict().items() if hasattr(result, "to_dict") else result.items()  # typed records, dicts
+    for key, v in items:
         if "safety" in key:
             for x in np.atleast_1d(np.asarray(v, dtype=float)):
                 if x <= 0:
@@ -306,9 +307,9 @@ def call_press_fit(**kw):
 
 
 def _press_fit_plausible(r) -> str | None:
-    if r["pressure_MPa"] < 0:
-        return f"pressure_MPa={r['pressure_MPa']:g} < 0"
-    if r["release_speed_rpm"] < 0:
+    if r.pressure_MPa < 0:
+        return f"pressure_MPa={r.pressure_MPa:g} < 0"
+    if r.release_speed_rpm < 0:
         return "release_speed_rpm < 0"
     return _negative_safety(r)
 

@@ -163,14 +163,14 @@ def test_hollow_press_fit_that_tightens_with_speed_is_never_released():
     assert loss < 0.0
     r = go.press_fit(40.0, 30.0, 60.0, 20.0, 30.0, 210000.0, 0.3, 400000.0, 0.25, 0.12, speed_rpm=3000.0,
                      hub_density_kg_m3=2000.0)
-    assert r["release_speed_rpm"] == INF
-    assert r["effective_interference_um"] > 30.0 - 1e-9
+    assert r.release_speed_rpm == INF
+    assert r.effective_interference_um > 30.0 - 1e-9
 
 
 def test_zero_stress_gives_an_infinite_safety_not_nan():
     r = go.press_fit(42.0, 0.0, 70.0, 25.0, 0.0, 210000.0, 0.3, 206000.0, 0.3, 0.12, hub_yield_MPa=700.0,
                      shaft_yield_MPa=650.0)
-    assert r["pressure_MPa"] == 0.0 and r["hub_yield_safety"] == INF and r["shaft_yield_safety"] == INF
+    assert r.pressure_MPa == 0.0 and r.hub_yield_safety == INF and r.shaft_yield_safety == INF
 
 
 def test_contact_rating_outside_its_contact_ratio_range_raises_by_clause():

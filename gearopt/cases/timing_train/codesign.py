@@ -192,7 +192,7 @@ def _axial_margins(data: dict, train: GearTrain, beta: float, torques: dict, spe
     out = {}
     for joint in WALK_OFF_JOINTS:
         gear = joint
-        cap = joint_capacity(data, joint, speed_rpm=speed_rpm)["axial_capacity_N"]
+        cap = joint_capacity(data, joint, speed_rpm=speed_rpm).axial_capacity_N
         out[joint] = cap / abs(axial[gear]) if abs(axial[gear]) > 0 else np.inf
     return out
 

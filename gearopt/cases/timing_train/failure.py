@@ -5,11 +5,11 @@ alternatives the source study weighed and its field record as the sanity check."
 
 from __future__ import annotations
 
-import math
 
 from ...studies.failure import (DAMPER_STATE_PROBABILITIES, DAMPER_STATE_PROBABILITIES_SOURCE, EXPOSURE_HOURS,
                                 EXPOSURE_HOURS_SOURCE, WALK_OFF_DISTANCE_MM, WALK_OFF_DISTANCE_SOURCE,
                                 WARRANTY_MONTHS, creep_summary, walk_off_probability)
+from ...geometry.forces import axial_force_N
 from ...validation import check_range
 
 #: Field rate of the source study: 213 walk-offs in 247 853 engines in 24 months (thesis sec. 1).
@@ -17,7 +17,7 @@ FIELD_RATE = 213.0 / 247853.0
 FIELD_RATE_SOURCE = "thesis sec. 1: 213 of 247 853 engines in 24 months of mature reliability data (RPH 0.085)"
 
 HELICAL_ALTERNATIVES = {
-    "helical_helix_3deg": {"thrust_scale": math.tan(math.radians(3.0)) / math.tan(math.radians(6.0)),
+    "helical_helix_3deg": {"thrust_scale": float(axial_force_N(1.0, 3.0) / axial_force_N(1.0, 6.0)),
                            "interference_shift_um": 0.0,
                            "description": "helix angle 3 deg instead of 6 deg (thrust x tan 3/tan 6; dynamics of "
                                           "the 6 deg train kept)"},
