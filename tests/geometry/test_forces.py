@@ -104,7 +104,7 @@ def test_mesh_torque_is_the_former_force_times_radius(force, r_mm):
 
 
 def test_failure_study_thrust_scale_is_the_former_tan_ratio():
-    from gearopt.studies.failure import HELICAL_ALTERNATIVES
+    from gearopt.cases.timing_train import HELICAL_ALTERNATIVES
 
     scale = HELICAL_ALTERNATIVES["helical_helix_3deg"]["thrust_scale"]
     assert type(scale) is float and scale == math.tan(math.radians(3.0)) / math.tan(math.radians(6.0))
