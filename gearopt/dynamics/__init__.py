@@ -5,7 +5,9 @@ packaged default timing-system model, speed sweeps and sensitivities through the
 Modules: :mod:`~gearopt.dynamics.mesh` (mesh force, stiffness shape, axial force), :mod:`~gearopt.dynamics.network`
 (:class:`TorsionalNetwork`), :mod:`~gearopt.dynamics.simulate` (:class:`Simulator`, :class:`Simulation`),
 :mod:`~gearopt.dynamics.modes` (linear analysis), :mod:`~gearopt.dynamics.default_model`
-(:func:`default_timing_model`), :mod:`~gearopt.dynamics.sweep` (:func:`speed_sweep`),
+(:func:`default_timing_model`), :mod:`~gearopt.dynamics.train_model` (:func:`train_model`: any train with a
+generic ``[excitation]``; :func:`torsional_model` picks the model of a system), :mod:`~gearopt.dynamics.sweep`
+(:func:`speed_sweep`),
 :mod:`~gearopt.dynamics.sensitivity` (:func:`response_sensitivities`).
 """
 
@@ -29,11 +31,12 @@ from .network import TorsionalNetwork
 from .sensitivity import response_sensitivities
 from .simulate import INTEGRATORS, PeriodicStateError, Simulation, Simulator, node_accelerations, simulate
 from .sweep import simulation_statistics, speed_sweep, walk_off_history
+from .train_model import TrainModel, torsional_model, train_model
 
 __all__ = [
     "TorsionalNetwork", "MeshStiffnessShape", "mesh_force", "axial_force_N", "contact_line_length_ratio",
     "restitution_coefficient", "Simulator", "Simulation", "simulate", "INTEGRATORS", "linear_matrices",
     "natural_frequencies_Hz", "mode_shapes", "damped_modes", "campbell_diagram", "forced_response",
     "default_timing_model", "TimingModel", "speed_sweep", "simulation_statistics", "response_sensitivities",
-    "node_accelerations", "walk_off_history", "PeriodicStateError",
+    "node_accelerations", "walk_off_history", "PeriodicStateError", "train_model", "TrainModel", "torsional_model",
 ]
