@@ -58,9 +58,9 @@ Modelling choices (all stated; [E] = an assumption no source fixes):
   and loads together). With zero mean torque the slopes are set so the rigid-body speed deviation decays by 1/e
   per revolution of the driving gear [E].
 * No speed boundary: the network is free (its angle has one neutral rigid-body direction). The run starts from the
-  static deflection under the mean torques (:meth:`~gearopt.dynamics.simulate.Simulator.static_state`); use the
-  run-in to reach the periodic state (``steady_state="shooting"`` meets the neutral direction: its Newton matrix is
-  singular).
+  static deflection under the mean torques (:meth:`~gearopt.dynamics.simulate.Simulator.static_state`) and reaches
+  the periodic state by run-in (``steady_state="shooting"`` is refused for a free network: the neutral rigid-body
+  angle leaves the periodic state undetermined).
 * Cycle: the smallest whole number of driving-gear revolutions over which every harmonic order repeats (the mesh
   frequencies are z_drive per revolution for any tree of external meshes); ``cycles`` and the simulation's
   ``crank_angle_deg`` count in driving-gear degrees.
@@ -125,8 +125,8 @@ class TrainModel:
     # -- the API of TimingModel --------------------------------------------------------------------------------
 
     def parameters_at(self, speed_rpm: float, load: float | None = None) -> dict:
-        """Parameter overrides for ``speed_rpm`` [rpm]: none (the loads balance the mean torque at every speed);
-        the counterpart of :meth:`TimingModel.parameters_at <gearopt.dynamics.default_model.TimingModel.parameters_at>`."""
+        """Parameter overrides for ``speed_rpm`` [rpm]: none (the loads balance the mean torque at every speed); the
+        counterpart of :meth:`gearopt.dynamics.default_model.TimingModel.parameters_at`."""
         _check_speed("speed_rpm", speed_rpm)
         return {}
 
