@@ -41,9 +41,9 @@ Modelling choices (all stated; [E] = an assumption no source fixes):
   (default, the usual assumption of torsional analysis and the timing model's default): theta is the nominal
   (constant-speed) angle, so the harmonics have zero mean and the train runs at the requested mean speed.
   ``"actual"``: theta is the vibrating angle; where the harmonics swing the speed by a sizeable fraction (light
-  gears without ``shaft_inertias_kgm2``: -16 % to +24 % on the minimal example) the gear dwells longer where the torque
-  brakes it, the harmonics then rectify into a mean braking torque, the mean speed settles below the nominal one
-  (-1.8 % there) and the response is no longer periodic over the nominal cycle.
+  gears without ``shaft_inertias_kgm2``: -16 % to +24 % on the minimal example) the gear dwells longer where the
+  torque brakes it, the harmonics then rectify into a mean braking torque, the mean speed settles below the
+  nominal one (-1.8 % there) and the response is no longer periodic over the nominal cycle.
 * Loads: every gear that is a leaf of the mesh tree seen from the driving gear (a terminal gear, no further driven
   mesh) carries a load; idlers carry none (bearing and churning losses neglected [E]). Load of terminal gear i,
   in its own sense: ``-(T_i + c_i phi_dot_i)`` with ``T_i = s_i T_mean / |r_i|`` (``r_i`` its speed ratio to the
