@@ -147,14 +147,12 @@ def _microgeometry_command(args) -> int:
 
 
 def _dynamics_model(system, kind: str):
-    """The torsional model of the system: a generic train model for an ``[excitation]``, the packaged timing-train
-    case's engine model for an ``[engine]``."""
-    if system.excitation == "engine":
-        from .cases.timing_train import timing_model
-        return timing_model(system, kind)
-    system.require("excitation", "gearopt dynamics (a driving torque: [excitation], or an [engine])")
-    from .dynamics import train_model
-    return train_model(system, kind)
+    """The torsional model of the system (:func:`gearopt.cases.torsional_model`)."""
+    from .cases import torsional_model
+
+    if system.excitation != "engine":
+        system.require("excitation", "gearopt dynamics (a driving torque: [excitation], or an [engine])")
+    return torsional_model(system, kind)
 
 
 def _dynamics_command(args) -> int:

@@ -9,4 +9,18 @@ the meshes and joints its studies look at, the baselines it compares with, the s
   ``problems/cam_gear_walkoff.py``.
 """
 
-__all__: list[str] = []
+
+def torsional_model(system, kind: str = "spur", **options):
+    """The torsional model of a :class:`~gearopt.data.System`: the timing-train case's engine model for a system
+    driven by an ``[engine]`` (:func:`gearopt.cases.timing_train.timing_model`), else the generic train model of
+    its ``[excitation]`` (:func:`gearopt.dynamics.train_model`; a system with neither raises
+    :class:`~gearopt.errors.MissingSectionError` naming the file and ``[excitation]``). ``options`` go to the
+    model's builder."""
+    if system.excitation == "engine":
+        from .timing_train import timing_model   # imported here: the case loads only for an engine's system
+        return timing_model(system, kind, **options)
+    from ..dynamics import train_model
+    return train_model(system, kind, **options)
+
+
+__all__ = ["torsional_model"]

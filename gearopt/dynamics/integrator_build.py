@@ -139,10 +139,12 @@ class IntegratorBuild:
 
     def static_state(self, speed_rpm: float, parameters: dict | None = None) -> np.ndarray:
         """Initial state: the linear static deflection under the cycle-mean external torques (speed boundary held),
-        zero speed deviations. Zero for a network without speed boundary (its static problem is singular)."""
+        zero speed deviations. A network without speed boundary has the rigid-body motion as the null space of its
+        static problem: it starts from the static deflection when the mean torques do no work on that motion (they
+        balance, e.g. a drive and its loads), else from zero."""
         n = len(self.eq.free_nodes)
         x0 = np.zeros(2 * n)
-        if not self.network.boundary_nodes:
+        if not self.network.boundary_nodes and not self.network.torques:
             return x0
         pvec = self.parameter_vector(speed_rpm, parameters)
         samples = 720
@@ -150,9 +152,15 @@ class IntegratorBuild:
         if self._torque_map is None:  # CasADi keeps a map only weakly: rebuilt on every call otherwise
             self._torque_map = self.eq.nominal_torques.map(samples, "serial")
         torques = np.ascontiguousarray(BufferedFunction(self._torque_map, [0, 1], [0])(tau, np.tile(pvec, samples))[0])
+        mean = torques.mean(axis=1)
+        if not self.network.boundary_nodes:
+            ratios = self.network.speed_ratios()
+            work = np.array([ratios[nd] for nd in self.eq.free_nodes]) * mean
+            if abs(float(work.sum())) > 1e-9 * max(float(np.abs(work).sum()), 1e-300):
+                return x0  # unbalanced: no static state (the train accelerates)
         mats = self.network.linear_matrices(parameters=parameters, speed_rpm=speed_rpm)
         # least squares: a node coupled only viscously (damper ring) has no static stiffness; it starts at zero
-        x0[:n] = np.linalg.lstsq(mats["K"], torques.mean(axis=1), rcond=None)[0] / ANGLE_UNIT_RAD
+        x0[:n] = np.linalg.lstsq(mats["K"], mean, rcond=None)[0] / ANGLE_UNIT_RAD
         return x0
 
 

@@ -68,6 +68,14 @@ def _gear_inertia_kgm2(data: dict, gear: str) -> tuple[float, str]:
                             f"gear_inertia_kgm2")
 
 
+def _model_gear_inertia_kgm2(model, gear: str) -> tuple[float, str]:
+    """Own inertia of ``gear`` [kg m^2] and its source: what the model provides (``model.gear_inertia_kgm2``, e.g.
+    :class:`~gearopt.dynamics.train_model.TrainModel`), else the data's (:func:`_gear_inertia_kgm2`)."""
+    if hasattr(model, "gear_inertia_kgm2"):
+        return model.gear_inertia_kgm2(gear)
+    return _gear_inertia_kgm2(model.data, gear)
+
+
 def walk_off_history(model, sim, joint: str = "cam", interference: str = "nominal",
                      root_rotation: str = "cw", gear_inertia_kgm2: float | None = None) -> dict:
     """Axial force, joint torque and slip margins of one shaft-hub joint over a simulation (gearopt.joints).
@@ -86,7 +94,10 @@ def walk_off_history(model, sim, joint: str = "cam", interference: str = "nomina
       (``gear_inertia_kgm2``; default ``gears.<gear>.inertia_kgm2`` of the data, else its
       ``solid_disc_inertia_kgm2`` estimate -- 0.00373 kg m^2 for the default crank gear). Approximation: the gear
       is taken as a rigid body moving with the node (the nose between gear seat and node is rigid), so the seat
-      carries the rest of the node's torques; ``gear_inertia_kgm2=0`` gives the plain mesh-torque sum.
+      carries the rest of the node's torques; ``gear_inertia_kgm2=0`` gives the plain mesh-torque sum;
+    * for a gear that is its own node without a shaft element but with an external torque on it (the driving or a
+      load gear of :class:`~gearopt.dynamics.train_model.TrainModel`, whose drive or load acts through the joint):
+      the same rotational equilibrium with the gear's own inertia (``model.gear_inertia_kgm2(gear)``).
 
     The capacity is :func:`gearopt.joints.joint_capacity` of ``[joints.<joint>]`` at the simulation speed
     (centrifugal loss) and ``interference`` case, and :func:`gearopt.joints.margin_history` gives the margins.
@@ -110,17 +121,18 @@ def walk_off_history(model, sim, joint: str = "cam", interference: str = "nomina
     torques = {mesh: mesh_torque_Nm(sim.mesh_force_N[mesh].to_numpy(), sim.mesh_base_radii_mm[mesh][0])
                for mesh in sim.mesh_force_N.columns}
     extra = {}
-    if node == gear:
-        shafts = [s.name for s in model.network.shafts.values() if s.node_a == gear]
-        if not shafts:
-            raise GearoptInputError(f"joint {joint!r}: gear {gear!r} has no shaft element in the network (its joint "
-                                    f"torque is not a network output)")
+    shafts = [s.name for s in model.network.shafts.values() if s.node_a == gear] if node == gear else []
+    loaded = any(t.node == node for t in model.network.torques.values())
+    if node == gear and not shafts and not loaded:
+        raise GearoptInputError(f"joint {joint!r}: gear {gear!r} has no shaft element in the network (its joint "
+                                f"torque is not a network output)")
+    if shafts:
         res = walk_off(model.train, torques, root_rotation=root_rotation)
         torque = sim.shaft_torque_Nm[shafts[0]].to_numpy()
         extra["joint_torque_method"] = "shaft"
     else:
         if gear_inertia_kgm2 is None:
-            j_g, source = _gear_inertia_kgm2(data, gear)
+            j_g, source = _model_gear_inertia_kgm2(model, gear)
         else:
             check_range("gear_inertia_kgm2", gear_inertia_kgm2, 0.0, None, unit="kg m^2")
             j_g, source = float(gear_inertia_kgm2), "argument"
@@ -159,8 +171,8 @@ def cycle_spread(history, cycles: int) -> dict:
 
 
 def speed_sweep(model, speeds_rpm, backlash=(False, True), cycles: int = 2, run_in_cycles: int = 2,
-                steady_state_tol: float | None = None, rtol: float = 1e-6, shafts=("cam-cam_station_1",),
-                joints=("cam",), parameters: dict | None = None, executor: Any = "serial", *,
+                steady_state_tol: float | None = None, rtol: float = 1e-6, shafts=None,
+                joints=None, parameters: dict | None = None, executor: Any = "serial", *,
                 workers: int | None = None, progress: bool | None = None, **options) -> pd.DataFrame:
     """Sweep ``model`` (a torsional model: :func:`~gearopt.dynamics.train_model` or the timing case's model) over ``speeds_rpm`` [rpm] for each
     lash option in ``backlash``; returns one row per (speed, lash, element) with the columns of
@@ -171,6 +183,8 @@ def speed_sweep(model, speeds_rpm, backlash=(False, True), cycles: int = 2, run_
     ``min_axial_margin``, ``min_combined_margin``, ``max_slip_utilisation`` -- the walk-off margin over speed --
     and the margins' spread over the recorded ``cycles`` (:func:`cycle_spread`: ``torque_margin_cycle_worst``,
     ``..._median``, ``..._best``, the same for ``axial_margin``).
+    ``shafts``/``joints`` default to the model's ``sweep_shafts``/``sweep_joints`` (the timing model, which has
+    none: ``("cam-cam_station_1",)`` and ``("cam",)``).
     ``options`` go to the simulator (JIT kernels come from the on-disk compile cache, :mod:`gearopt.compile_cache`).
     A (speed, lash) run already computed this session with the same settings is re-used
     (:func:`gearopt.dynamics.simulate.simulate`, ``reuse``).
@@ -183,6 +197,8 @@ def speed_sweep(model, speeds_rpm, backlash=(False, True), cycles: int = 2, run_
     process."""
     from ..executor import using_executor
 
+    shafts = getattr(model, "sweep_shafts", ("cam-cam_station_1",)) if shafts is None else shafts
+    joints = getattr(model, "sweep_joints", ("cam",)) if joints is None else joints
     speeds = np.atleast_1d(np.asarray(speeds_rpm, dtype=float))
     check_range("cycles", cycles, 1, None)
     settings = dict(cycles=cycles, run_in_cycles=run_in_cycles, steady_state_tol=steady_state_tol, rtol=rtol,

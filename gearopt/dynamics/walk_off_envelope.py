@@ -142,7 +142,7 @@ def model_joints(model, joint: str, levels: int = 1, *, thrust_scale: float = 1.
     inertia (crank: ``gears.crank.inertia_kgm2`` or its solid-disc estimate), as
     :func:`~gearopt.dynamics.sweep.walk_off_history`."""
     from ..data import values
-    from .sweep import _gear_inertia_kgm2
+    from .sweep import _model_gear_inertia_kgm2
     d = values(model.data)
     if joint not in d.get("joints", {}):
         raise GearoptInputError(f"joint={joint!r} is not in [joints] ({sorted(d.get('joints', {}))})")
@@ -150,7 +150,7 @@ def model_joints(model, joint: str, levels: int = 1, *, thrust_scale: float = 1.
     spec = d["joints"][joint]
     gear = spec["gear"]
     node = model.gear_nodes.get(gear, gear)
-    j_g = model.network.inertias[node].inertia_kgm2 if node == gear else _gear_inertia_kgm2(model.data, gear)[0]
+    j_g = model.network.inertias[node].inertia_kgm2 if node == gear else _model_gear_inertia_kgm2(model, gear)[0]
     f = JOINT_FRICTION_DATA
     cap = fit_capacity_N(model.data, joint)
     clearance = f["key_clearance_um"] if key_clearance_um is None else key_clearance_um
@@ -168,8 +168,8 @@ def model_joints(model, joint: str, levels: int = 1, *, thrust_scale: float = 1.
 def gear_mass_kg(model, gear: str) -> float:
     """Axial mass of ``gear`` [kg]: the solid-disc equivalent ``2 J_gear / r_b^2`` of its own inertia at its base
     radius (:data:`JOINT_FRICTION_DATA` ``gear_mass_source``)."""
-    from .sweep import _gear_inertia_kgm2
-    j_gear = _gear_inertia_kgm2(model.data, gear)[0]
+    from .sweep import _model_gear_inertia_kgm2
+    j_gear = _model_gear_inertia_kgm2(model, gear)[0]
     node = model.gear_nodes.get(gear, gear)
     radii = [m.base_radii_mm[0] if m.gear_1 == node else m.base_radii_mm[1]
              for m in model.network.meshes.values() if node in (m.gear_1, m.gear_2)]

@@ -84,7 +84,10 @@ class FourierSeries:
     def __call__(self, x):
         """Value at ``x`` (float, ndarray, CasADi SX/MX); any real ``x`` (periodic)."""
         cs, ss = harmonic_basis(self.phase_rad(x), self.harmonics)
-        return self.evaluate_basis(cs, ss)
+        value = self.evaluate_basis(cs, ss)
+        if isinstance(x, np.ndarray) and np.ndim(value) == 0:  # a constant series (every coefficient zero)
+            return np.full(x.shape, float(value))
+        return value
 
     def evaluate_basis(self, cs, ss):
         """Series value from a precomputed :func:`harmonic_basis` (share one basis between shifted series)."""
@@ -124,7 +127,7 @@ class FourierSeries:
     def extrema(self, samples: int = 14400) -> tuple[float, float, float, float]:
         """``(min, x_at_min, max, x_at_max)`` on a fine grid, refined by a parabola through the best 3 points."""
         x = np.arange(samples) * (self.period / samples)
-        v = np.asarray(self(x), dtype=float)
+        v = np.broadcast_to(np.asarray(self(x), dtype=float), x.shape)  # a constant series: one value everywhere
         out = []
         for i in (int(np.argmin(v)), int(np.argmax(v))):
             ym, y0, yp = v[i - 1], v[i], v[(i + 1) % samples]
