@@ -76,6 +76,16 @@ def test_microgeometry(train_file, capsys):
     assert f"{mesh}: optimised microgeometry over 60, 120, 180 N m" in text
 
 
+def test_dynamics(train_file, capsys):
+    path, mesh = train_file
+    code, text = _run(["dynamics", "--data", path], capsys)
+    assert code in (0, 1)
+    _names_only_the_users(text, mesh)
+    system = go.load_system(path)
+    for gear in system.gears:                     # every joint of the user's data judged at each speed
+        assert f"slip margin joint:{gear} at 1500 rpm" in text and f"walk-off margin joint:{gear} at 1800 rpm" in text
+
+
 def test_scene(train_file, capsys):
     path, mesh = train_file
     code, text = _run(["scene", ROOT / "docs" / "scene-example.toml", "--data", path], capsys)

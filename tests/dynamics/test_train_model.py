@@ -283,7 +283,7 @@ def test_zero_harmonic_amplitudes_in_the_data(tmp_path):
 
 
 def test_torsional_model_picks_the_engine_model_for_engine_data():
-    from gearopt.dynamics import TimingModel
+    from gearopt.cases.timing_train import TimingModel
     model = torsional_model(gearopt.load_system())
     assert isinstance(model, TimingModel)
 
