@@ -91,8 +91,13 @@ def check_dynamics(result, out):
 def check_dynamics_speed(result, out):
     rows = {r["setting"]: r for r in result["settings"]}
     default, picked = rows["rtol 1e-6 (default)"], rows[result["picked"]]
-    assert picked["steps_per_cycle_mean"] < default["steps_per_cycle_mean"]   # fewer steps ...
-    assert result["acceptance_run"]["speed_up_over_default"] > 1.0            # ... and faster
+    # the pick follows its rule: the least CPU time among the settings whose statistics the reference admits (the
+    # default when none is admitted: in quick mode, 2 cycles, a cheaper tolerance's peak force may miss it)
+    admitted = [r for r in result["settings"] if r["against_reference"]["admissible"]]
+    assert picked in admitted and picked["cpu_time_s"] == min(r["cpu_time_s"] for r in admitted)
+    if picked is not default:
+        assert picked["steps_per_cycle_mean"] < default["steps_per_cycle_mean"]   # fewer steps ...
+        assert result["acceptance_run"]["speed_up_over_default"] > 1.0            # ... and faster
     assert result["jit_gain"]["interpreted_over_compiled"] > 1.0
     acc = result["acceptance_run"]                                             # the floor is below the run:
     assert acc["integration_over_function_evaluations"] >= acc["integrator_over_function_evaluations"] > 1.0

@@ -31,7 +31,7 @@ def test_zero_valve_train_amplitude_gives_the_constant_mean_torque():
 
 
 def test_zero_valve_train_amplitude_timing_model_simulates():
-    from gearopt.dynamics import default_timing_model
+    from gearopt.cases.timing_train import default_timing_model
 
     data = load_default_data()
     data["engine"]["camshaft"]["valve_train_torque_amplitude_Nm"] = 0.0
