@@ -1,6 +1,6 @@
 """The declarative parts of a scene: load cases, design variables, objectives and limits (plain frozen dataclasses).
 
-A scene names its *targets*: a mesh of the train (``"crank-cam"``), a shaft-hub joint of the data (``"cam"``) or a
+A scene names its *targets*: a mesh of the train (``"pinion-wheel"``), a shaft-hub joint of the data (``"cam"``) or a
 gear whose blank is designed (``"cam"``). Quantities and variables are looked up in
 :mod:`gearopt.design.scene_terms`, which says what each needs (geometry, ISO 6336, the smooth LTCA, a joint model,
 a blank model, the dynamics) so that :class:`~gearopt.design.scene.Scene` builds only that.
@@ -23,7 +23,7 @@ class LoadCase:
     """One operating point of a scene.
 
     Args:
-        name: label used in constraint names (``"max_contact_stress_MPa[crank-cam]@design"``).
+        name: label used in constraint names (``"max_contact_stress_MPa[pinion-wheel]@design"``).
         torque_Nm: torque on the driving gear of each mesh [N m]: one number for every mesh, or a mapping mesh ->
             torque. Mesh quantities need it (> 0).
         speed_rpm: crank (root gear) speed [rpm]; the driving gear of a mesh turns at its speed ratio times this.

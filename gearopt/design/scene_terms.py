@@ -13,7 +13,7 @@ quantity needs it:
 - ``joint``: the press-fit / taper capacity of a ``[joints.*]`` entry (:func:`gearopt.joints.joint_capacity`);
 - ``blank``: the :class:`~gearopt.blank.GearBlank` of a gear (:func:`gearopt.blank.blank_from_data`).
 
-Targets: a mesh (``"crank-cam"``), a joint or a blank (a gear name), the train (``"train"``: its root-gear profile
+Targets: a mesh (``"pinion-wheel"``), a joint or a blank (a gear name), the train (``"train"``: its root-gear profile
 shift at the fixed centre distances and its common helix angle, which move every mesh) or a gear flank
 (``"cam:driven"``, :data:`FLANKS`: a microgeometry that every mesh loading that flank sees).
 

@@ -2,7 +2,7 @@
 with a finite-difference check.
 
 The response is a statistic of one output over the last of ``cycles`` integrated cycles -- the peak of its samples,
-their RMS or their mean -- e.g. the peak or RMS crank-cam mesh force. The initial state is the end of a numeric
+their RMS or their mean -- e.g. the peak or RMS force of one mesh. The initial state is the end of a numeric
 run-in (``run_in_cycles``, not differentiated), then ``cycles`` cycles are integrated inside a CasADi graph whose
 Jacobian with respect to the chosen parameters CasADi evaluates with CVODES forward sensitivities (one direction per
 parameter); the dependence of the run-in state on the parameters decays over the differentiated cycles (at the
@@ -31,15 +31,16 @@ def _statistics(samples: np.ndarray) -> dict:
             "mean": float(np.mean(samples))}
 
 
-def response_sensitivities(simulator, speed_rpm: float, parameters, output=("mesh_force_N", "crank-cam"),
+def response_sensitivities(simulator, speed_rpm: float, parameters, output: tuple[str, str] | None = None,
                            cycles: int = 2, run_in_cycles: int = 3, overrides: dict | None = None,
                            fd_check: bool = True, fd_relative_step: float = 1e-4) -> pd.DataFrame:
     """Derivatives of the peak, RMS and mean of ``output`` over the last cycle with respect to ``parameters``.
 
     ``simulator``: a :class:`~gearopt.dynamics.simulate.Simulator` (its integrator is reused); ``speed_rpm`` [rpm];
-    ``parameters``: names from :meth:`TorsionalNetwork.parameters` (e.g. ``"crank-cam.stiffness_N_per_m"``,
-    ``"crank-cam.damping_N_s_per_m"``, ``"crank-cam.backlash_mm"``, ``"damper.damping_Nms_per_rad"``);
-    ``output``: (quantity, element) of the simulator's outputs; ``overrides``: other parameter values.
+    ``parameters``: names from :meth:`TorsionalNetwork.parameters` (e.g. ``"pinion-wheel.stiffness_N_per_m"``,
+    ``"pinion-wheel.damping_N_s_per_m"``, ``"pinion-wheel.backlash_mm"``, ``"damper.damping_Nms_per_rad"``);
+    ``output``: (quantity, element) of the simulator's outputs (default: the force of the network's first mesh);
+    ``overrides``: other parameter values.
 
     Returns one row per parameter: ``parameter``, ``value``, ``peak``/``rms``/``mean`` (the response, in the
     output's unit), ``d_peak``/``d_rms``/``d_mean`` (per unit of the parameter), and with ``fd_check`` the central
@@ -53,6 +54,11 @@ def response_sensitivities(simulator, speed_rpm: float, parameters, output=("mes
     unknown = [p for p in params if p not in names]
     if unknown:
         raise GearoptInputError(f"unknown parameters {unknown}; known: {names}")
+    if output is None:
+        meshes = [o for o in simulator.eq.output_names if o[0] == "mesh_force_N"]
+        if not meshes:
+            raise GearoptInputError("output=None: the simulator has no mesh force; give output=(quantity, element)")
+        output = meshes[0]
     quantity, element = output
     try:
         idx = simulator.eq.output_names.index((quantity, element))

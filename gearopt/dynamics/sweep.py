@@ -26,7 +26,7 @@ def simulation_statistics(sim, shafts=()) -> pd.DataFrame:
 
     Mesh rows: ``peak_drive_force_N``, ``peak_back_force_N``, ``mean_force_N``, ``rms_force_N``, ``min_force_N``,
     ``peak_axial_force_N``, ``peak_gear_2_torque_Nm``/``rms_gear_2_torque_Nm`` (force x r_b2: the torque the mesh
-    puts on its driven gear, e.g. the cam gear for ``crank-cam``), ``drive_separations_per_cycle`` and
+    puts on its driven gear), ``drive_separations_per_cycle`` and
     ``back_impacts_per_cycle`` (integrated contact-indicator variation; sampled counts if no lash quadrature).
     Shaft rows (``shafts``): ``peak_torque_Nm``, ``min_torque_Nm``, ``mean_torque_Nm``, ``rms_torque_Nm``
     (e.g. ``"cam-cam_station_1"``: the torque through the cam gear's shaft-hub joint).
@@ -85,11 +85,11 @@ def walk_off_history(model, sim, joint: str = "cam", interference: str = "nomina
     which sums the axial forces of all meshes of the joint's gear. The joint torque [N m] (+ when the gear drives
     its shaft, as :mod:`gearopt.joints.walk_off`) is
 
-    * for a gear that is its own network node with a shaft element to its load (cam, AC, FP, LPG): that shaft's
-      torque (it includes the gear's own inertia torque);
-    * for a gear lumped into a larger node (the crank gear in ``crank_gear_node`` of the crankshaft chain,
-      ``model.gear_nodes``): the gear's rotational equilibrium, ``sum of its mesh torques (F r_b of crank-cam and
-      crank-lpi, signed) - J_g alpha``, with ``alpha`` the node's angular acceleration from the equations of motion
+    * for a gear that is its own network node with a shaft element to its load (the accessory gears of an engine's
+      timing train): that shaft's torque (it includes the gear's own inertia torque);
+    * for a gear lumped into a larger node (a crank gear in a node of the crankshaft chain, ``model.gear_nodes``) or
+      a gear on its own node without a shaft: the gear's rotational equilibrium, ``sum of its mesh torques (F r_b
+      of each of its meshes, signed) - J_g alpha``, with ``alpha`` the node's angular acceleration from the equations of motion
       (:func:`~gearopt.dynamics.simulate.node_accelerations`) and ``J_g`` the gear's own inertia
       (``gear_inertia_kgm2``; default ``gears.<gear>.inertia_kgm2`` of the data, else its
       ``solid_disc_inertia_kgm2`` estimate -- 0.00373 kg m^2 for the default crank gear). Approximation: the gear

@@ -21,7 +21,7 @@ tangential force on the gear in +theta (counter-clockwise from the front) direct
 circle (F_t,w = 2000 T/d_w, tan(beta_w) = tan(beta) d_w/d) or the reference circle (2000 T/d, tan(beta)) the product
 is the same, ``2000 T tan(beta)/d`` (tested; :func:`gearopt.geometry.forces.axial_force_N`, the package's one
 thrust function, and ``mesh_axial_force_N`` of a torque, re-exported here). Newton's third law holds mesh by mesh
-(opposite hands, equal F_theta). A gear meshing with several others (the cam gear: crank-cam, cam-AC, cam-FP) sums
+(opposite hands, equal F_theta). A gear meshing with several others (an idler, or a cam gear driving accessories) sums
 its meshes with their signs; as all its meshes share its hand and helix, the net thrust is
 ``2000 tan(beta) (T_joint + J alpha) / d`` -- the quasi-static thrust of the cam gear follows the camshaft's own
 torque, while the accessory loads cancel through the gear (a property the tests check).
