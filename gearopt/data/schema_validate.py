@@ -67,6 +67,10 @@ def _check_table(table: dict, node: Node, path: str, problems: list[str]) -> Non
             elif not isinstance(value, str):
                 problems.append(f"{where}: provenance must be a string (got {type(value).__name__})")
             continue
+        if key not in known and path == "design_loads" and key.endswith("_torque_Nm"):
+            problems.append(f"{where}: design torques are stated per mesh: move it to [meshes.<driving>-<driven>] "
+                            f"as design_torque_Nm (the torque on the mesh's driving gear [N m])")
+            continue
         if key not in known:
             near = difflib.get_close_matches(key, list(known), n=1, cutoff=0.6)
             hint = f"; did you mean {near[0]!r}?" if near else f"; valid keys: {', '.join(sorted(known)[:12])}" + (

@@ -152,3 +152,11 @@ def test_documented_schema_is_current_and_covers_every_default_key():
 
     for path in keys(data):
         assert f"| `{path}` |" in doc, path
+
+
+def test_a_flat_design_torque_of_the_old_layout_says_where_it_goes():
+    data = load_default_data()
+    data["design_loads"]["pinion_wheel_torque_Nm"] = 120.0
+    with pytest.raises(DataFileError, match=r"old.toml: design_loads.pinion_wheel_torque_Nm: design torques are "
+                                            r"stated per mesh: move it to \[meshes.<driving>-<driven>\]"):
+        validate_data(data, source="old.toml")
