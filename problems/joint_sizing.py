@@ -33,8 +33,8 @@ from pathlib import Path
 import pandas as pd
 
 from gearopt.cli import run_script
-from gearopt.data import load_default_data, load_system, system_from_data, train_from_data
-from gearopt.data import values as data_values
+from gearopt import System
+from gearopt.data import load_system
 from gearopt.design.joint_sizing import (JointDemand, PressFitSpec, TaperFitSpec, press_fit_margin_table, size_joint,
                                          taper_margin_table)
 from gearopt.errors import GearoptInputError, SolveError
@@ -45,17 +45,11 @@ DEFAULT_JOINTS = ("crank", "cam", "ac", "fp")
 PROOF_STRENGTH_MPA = 830.0   # ISO 898-1 class 10.9 proof stress, as the data's [joints.ac/fp] nut_torque notes use
 
 
-def design_mesh_torques_Nm(data: dict) -> dict[str, float]:
-    """Per-mesh design torques on the driving gear (``[meshes.<name>] design_torque_Nm``)."""
-    return system_from_data(data).design_torques_Nm()
-
-
-def joint_demands(data: dict, kind: str, overspeed_torque_factor: float = 1.0) -> dict[str, list[JointDemand]]:
+def joint_demands(system: System, kind: str, overspeed_torque_factor: float = 1.0) -> dict[str, list[JointDemand]]:
     """{gear: [rated, overspeed] JointDemand} of every gear of the ``kind`` train at the design loads."""
-    system = system_from_data(data)
     train = system.train(kind)
     rated_rpm, overspeed_rpm = system.speeds_rpm("joint sizing")
-    res = walk_off(train, design_mesh_torques_Nm(data))
+    res = walk_off(train, system.design_torques_Nm())
     out = {}
     for gear in train.gears:
         T, F = float(res.joint_torque_Nm[gear]), float(res.axial_force_N[gear])
@@ -68,29 +62,27 @@ def joint_demands(data: dict, kind: str, overspeed_torque_factor: float = 1.0) -
     return out
 
 
-def present_margins(data: dict, joint: str, demands: list[JointDemand]) -> pd.DataFrame:
+def present_margins(system: System, joint: str, demands: list[JointDemand]) -> pd.DataFrame:
     """Margins of the present design at the demands, with the same weakest-case rules as the sizing."""
-    kind = data_values(data)["joints"][joint]["joint_type"]
-    if kind == "press_fit":
-        spec = PressFitSpec.from_data(data, joint)
+    if system.joints[joint].joint_type == "press_fit":
+        spec = PressFitSpec.from_data(system, joint)
         return press_fit_margin_table(spec, spec.interference_um, demands, tolerance_band_um=spec.present_band_um)
-    spec = TaperFitSpec.from_data(data, joint, proof_strength_MPa=PROOF_STRENGTH_MPA)
+    spec = TaperFitSpec.from_data(system, joint, proof_strength_MPa=PROOF_STRENGTH_MPA)
     return taper_margin_table(spec, spec.nut_torque_Nm, demands)
 
 
-def size_all(data: dict, trains: list[str], joints: list[str], margin: float, factor: float) -> dict:
+def size_all(system: System, trains: list[str], joints: list[str], margin: float, factor: float) -> dict:
     """Size every joint of every train; returns rows, margin tables and fit tables."""
-    d = data_values(data)
     rows, margin_tables, fit_tables = [], [], {}
     for kind in trains:
-        demands = joint_demands(data, kind, factor)
+        demands = joint_demands(system, kind, factor)
         for joint in joints:
-            j = d["joints"][joint]
+            j = system.joints[joint].entries
             gear = j["gear"]
             if gear not in demands:
                 continue
             dem = demands[gear]
-            present = present_margins(data, joint, dem)
+            present = present_margins(system, joint, dem)
             row = {"train": kind, "joint": joint, "gear": gear, "type": j["joint_type"],
                    "rated_torque_Nm": dem[0].torque_Nm, "rated_axial_force_N": dem[0].axial_force_N,
                    "overspeed_rpm": dem[1].speed_rpm, "target_margin": margin,
@@ -101,7 +93,7 @@ def size_all(data: dict, trains: list[str], joints: list[str], margin: float, fa
             else:
                 row.update(present_nut_torque_Nm=j["nut_torque_Nm"])
             try:
-                s = size_joint(data, joint, dem, target_margin=margin, proof_strength_MPa=PROOF_STRENGTH_MPA)
+                s = size_joint(system, joint, dem, target_margin=margin, proof_strength_MPa=PROOF_STRENGTH_MPA)
             except SolveError as exc:
                 row.update(status=exc.status, note=str(exc).splitlines()[0])
                 rows.append(row)
@@ -148,7 +140,6 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
     system = load_system(args.data)
     system.require("joints", "joint sizing")
-    data = system.data
     if args.joints is None:
         args.joints = [j for j in DEFAULT_JOINTS if j in system.joints] or list(system.joints)
     unknown = [j for j in args.joints if j not in system.joints]
@@ -161,7 +152,7 @@ def main(argv: list[str] | None = None) -> int:
         parser.error(f"--overspeed-torque-factor {args.overspeed_torque_factor} must be > 0")
     trains = ["spur", "helical"] if args.train == "both" else [args.train]
     t0 = time.perf_counter()
-    r = size_all(data, trains, args.joints, args.margin, args.overspeed_torque_factor)
+    r = size_all(system, trains, args.joints, args.margin, args.overspeed_torque_factor)
     elapsed = time.perf_counter() - t0
     args.out.mkdir(parents=True, exist_ok=True)
     table = pd.DataFrame(r["rows"])

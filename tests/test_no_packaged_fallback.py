@@ -12,6 +12,7 @@ import pytest
 
 import gearopt as go
 from gearopt import data as data_pkg
+from gearopt.cases.timing_train import quasi_static_load_case
 from gearopt.data import data_of, load_default_data, require_section, system_from_data
 from gearopt.design.tooth_counts import enumerate_tooth_counts, reference_speed_ratios
 from gearopt.engine import (AccessoryTorque, CylinderPressure, EngineExcitation, air_compressor_torque_Nm,
@@ -77,7 +78,7 @@ def test_missing_joints_and_engine_of_the_report_tables():
         joint_table(no_joints, "spur")
     no_engine = {k: v for k, v in DATA.items() if k != "engine"}
     with pytest.raises(MissingSectionError, match=r"\[engine\] is missing: the quasi-static accessory load case"):
-        joint_table(no_engine, "spur")          # torques_Nm=None: the accessory peaks come from [engine]
+        quasi_static_load_case(no_engine, "spur")   # the timing case's accessory peaks come from [engine]
 
 
 def test_double_wiebe_without_data_needs_every_argument():

@@ -9,7 +9,7 @@ values the default data's [C] inertia notes use for the AC gear), reported in ``
 
 from __future__ import annotations
 
-from ..data import values
+from ..data import System, system_of
 from ..errors import GearoptInputError
 from ..geometry.train import GearTrain
 from .blank import GearBlank
@@ -18,25 +18,22 @@ DEFAULT_WEB_THICKNESS_MM = 12.0
 DEFAULT_RIM_THICKNESS_MODULES = 3.5
 
 
-def _joint_of(d: dict, gear: str) -> dict | None:
-    for j in d.get("joints", {}).values():
-        if j.get("gear") == gear:
-            return j
-    return None
-
-
-def blank_from_data(data: dict, train: GearTrain, gear: str) -> tuple[GearBlank, list[str]]:
-    """The :class:`GearBlank` of one gear (tip/root diameters from ``train``) and the list of assumed inputs."""
-    d = values(data)
-    if gear not in d.get("gears", {}):
-        raise GearoptInputError(f"gear={gear!r} is not in [gears] ({sorted(d.get('gears', {}))})")
+def blank_from_data(system: System, train: GearTrain, gear: str) -> tuple[GearBlank, list[str]]:
+    """The :class:`GearBlank` of one gear of ``system`` (``system.gear(gear).entries``, bore and hub from
+    ``system.joint_of(gear)``, density from its ``system.materials`` entry; tip/root diameters from ``train``) and
+    the list of assumed inputs. ``system``: the :class:`~gearopt.data.System` of the data file (during the
+    transition its validated dict is accepted too, :func:`gearopt.data.system_of`)."""
+    system = system_of(system, "blank_from_data")
+    if gear not in system.gears:
+        raise GearoptInputError(f"gear={gear!r} is not in [gears] ({sorted(system.gears)})")
     if gear not in train.gears:
         raise GearoptInputError(f"gear={gear!r} is not a gear of the train ({list(train.gears)})")
-    g = d["gears"][gear]
+    g = system.gear(gear).entries
     table = train.gear_table()
     d_a, d_f = float(table.loc[gear, "tip_diameter_mm"]), float(table.loc[gear, "root_diameter_mm"])
-    rho = d["materials"][g["material"]]["density_kg_m3"] if g.get("material") in d.get("materials", {}) else 7850.0
-    j = _joint_of(d, gear)
+    rho = system.materials[g["material"]]["density_kg_m3"] if g.get("material") in system.materials else 7850.0
+    joint = system.joint_of(gear)
+    j = joint.entries if joint is not None else None
     assumed = []
     if j is None:
         raise GearoptInputError(f"gear {gear!r} has no [joints.*] entry: its bore and hub are unknown")
@@ -57,7 +54,7 @@ def blank_from_data(data: dict, train: GearTrain, gear: str) -> tuple[GearBlank,
         assumed.append(f"web_thickness_mm={t:g}")
     t_r = g.get("rim_thickness_mm")
     if t_r is None:
-        t_r = DEFAULT_RIM_THICKNESS_MODULES * d["rack"]["module_mm"]
+        t_r = DEFAULT_RIM_THICKNESS_MODULES * system.rack.module_mm
         assumed.append(f"rim_thickness_mm={t_r:g} (3.5 m_n)")
     blank = GearBlank(d_a, d_f, b, bore, hub_outer_diameter_mm=hub_d, hub_length_mm=max(hub_l, t),
                       web_thickness_mm=t, rim_thickness_mm=t_r,

@@ -13,9 +13,9 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import Any
 
-from ..errors import GearoptInputError, MissingSectionError
+from ..errors import DataFileError, GearoptInputError, MissingSectionError
 from .schema_keys import SECTION_USES
-from .system import System
+from .system import Joint, System, system_from_data
 
 
 def data_of(source: System | Mapping[str, Any] | None, needed_by: str = "this function") -> dict[str, Any]:
@@ -33,6 +33,38 @@ def data_of(source: System | Mapping[str, Any] | None, needed_by: str = "this fu
         raise GearoptInputError(f"{needed_by}: data={type(source).__name__} must be a System "
                                 f"(gearopt.load_system(path)) or the dict of a data file")
     return source if isinstance(source, dict) else dict(source)
+
+
+def system_of(source: System | Mapping[str, Any] | None, needed_by: str = "this function") -> System:
+    """The :class:`System` of ``source``: the system itself, or the :class:`System` of a validated data dict
+    (:func:`~gearopt.data.system.system_from_data`; validation is cached by content, so a dict already validated
+    costs a few ms). The one conversion point of the library functions that take a System (during the transition
+    they still accept the validated dict). ``None`` or a non-mapping raises as :func:`data_of`."""
+    if isinstance(source, System):
+        return source
+    return system_from_data(data_of(source, needed_by))
+
+
+def joint_record(system: System, joint: str, needed_by: str = "this function") -> Joint:
+    """The joint ``[joints.<joint>]`` of ``system``; a missing one raises
+    :class:`~gearopt.errors.DataFileError` naming the file, the key path ``joints.<joint>`` and the joints the file
+    has."""
+    if joint not in system.joints:
+        raise DataFileError(f"{system.source}: joints.{joint} is missing: {needed_by} needs the joint {joint!r} "
+                            f"(joints: {', '.join(sorted(system.joints)) or 'none'}); add [joints.{joint}]")
+    return system.joints[joint]
+
+
+def material_record(system: System, name: str, needed_by: str = "this function",
+                    where: str | None = None) -> Mapping[str, Any]:
+    """The material ``[materials.<name>]`` of ``system`` (values, provenance stripped, read-only); a missing one
+    raises :class:`~gearopt.errors.DataFileError` naming the file, the key path ``materials.<name>``, the key
+    that refers to it (``where``, e.g. ``"joints.cam.hub_material"``) and the materials the file has."""
+    if name not in system.materials:
+        ref = f" ({where} = {name!r})" if where else ""
+        raise DataFileError(f"{system.source}: materials.{name} is missing{ref}: {needed_by} needs it (materials: "
+                            f"{', '.join(sorted(system.materials)) or 'none'}); add [materials.{name}]")
+    return system.materials[name]
 
 
 def source_name(source: System | Mapping[str, Any] | None) -> str:
@@ -59,4 +91,4 @@ def require_section(source: System | Mapping[str, Any] | None, section: str,
     return data[section]
 
 
-__all__ = ["data_of", "require_section", "source_name"]
+__all__ = ["data_of", "system_of", "joint_record", "material_record", "require_section", "source_name"]

@@ -35,8 +35,7 @@ from .. import numerics as nm
 from ..blank.blank import GearBlank
 from ..blank.catalogue import blank_from_data
 from ..blank.web import web_fatigue, web_stress
-from ..data import system_from_data
-from ..data import values as data_values
+from ..data import System, material_record, system_of
 from ..errors import GearoptInputError
 from ..validation import check_range
 from ..geometry.train import GearTrain
@@ -93,14 +92,16 @@ class BlankSpec:
                          tooth_fill_factor=self.tooth_fill_factor)
 
     @classmethod
-    def from_data(cls, data: dict, train: GearTrain, gear: str) -> "BlankSpec":
-        """The webbed blank of ``gear`` (:func:`gearopt.blank.blank_from_data`) with its ``[materials.*]``."""
-        blank, _ = blank_from_data(data, train, gear)
+    def from_data(cls, system: System, train: GearTrain, gear: str) -> "BlankSpec":
+        """The webbed blank of ``gear`` (:func:`gearopt.blank.blank_from_data`) with its material
+        (``system.materials`` of ``system.gear(gear).material``). ``system``: the :class:`~gearopt.data.System` of
+        the data file (during the transition its validated dict is accepted too, :func:`gearopt.data.system_of`)."""
+        system = system_of(system, "BlankSpec.from_data")
+        blank, _ = blank_from_data(system, train, gear)
         if blank.web_thickness_mm is None:
             raise GearoptInputError(f"gear {gear!r} has a solid blank: nothing to size (limit: a webbed or recessed "
                                     f"blank)")
-        d = data_values(data)
-        mat = d["materials"][d["gears"][gear]["material"]]
+        mat = material_record(system, system.gear(gear).material, "BlankSpec.from_data", f"gears.{gear}.material")
         return cls(tip_diameter_mm=float(blank.tip_diameter_mm), root_diameter_mm=float(blank.root_diameter_mm),
                    face_width_mm=float(blank.face_width_mm), bore_diameter_mm=float(blank.bore_diameter_mm),
                    hub_outer_diameter_mm=float(blank.hub_outer_diameter_mm), hub_length_mm=float(blank.hub_length_mm),
@@ -131,14 +132,16 @@ class WebDemand:
             raise GearoptInputError(f"web demand {self.name!r} has no load (limit: at least one nonzero load)")
 
 
-def web_demand_from_loads(data: dict, train: GearTrain, gear: str, torques_Nm: dict | None = None, *,
+def web_demand_from_loads(system: System, train: GearTrain, gear: str, torques_Nm: dict | None = None, *,
                           reverse_factor: float = 1.0, root_rotation: str = "cw", name: str = "design") -> WebDemand:
     """Web loads of ``gear`` under per-mesh torques (default the data's design torques, ``[meshes.<name>]
     design_torque_Nm``: torque on each mesh's driving gear), as the main job's web table takes them: joint torque (:func:`gearopt.joints.walk_off`), the
     in-plane force bounded by the sum of the transverse mesh-force magnitudes F_t / cos(alpha_wt), the net axial
-    force."""
+    force. ``system``: the :class:`~gearopt.data.System` of the data file (read only for its design torques when
+    ``torques_Nm`` is None; during the transition its validated dict is accepted too,
+    :func:`gearopt.data.system_of`)."""
     if torques_Nm is None:
-        torques_Nm = system_from_data(data).design_torques_Nm()
+        torques_Nm = system_of(system, "web_demand_from_loads").design_torques_Nm()
         if not torques_Nm:
             raise GearoptInputError("the data state no design torque ([meshes.<name>] design_torque_Nm); pass "
                                     "torques_Nm")

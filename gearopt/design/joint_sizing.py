@@ -44,7 +44,7 @@ from typing import Any, Sequence
 import numpy as np
 import pandas as pd
 
-from ..data import values as data_values
+from ..data import System, joint_record, system_of
 from ..errors import GearoptInputError
 from ..validation import check_range
 from ..joints.iso286 import fit_interference_um
@@ -345,18 +345,19 @@ def taper_margin_table(spec: TaperFitSpec, nut_torque_Nm: float, demands, *, cap
 # data entry point
 # ----------------------------------------------------------------------------------------------------------------
 
-def size_joint(data: dict, joint: str, demands, *, proof_strength_MPa: float | None = None,
+def size_joint(system: System, joint: str, demands, *, proof_strength_MPa: float | None = None,
                **options: Any) -> JointSizing:
-    """Size ``[joints.<joint>]`` of the data: :func:`size_press_fit` or :func:`size_taper_fit` by its type
-    (``proof_strength_MPa`` for taper nuts; ``options`` go to the sizing function)."""
-    d = data_values(data)
-    if joint not in d.get("joints", {}):
-        raise GearoptInputError(f"joint={joint!r} is not in [joints] ({sorted(d.get('joints', {}))})")
-    kind = d["joints"][joint]["joint_type"]
+    """Size the joint ``joint`` of ``system`` (``system.joints[joint]``): :func:`size_press_fit` or
+    :func:`size_taper_fit` by its type (``proof_strength_MPa`` for taper nuts; ``options`` go to the sizing
+    function). ``system``: the :class:`~gearopt.data.System` of the data file (during the transition its validated
+    dict is accepted too, :func:`gearopt.data.system_of`); a joint the file lacks raises naming the file and
+    ``joints.<joint>``."""
+    system = system_of(system, "size_joint")
+    kind = joint_record(system, joint, "size_joint").joint_type
     if kind == "press_fit":
-        return size_press_fit(PressFitSpec.from_data(data, joint), demands, **options)
+        return size_press_fit(PressFitSpec.from_data(system, joint), demands, **options)
     if kind == "taper_nut":
-        return size_taper_fit(TaperFitSpec.from_data(data, joint, proof_strength_MPa=proof_strength_MPa), demands,
+        return size_taper_fit(TaperFitSpec.from_data(system, joint, proof_strength_MPa=proof_strength_MPa), demands,
                               **options)
     raise GearoptInputError(f"[joints.{joint}] joint_type={kind!r} must be 'press_fit' or 'taper_nut'")
 

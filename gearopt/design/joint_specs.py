@@ -10,7 +10,7 @@ from dataclasses import dataclass, field
 import pandas as pd
 
 from .. import numerics as nm
-from ..data import values as data_values
+from ..data import System, joint_record, material_record, system_of
 from ..errors import GearoptInputError
 from ..validation import check_range
 from ..joints.iso286 import tolerance_grade_um
@@ -98,9 +98,11 @@ class PressFitSpec:
         return float(self.interference_max_um) - float(self.interference_min_um)
 
     @classmethod
-    def from_data(cls, data: dict, joint: str) -> "PressFitSpec":
-        """The spec of ``[joints.<joint>]`` (a ``press_fit``) with its ``[materials.*]``."""
-        j, shaft, hub = _joint_entry(data, joint, "press_fit")
+    def from_data(cls, system: System, joint: str) -> "PressFitSpec":
+        """The spec of the joint ``joint`` of ``system`` (``system.joints[joint]``, a ``press_fit``) with its
+        ``system.materials``. ``system``: the :class:`~gearopt.data.System` of the data file (during the transition
+        its validated dict is accepted too, :func:`gearopt.data.system_of`)."""
+        j, shaft, hub = _joint_entry(system, joint, "press_fit")
         return cls(shaft_diameter_mm=j["shaft_diameter_mm"], shaft_bore_mm=j["shaft_bore_diameter_mm"],
                    hub_outer_diameter_mm=j["hub_outer_diameter_mm"], length_mm=j["fit_length_mm"],
                    friction=j["friction_coefficient"], shaft_E_MPa=shaft["E_MPa"], shaft_nu=shaft["poisson_ratio"],
@@ -148,10 +150,11 @@ class TaperFitSpec:
                 raise GearoptInputError("proof_strength_MPa needs thread_stress_area_mm2")
 
     @classmethod
-    def from_data(cls, data: dict, joint: str, *, proof_strength_MPa: float | None = None) -> "TaperFitSpec":
-        """The spec of ``[joints.<joint>]`` (a ``taper_nut``). The data hold no bolt property class, so the proof
-        strength is an argument (e.g. 830 MPa for class 10.9, ISO 898-1, as the data's nut-torque notes use)."""
-        j, _, hub = _joint_entry(data, joint, "taper_nut")
+    def from_data(cls, system: System, joint: str, *, proof_strength_MPa: float | None = None) -> "TaperFitSpec":
+        """The spec of the joint ``joint`` of ``system`` (``system.joints[joint]``, a ``taper_nut``; ``system`` as
+        :meth:`PressFitSpec.from_data`). The data hold no bolt property class, so the proof strength is an argument
+        (e.g. 830 MPa for class 10.9, ISO 898-1, as the data's nut-torque notes use)."""
+        j, _, hub = _joint_entry(system, joint, "taper_nut")
         return cls(large_diameter_mm=j["taper_large_diameter_mm"], small_diameter_mm=j["taper_small_diameter_mm"],
                    half_angle_deg=j["taper_half_angle_deg"], friction=j["friction_coefficient"],
                    thread_diameter_mm=j["nut_thread_diameter_mm"], nut_factor_min=j["nut_factor_min"],
@@ -161,19 +164,16 @@ class TaperFitSpec:
                    proof_strength_MPa=proof_strength_MPa, nut_torque_Nm=j.get("nut_torque_Nm"), name=joint)
 
 
-def _joint_entry(data: dict, joint: str, kind: str) -> tuple[dict, dict, dict]:
-    d = data_values(data)
-    joints = d.get("joints", {})
-    if joint not in joints:
-        raise GearoptInputError(f"joint={joint!r} is not in [joints] ({sorted(joints)})")
-    j = joints[joint]
+def _joint_entry(system: System, joint: str, kind: str) -> tuple:
+    """(entries of ``system.joints[joint]``, its shaft material, its hub material): a joint of another ``kind`` raises
+    naming it; a joint or material the file lacks raises naming the file and key path."""
+    system = system_of(system, f"the {kind} spec")
+    j = joint_record(system, joint, f"the {kind} spec").entries
     if j["joint_type"] != kind:
         raise GearoptInputError(f"[joints.{joint}] joint_type={j['joint_type']!r}; this needs {kind!r}")
-    mats = d.get("materials", {})
-    for key in ("shaft_material", "hub_material"):
-        if j[key] not in mats:
-            raise GearoptInputError(f"[joints.{joint}] {key}={j[key]!r} is not in [materials] ({sorted(mats)})")
-    return j, mats[j["shaft_material"]], mats[j["hub_material"]]
+    shaft, hub = (material_record(system, j[key], f"the {kind} spec", f"joints.{joint}.{key}")
+                  for key in ("shaft_material", "hub_material"))
+    return j, shaft, hub
 
 
 def default_tolerance_band_um(shaft_diameter_mm: float) -> float:

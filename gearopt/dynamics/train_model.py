@@ -244,7 +244,7 @@ def _gear_inertia(system, train, name: str) -> tuple[float, str]:
     table = train.gear_table()
     d_a, d_f = float(table.loc[name, "tip_diameter_mm"]), float(table.loc[name, "root_diameter_mm"])
     if system.joint_of(name) is not None:
-        blank, assumed = blank_from_data(system.data, train, name)
+        blank, assumed = blank_from_data(system, train, name)
         blank = replace(blank, density_kg_m3=rho)
         extra = f"; assumed {', '.join(assumed)}" if assumed else ""
         return float(blank.inertia_kgm2()), (f"[E] {blank.kind} GearBlank, bore of joint "

@@ -23,6 +23,7 @@ import math
 import numpy as np
 import pandas as pd
 
+from ..data import System, joint_record, material_record, require_section, system_of
 from ..errors import GearoptInputError
 from ..validation import check_range
 from .joint_friction import FrictionJoint, joint_simulator
@@ -90,16 +91,17 @@ def thrust_signs(train, gear: str, root_rotation: str = "cw") -> tuple:
     return tuple(out)
 
 
-def fit_capacity_N(data: dict, joint: str, *, interference_um: float | None = None,
+def fit_capacity_N(system: System, joint: str, *, interference_um: float | None = None,
                    friction_coefficient: float | None = None, smoothing_loss_um: float = 0.0,
                    speed_rpm: float = 0.0) -> float:
-    """Friction capacity mu p pi d l [N] of ``[joints.<joint>]`` (a press fit) for a given diametral interference
-    [um] (default the fit's mean), friction coefficient (default the data's) and smoothing loss [um], at
-    ``speed_rpm`` (centrifugal loss): :func:`gearopt.joints.press_fit`."""
-    from ..data import values
+    """Friction capacity mu p pi d l [N] of the joint ``joint`` of ``system`` (``system.joints[joint]``, a press
+    fit, with its ``system.materials``) for a given diametral interference [um] (default the fit's mean), friction
+    coefficient (default the data's) and smoothing loss [um], at ``speed_rpm`` (centrifugal loss):
+    :func:`gearopt.joints.press_fit`. ``system``: a :class:`~gearopt.data.System` (during the transition its
+    validated dict is accepted too, :func:`gearopt.data.system_of`)."""
     from ..joints import press_fit
-    d = values(data)
-    j = d["joints"][joint]
+    system = system_of(system, "fit_capacity_N")
+    j = joint_record(system, joint, "fit_capacity_N").entries
     if j["joint_type"] != "press_fit":
         raise GearoptInputError(f"joint {joint!r} is a {j['joint_type']}, not a press fit")
     mu = float(j["friction_coefficient"]) if friction_coefficient is None else float(friction_coefficient)
@@ -107,7 +109,8 @@ def fit_capacity_N(data: dict, joint: str, *, interference_um: float | None = No
         raise GearoptInputError(f"friction_coefficient={mu!r} must be > 0")
     delta = float(j["diametral_interference_um"]) if interference_um is None else float(interference_um)
     check_range("smoothing_loss_um", smoothing_loss_um, 0.0, None, unit="um")
-    hub, shaft = d["materials"][j["hub_material"]], d["materials"][j["shaft_material"]]
+    hub = material_record(system, j["hub_material"], "fit_capacity_N", f"joints.{joint}.hub_material")
+    shaft = material_record(system, j["shaft_material"], "fit_capacity_N", f"joints.{joint}.shaft_material")
     r = press_fit(j["shaft_diameter_mm"], j["shaft_bore_diameter_mm"], j["hub_outer_diameter_mm"], j["fit_length_mm"],
                   max(delta, 0.0), shaft["E_MPa"], shaft["poisson_ratio"], hub["E_MPa"], hub["poisson_ratio"], mu,
                   smoothing_loss_um=smoothing_loss_um, speed_rpm=speed_rpm,
@@ -115,19 +118,19 @@ def fit_capacity_N(data: dict, joint: str, *, interference_um: float | None = No
     return float(r.axial_capacity_N)
 
 
-def fit_cases(data: dict, joint: str, speed_rpm: float) -> dict:
+def fit_cases(system: System, joint: str, speed_rpm: float) -> dict:
     """Capacities [N] at ``speed_rpm`` of the fit's extremes: ``weakest`` (minimum ISO 286 interference, DIN 7190
     smoothing 0.8 sum Rz, lowest friction coefficient), ``nominal`` (mean interference, no smoothing, data's mu)
-    and ``strongest`` (maximum interference, 0.4 sum Rz, highest mu)."""
-    from ..data import values
-    j = values(data)["joints"][joint]
+    and ``strongest`` (maximum interference, 0.4 sum Rz, highest mu). ``system``: as :func:`fit_capacity_N`."""
+    system = system_of(system, "fit_cases")
+    j = joint_record(system, joint, "fit_cases").entries
     rz = float(j["shaft_roughness_Rz_um"]) + float(j["hub_roughness_Rz_um"])
     f = JOINT_FRICTION_DATA
-    return {"weakest": fit_capacity_N(data, joint, interference_um=j["diametral_interference_min_um"],
+    return {"weakest": fit_capacity_N(system, joint, interference_um=j["diametral_interference_min_um"],
                                       friction_coefficient=f["friction_coefficient_min"],
                                       smoothing_loss_um=0.8 * rz, speed_rpm=speed_rpm),
-            "nominal": fit_capacity_N(data, joint, speed_rpm=speed_rpm),
-            "strongest": fit_capacity_N(data, joint, interference_um=j["diametral_interference_max_um"],
+            "nominal": fit_capacity_N(system, joint, speed_rpm=speed_rpm),
+            "strongest": fit_capacity_N(system, joint, interference_um=j["diametral_interference_max_um"],
                                         friction_coefficient=f["friction_coefficient_max"],
                                         smoothing_loss_um=0.4 * rz, speed_rpm=speed_rpm)}
 
@@ -141,18 +144,15 @@ def model_joints(model, joint: str, levels: int = 1, *, thrust_scale: float = 1.
     do not interact). Gear inertia: the whole node for a gear that is its own node (cam), else the data's gear
     inertia (crank: ``gears.crank.inertia_kgm2`` or its solid-disc estimate), as
     :func:`~gearopt.dynamics.sweep.walk_off_history`."""
-    from ..data import values
     from .sweep import _model_gear_inertia_kgm2
-    d = values(model.data)
-    if joint not in d.get("joints", {}):
-        raise GearoptInputError(f"joint={joint!r} is not in [joints] ({sorted(d.get('joints', {}))})")
+    system = system_of(model.data, "model_joints")
+    spec = joint_record(system, joint, "model_joints").entries
     check_range("levels", levels, 1, None)
-    spec = d["joints"][joint]
     gear = spec["gear"]
     node = model.gear_nodes.get(gear, gear)
     j_g = model.network.inertias[node].inertia_kgm2 if node == gear else _model_gear_inertia_kgm2(model, gear)[0]
     f = JOINT_FRICTION_DATA
-    cap = fit_capacity_N(model.data, joint)
+    cap = fit_capacity_N(system, joint)
     clearance = f["key_clearance_um"] if key_clearance_um is None else key_clearance_um
     return [FrictionJoint(f"{label or joint}#{i}", node, float(spec["shaft_diameter_mm"]), cap,
                           thrust_signs(model.train, gear, root_rotation), float(j_g), key_clearance_um=clearance,
@@ -178,33 +178,36 @@ def gear_mass_kg(model, gear: str) -> float:
     return 2.0 * j_gear / (1e-3 * max(radii)) ** 2
 
 
-def damper_coefficient(data: dict, state) -> float:
-    """Viscous coefficient [N m s/rad] of the crankshaft damper in ``state``: a name of :data:`DAMPER_STATES` or a
-    coefficient [N m s/rad] (>= 0; e.g. from the fluid's viscosity at its temperature)."""
-    from ..data import values
+def damper_coefficient(system: System, state) -> float:
+    """Viscous coefficient [N m s/rad] of the crankshaft damper in ``state``: a name of :data:`DAMPER_STATES` (times
+    ``[engine.crankshaft] damper_viscous_damping_Nms_per_rad`` of ``system``) or a coefficient [N m s/rad] (>= 0;
+    e.g. from the fluid's viscosity at its temperature). ``system``: as :func:`fit_capacity_N`."""
     if isinstance(state, (int, float)) and not isinstance(state, bool):
         check_range("damper coefficient", state, 0.0, None, unit="N m s/rad")
         return float(state)
     if state not in DAMPER_STATES:
         raise GearoptInputError(f"damper state={state!r} must be one of {sorted(DAMPER_STATES)} or a coefficient "
                                 f"[N m s/rad] >= 0")
-    return float(values(data)["engine"]["crankshaft"]["damper_viscous_damping_Nms_per_rad"]) * DAMPER_STATES[state]
+    e = system_of(system, "damper_coefficient").section("engine", "damper_coefficient")
+    return float(e["crankshaft"]["damper_viscous_damping_Nms_per_rad"]) * DAMPER_STATES[state]
 
 
-def envelope_speeds_rpm(data: dict) -> dict:
-    """Speeds of the envelope [rpm] with their sources (module docstring)."""
-    from ..data import values
-    e, raw = values(data)["engine"], data.get("engine", {})
+def envelope_speeds_rpm(system: System) -> dict:
+    """Speeds of the envelope [rpm] with their sources (module docstring): the rated, high-idle and overspeed-test
+    speeds of ``[engine]`` of ``system`` (as :func:`fit_capacity_N`) with their provenance strings, and
+    :data:`ENVELOPE_EXTRA_SPEED_RPM`."""
+    system = system_of(system, "envelope_speeds_rpm")
+    e, raw = system.section("engine", "envelope_speeds_rpm"), require_section(system, "engine", "envelope_speeds_rpm")
     return {"rated": (float(e["rated_speed_rpm"]), raw.get("rated_speed_rpm_source", "")),
             "high_idle": (float(e["high_idle_speed_rpm"]), raw.get("high_idle_speed_rpm_source", "")),
             "overspeed_test": (float(e["overspeed_test_speed_rpm"]), raw.get("overspeed_test_speed_rpm_source", "")),
             "motoring_overspeed": (ENVELOPE_EXTRA_SPEED_RPM, ENVELOPE_EXTRA_SPEED_SOURCE)}
 
 
-def capacity_levels_N(data: dict, joint: str, speed_rpm: float, levels: int) -> np.ndarray:
+def capacity_levels_N(system: System, joint: str, speed_rpm: float, levels: int) -> np.ndarray:
     """``levels`` capacities [N] spread geometrically from the weakest to the strongest fit case at the speed
-    (the grid over which the Monte Carlo interpolates the creep)."""
-    cases = fit_cases(data, joint, speed_rpm)
+    (the grid over which the Monte Carlo interpolates the creep). ``system``: as :func:`fit_capacity_N`."""
+    cases = fit_cases(system, joint, speed_rpm)
     lo, hi = max(cases["weakest"], 1.0), max(cases["strongest"], 2.0)
     return np.geomspace(lo, hi, levels) if levels > 1 else np.array([cases["nominal"]])
 
@@ -242,11 +245,12 @@ def joint_envelope(model, joints=("cam", "crank"), speeds_rpm=None, damper_state
     """
     from ..compile_cache import auto_jit
     data = model.data
-    speeds = [v for v, _ in envelope_speeds_rpm(data).values()] if speeds_rpm is None else \
+    system = system_of(data, "joint_envelope")
+    speeds = [v for v, _ in envelope_speeds_rpm(system).values()] if speeds_rpm is None else \
         [float(s) for s in np.atleast_1d(speeds_rpm)]
     states = list(DAMPER_STATES) if damper_states is None else list(damper_states)
     for s in states:
-        damper_coefficient(data, s)
+        damper_coefficient(system, s)
     check_range("levels", levels, 1, None)
     elements = []
     labels = {joint: (joint, thrust_scale) for joint in joints}
@@ -289,14 +293,15 @@ def _envelope_point(task) -> list[dict]:
         _REGISTRY[key] = (model, joint_simulator(model.network, elements, lash=spec["lash"], rtol=spec["rtol"],
                                                  jit=spec["jit"], min_speed_rpm=spec["min_speed_rpm"]))
     model, sim = _REGISTRY[key]
+    system = system_of(data, "joint_envelope")
     levels = spec["levels"]
     p = model.parameters_at(speed)
     p.update(spec["parameters"])
-    p[DAMPER_PARAMETER] = damper_coefficient(data, state)
+    p[DAMPER_PARAMETER] = damper_coefficient(system, state)
     caps, case_of = {}, {}
     for label, (joint, _) in spec["labels"].items():
-        cases = fit_cases(data, joint, speed)
-        grid = capacity_levels_N(data, joint, speed, levels)
+        cases = fit_cases(system, joint, speed)
+        grid = capacity_levels_N(system, joint, speed, levels)
         below = len(BELOW_TOLERANCE_FRACTIONS)
         if levels >= 3:
             mid = 1 + int(np.argmin(np.abs(np.log(grid[1:-1] / cases["nominal"]))))

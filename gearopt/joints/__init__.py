@@ -11,7 +11,7 @@ from .bolt import (
     nut_torque_Nm,
     thread_stress_area_mm2,
 )
-from .catalogue import JointCapacity, accessory_load_torques_Nm, joint_capacities, joint_capacity
+from .catalogue import JointCapacity, joint_capacities, joint_capacity
 from .iso286 import fit_interference_um, hole_deviations_um, shaft_deviations_um, tolerance_grade_um
 from .press_fit import (
     PressFitResult,
@@ -46,5 +46,5 @@ __all__ = [
     "fit_interference_um", "hole_deviations_um", "shaft_deviations_um", "tolerance_grade_um",
     "WalkOffResult", "gear_rotation_signs", "mesh_axial_force_N", "working_helix_angle_deg",
     "quasi_static_mesh_torques_Nm", "press_fit_slip_utilisation", "joint_margins", "margin_history",
-    "joint_capacity", "joint_capacities", "JointCapacity", "accessory_load_torques_Nm",
+    "joint_capacity", "joint_capacities", "JointCapacity",
 ]

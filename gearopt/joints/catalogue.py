@@ -1,6 +1,7 @@
-"""The shaft-hub joints of a data set of the default schema (``[joints.*]``, ``[materials.*]``, ``[engine.*]``):
-capacities from :func:`~gearopt.joints.press_fit.press_fit` / :func:`~gearopt.joints.taper_fit.taper_fit`, and a
-quasi-static accessory load case for the margins.
+"""The shaft-hub joints of a :class:`~gearopt.data.System` (its ``[joints.*]`` and ``[materials.*]`` records):
+capacities from :func:`~gearopt.joints.press_fit.press_fit` / :func:`~gearopt.joints.taper_fit.taper_fit`. (The
+timing train's quasi-static accessory load case lives in its case package,
+:func:`gearopt.cases.timing_train.accessory_load_torques_Nm`.)
 
 Press fits use the nominal (mean) ISO 286 interference by default and, like the thesis (plain Shigley formula), no
 smoothing loss; ``smoothing=True`` applies DIN 7190 to the data's Rz values. Taper joints use the data's nut torque
@@ -13,7 +14,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from .. import numerics as nm
-from ..data import values
+from ..data import System, joint_record, material_record, system_of
 from ..errors import GearoptInputError
 from ._record import ResultRecord
 from .press_fit import press_fit
@@ -65,18 +66,16 @@ class JointCapacity(ResultRecord):
         return self.to_dict()
 
 
-def _material(d: dict, name: str) -> dict:
-    try:
-        return d["materials"][name]
-    except KeyError:
-        raise GearoptInputError(f"material {name!r} is not in [materials] ({sorted(d.get('materials', {}))})") \
-            from None
-
-
-def joint_capacity(data: dict, joint: str, *, interference: str = "nominal", nut_factor: str = "nominal",
+def joint_capacity(system: System, joint: str, *, interference: str = "nominal", nut_factor: str = "nominal",
                    smoothing: bool = False, theory: str = "uniform_pressure", speed_rpm: float = 0.0,
                    overrides: dict | None = None) -> JointCapacity:
-    """Capacity of one ``[joints.<joint>]`` entry as a :class:`JointCapacity` record.
+    """Capacity of the joint ``joint`` of ``system`` (``system.joints[joint]`` with its hub and shaft
+    ``system.materials``) as a :class:`JointCapacity` record.
+
+    ``system``: the :class:`~gearopt.data.System` of the data file (``gearopt.load_system(path)``; during the
+    transition its validated dict is accepted too, :func:`gearopt.data.system_of`). A joint or material the file
+    lacks raises :class:`~gearopt.errors.DataFileError` naming the file and the key path (``joints.<name>``,
+    ``materials.<name>``).
 
     ``interference``: ``"nominal"``/``"min"``/``"max"`` of the ISO 286 fit (press fits); ``nut_factor``:
     ``"nominal"``/``"min"``/``"max"`` (taper joints; the *max* factor gives the *lowest* preload); ``smoothing``:
@@ -89,16 +88,14 @@ def joint_capacity(data: dict, joint: str, *, interference: str = "nominal", nut
     NLP: e.g. ``{"diametral_interference_um": x}`` with ``interference="nominal"``, ``fit_length_mm``,
     ``nut_torque_Nm``); symbolic entries give symbolic capacities.
     """
-    d = values(data)
-    if joint not in d.get("joints", {}):
-        raise GearoptInputError(f"joint={joint!r} is not in [joints] ({sorted(d.get('joints', {}))})")
-    j = dict(d["joints"][joint])
+    system = system_of(system, "joint_capacity")
+    j = dict(joint_record(system, joint, "joint_capacity").entries)
     unknown = set(overrides or {}) - set(j)
     if unknown:
         raise GearoptInputError(f"overrides={sorted(unknown)} are not entries of [joints.{joint}] ({sorted(j)})")
     j.update(overrides or {})
-    hub = _material(d, j["hub_material"])
-    shaft = _material(d, j["shaft_material"])
+    hub = material_record(system, j["hub_material"], "joint_capacity", f"joints.{joint}.hub_material")
+    shaft = material_record(system, j["shaft_material"], "joint_capacity", f"joints.{joint}.shaft_material")
     row: dict[str, Any] = {"joint": joint, "gear": j["gear"], "type": j["joint_type"]}
     if j["joint_type"] == "press_fit":
         if interference not in _INTERFERENCE_KEYS:
@@ -136,29 +133,10 @@ def joint_capacity(data: dict, joint: str, *, interference: str = "nominal", nut
                             for k, v in row.items()})
 
 
-def joint_capacities(data: dict, **options) -> dict[str, JointCapacity]:
-    """:func:`joint_capacity` of every ``[joints.*]`` entry, keyed by joint name."""
-    return {name: joint_capacity(data, name, **options) for name in values(data).get("joints", {})}
+def joint_capacities(system: System, **options) -> dict[str, JointCapacity]:
+    """:func:`joint_capacity` of every joint of ``system`` (``system.joints``), keyed by joint name."""
+    system = system_of(system, "joint_capacities")
+    return {name: joint_capacity(system, name, **options) for name in system.joints}
 
 
-def accessory_load_torques_Nm(data: dict, case: str = "peak") -> dict[str, float]:
-    """Shaft load torques [N m] each gear delivers to its accessory, from ``[engine.*]`` (all [E] estimates):
-
-    ``"peak"``: camshaft valve train mean + amplitude, air compressor peak, fuel pump peak, lube pump mean;
-    ``"mean"``: the mean values (air compressor loaded mean). Combine with
-    :func:`~gearopt.joints.walk_off.quasi_static_mesh_torques_Nm` for a quasi-static load case; dynamic torques
-    (torsional vibration at overspeed, the cause of the thesis' failure) come from the dynamics models instead.
-    """
-    e = values(data)["engine"]
-    if case == "peak":
-        return {"cam": e["camshaft"]["valve_train_torque_mean_Nm"] + e["camshaft"]["valve_train_torque_amplitude_Nm"],
-                "ac": e["air_compressor"]["torque_peak_Nm"], "fp": e["fuel_pump"]["torque_peak_Nm"],
-                "lpg": e["lube_pump"]["torque_mean_Nm"]}
-    if case == "mean":
-        return {"cam": e["camshaft"]["valve_train_torque_mean_Nm"],
-                "ac": e["air_compressor"]["torque_mean_loaded_Nm"], "fp": e["fuel_pump"]["torque_mean_Nm"],
-                "lpg": e["lube_pump"]["torque_mean_Nm"]}
-    raise GearoptInputError(f"case={case!r} must be 'peak' or 'mean'")
-
-
-__all__ = ["joint_capacity", "joint_capacities", "JointCapacity", "accessory_load_torques_Nm", "JOINT_TYPES"]
+__all__ = ["joint_capacity", "joint_capacities", "JointCapacity", "JOINT_TYPES"]

@@ -18,29 +18,26 @@ import pandas as pd
 from ..blank.blank import rim_thickness_factor
 from ..blank.catalogue import blank_from_data
 from ..blank.web import web_fatigue, web_stress
-from ..data import System, data_of, require_section, system_from_data, train_from_data, values
+from ..data import System, material_record, require_section, system_of, train_from_data
 from ..errors import GearoptInputError
 from ..geometry.train import GearTrain
-from ..joints.catalogue import accessory_load_torques_Nm, joint_capacity
-from ..joints.walk_off import joint_margins, quasi_static_mesh_torques_Nm, walk_off
-
-QUASI_STATIC_CASE = ("quasi-static accessory peaks (valve train mean + amplitude, AC and FP peaks, lube pump mean; "
-                     "[E] engine data, summed as if simultaneous, no torsional vibration)")
+from ..joints.catalogue import joint_capacity
+from ..joints.walk_off import joint_margins, walk_off
 
 
-def design_load_torques_Nm(data: dict) -> dict[str, float]:
+def design_load_torques_Nm(data: System | Mapping[str, Any]) -> dict[str, float]:
     """Per-mesh design torques of the data (``[meshes.<name>] design_torque_Nm``, torque on the driving gear): the
-    static design case."""
-    torques = system_from_data(data).design_torques_Nm()
+    static design case. ``data``: a :class:`~gearopt.data.System` (or its validated dict)."""
+    torques = system_of(data, "design_load_torques_Nm").design_torques_Nm()
     if not torques:
         raise GearoptInputError("the data state no design torque ([meshes.<name>] design_torque_Nm)")
     return torques
 
 
-def _train(data: dict, train) -> GearTrain:
+def _train(system: System, train) -> GearTrain:
     if isinstance(train, GearTrain):
         return train
-    return train_from_data(data, train)
+    return train_from_data(system.data, train)
 
 
 def _worst(x) -> tuple[float, float]:
@@ -55,17 +52,20 @@ def _min(x) -> float:
 
 
 def joint_table(data: System | dict, train: str | GearTrain = "spur",
-                torques_Nm: Mapping[str, Any] | str | None = None, *, root_rotation: str = "cw",
+                torques_Nm: Mapping[str, Any] | str | tuple[Mapping[str, Any], str] | None = None, *,
+                root_rotation: str = "cw",
                 inertia_torques_Nm: Mapping[str, Any] | None = None, interference: str = "nominal",
                 nut_factor: str = "nominal", smoothing: bool = False, speed_rpm: float = 0.0) -> pd.DataFrame:
-    """One row per joint (crank, cam, lpi, lpg, ac, fp): capacity, demand and margins.
+    """One row per joint of the data (``system.joints``): capacity, demand and margins.
 
-    ``data``: a :class:`~gearopt.data.System` or its validated dict (required; its ``[joints]``, and ``[engine]``
-    for the quasi-static case, else :class:`~gearopt.errors.MissingSectionError`).
-    ``train``: ``"spur"``/``"helical"`` (built from ``data``) or a :class:`GearTrain`. ``torques_Nm``: {mesh: torque
-    on the mesh's first gear [N m], + when it drives}, floats or arrays of one torque history (meshes left out
-    carry none); ``None`` uses the quasi-static accessory peak case (:data:`QUASI_STATIC_CASE`); ``"design"`` the
-    data's ``[design_loads]`` (:func:`design_load_torques_Nm`). ``inertia_torques_Nm``: {gear: J alpha} in each
+    ``data``: a :class:`~gearopt.data.System` or its validated dict (required; its ``[joints]``, else
+    :class:`~gearopt.errors.MissingSectionError`).
+    ``train``: ``"spur"``/``"helical"`` (built from ``data``) or a :class:`GearTrain`. ``torques_Nm`` (the load
+    case, required): {mesh: torque on the mesh's first gear [N m], + when it drives}, floats or arrays of one
+    torque history (meshes left out carry none); ``"design"`` the data's design torques
+    (:func:`design_load_torques_Nm`); or a ``(torques, description)`` pair, e.g. a case's load case such as the
+    timing train's quasi-static accessory peaks
+    (:func:`gearopt.cases.timing_train.quasi_static_load_case`: the library knows no gear by name). ``inertia_torques_Nm``: {gear: J alpha} in each
     gear's sense of rotation. ``interference``/``nut_factor``/``smoothing``/``speed_rpm``: capacity options of
     :func:`~gearopt.joints.catalogue.joint_capacity` (e.g. ``interference="min"``, ``nut_factor="max"`` for the
     weakest joints of the tolerance and nut-factor ranges).
@@ -77,14 +77,14 @@ def joint_table(data: System | dict, train: str | GearTrain = "spur",
     ``note``. ``df.attrs`` holds the load case and conventions.
     """
     require_section(data, "joints", "joint_table")
-    data = data_of(data, "joint_table")
-    tr = _train(data, train)
-    torques_Nm, case = _load_case(data, tr, torques_Nm)
+    system = system_of(data, "joint_table")
+    tr = _train(system, train)
+    torques_Nm, case = _load_case(tr, torques_Nm, system)
     result = walk_off(tr, torques_Nm, root_rotation=root_rotation, inertia_torques_Nm=inertia_torques_Nm)
     helical = float(tr.helix_angle_deg) != 0.0
     rows = []
-    for name in values(data).get("joints", {}):
-        cap = joint_capacity(data, name, interference=interference, nut_factor=nut_factor, smoothing=smoothing,
+    for name in system.joints:
+        cap = joint_capacity(system, name, interference=interference, nut_factor=nut_factor, smoothing=smoothing,
                              speed_rpm=speed_rpm)
         gear = cap.gear
         if gear not in tr.gears:
@@ -124,16 +124,15 @@ def blank_table(data: System | dict, train: str | GearTrain = "spur") -> pd.Data
     no web), ``inertia_reduction_percent``, ``data_inertia_kgm2`` (the data file's value, for comparison),
     ``backup_ratio``, ``rim_thickness_factor`` (AGMA K_B) and ``assumed`` inputs. ``data``: a
     :class:`~gearopt.data.System` or its validated dict (required)."""
-    data = data_of(data, "blank_table")
-    tr = _train(data, train)
-    gears = values(data)["gears"]
+    system = system_of(data, "blank_table")
+    tr = _train(system, train)
     rows = []
     for gear in tr.gears:
-        blank, assumed = blank_from_data(data, tr, gear)
+        blank, assumed = blank_from_data(system, tr, gear)
         j = float(blank.inertia_kgm2())
         j_solid = float(blank.solid_equivalent().inertia_kgm2())
         m_b = float(blank.backup_ratio)
-        g = gears.get(gear, {})
+        g = system.gears[gear].entries if gear in system.gears else {}
         rows.append({"gear": gear, "blank": blank.kind, "mass_kg": float(blank.mass_kg()), "inertia_kgm2": j,
                      "solid_inertia_kgm2": j_solid, "inertia_reduction_percent": 100.0 * (1.0 - j / j_solid),
                      "data_inertia_kgm2": g.get("inertia_kgm2", g.get("solid_disc_inertia_kgm2", float("nan"))),
@@ -143,19 +142,29 @@ def blank_table(data: System | dict, train: str | GearTrain = "spur") -> pd.Data
     return pd.DataFrame(rows).set_index("gear")
 
 
-def _load_case(data: dict, tr: GearTrain, torques_Nm):
+_LOAD_CASES = ("give a dict of per-mesh torques, 'design' (the data's design torques) or a (torques, description) "
+               "load case, e.g. gearopt.cases.timing_train.quasi_static_load_case(system, train) for the timing "
+               "train's quasi-static accessory peaks")
+
+
+def _load_case(tr: GearTrain, torques_Nm, system: System):
+    """(per-mesh torques, description) of a table's ``torques_Nm`` argument."""
     if isinstance(torques_Nm, str):
         if torques_Nm != "design":
-            raise GearoptInputError(f"torques_Nm={torques_Nm!r}: give a dict of per-mesh torques, None or 'design'")
-        return design_load_torques_Nm(data), "[design_loads] of the data (static design torques on the driving gears)"
+            raise GearoptInputError(f"torques_Nm={torques_Nm!r}: {_LOAD_CASES}")
+        return design_load_torques_Nm(system), "[design_loads] of the data (static design torques on the driving gears)"
     if torques_Nm is None:
-        require_section(data, "engine", "the quasi-static accessory load case (torques_Nm=None)")
-        return quasi_static_mesh_torques_Nm(tr, accessory_load_torques_Nm(data, "peak")), QUASI_STATIC_CASE
+        raise GearoptInputError(f"torques_Nm is required (the load case): {_LOAD_CASES}")
+    if isinstance(torques_Nm, tuple):
+        if len(torques_Nm) != 2 or not isinstance(torques_Nm[0], Mapping) or not isinstance(torques_Nm[1], str):
+            raise GearoptInputError(f"torques_Nm: a load case pair must be (torques, description): {_LOAD_CASES}")
+        return dict(torques_Nm[0]), torques_Nm[1]
     return torques_Nm, "given per-mesh torques"
 
 
 def web_table(data: System | dict, train: str | GearTrain = "spur",
-              torques_Nm: Mapping[str, Any] | str | None = None, *, root_rotation: str = "cw",
+              torques_Nm: Mapping[str, Any] | str | tuple[Mapping[str, Any], str] | None = None, *,
+              root_rotation: str = "cw",
               inertia_torques_Nm: Mapping[str, Any] | None = None, stress_concentration: float = 1.0) -> pd.DataFrame:
     """Web stress and Goodman/EFR fatigue margins of every webbed gear (thesis sec. 3.10 / 4.6, closed-form model of
     :mod:`gearopt.blank.web`).
@@ -166,18 +175,18 @@ def web_table(data: System | dict, train: str | GearTrain = "spur",
     positive value, the reverse stress the largest negative magnitude. A single load case is also applied reversed
     (thesis: every tooth force forward, then reverse), so its forward-reverse case is fully reversed. Material: the
     gear's ``[materials.*]`` endurance, ultimate and yield strengths. ``stress_concentration`` K_t at the pockets.
-    ``data``: a :class:`~gearopt.data.System` or its validated dict (required).
+    ``data``: a :class:`~gearopt.data.System` or its validated dict (required). ``torques_Nm``: the load case, as
+    :func:`joint_table` takes it (required).
     Columns: loads, ``forward_stress_MPa``, ``reverse_stress_MPa`` and per case ``<case>_efr_MPa``,
     ``<case>_fatigue_margin`` (S_e/EFR), and ``yield_margin``.
     """
-    data = data_of(data, "web_table")
-    tr = _train(data, train)
-    torques, case = _load_case(data, tr, torques_Nm)
+    system = system_of(data, "web_table")
+    tr = _train(system, train)
+    torques, case = _load_case(tr, torques_Nm, system)
     result = walk_off(tr, torques, root_rotation=root_rotation, inertia_torques_Nm=inertia_torques_Nm)
-    d = values(data)
     rows = []
     for gear in tr.gears:
-        blank, assumed = blank_from_data(data, tr, gear)
+        blank, assumed = blank_from_data(system, tr, gear)
         if blank.web_thickness_mm is None:
             continue
         force = 0.0
@@ -195,7 +204,7 @@ def web_table(data: System | dict, train: str | GearTrain = "spur",
         single = signed.size == 1
         fwd = float(np.max(np.abs(signed))) if single else float(max(np.max(signed), 0.0))
         rev = fwd if single else float(max(-np.min(signed), 0.0))
-        mat = d["materials"][d["gears"][gear]["material"]]
+        mat = material_record(system, system.gear(gear).material, "web_table", f"gears.{gear}.material")
         fat = web_fatigue(fwd, rev, endurance_limit_MPa=mat["endurance_limit_MPa"],
                           ultimate_strength_MPa=mat["tensile_strength_MPa"],
                           yield_strength_MPa=mat["yield_strength_MPa"])
@@ -215,4 +224,4 @@ def web_table(data: System | dict, train: str | GearTrain = "spur",
     return df
 
 
-__all__ = ["joint_table", "blank_table", "web_table", "design_load_torques_Nm", "QUASI_STATIC_CASE"]
+__all__ = ["joint_table", "blank_table", "web_table", "design_load_torques_Nm"]

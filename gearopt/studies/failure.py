@@ -24,6 +24,7 @@ import math
 import numpy as np
 import pandas as pd
 
+from ..data import System, joint_record, system_of
 from ..errors import GearoptInputError
 from ..validation import check_range
 
@@ -64,16 +65,18 @@ def _creep_interpolator(envelope: pd.DataFrame, joint: str):
     return table
 
 
-def sample_inputs(data: dict, joint: str, samples: int, seed: int = 0, *, speeds_rpm: dict | None = None,
+def sample_inputs(system: System, joint: str, samples: int, seed: int = 0, *, speeds_rpm: dict | None = None,
                   damper_probabilities: dict | None = None, exposure_hours: dict | None = None,
                   interference_shift_um: float = 0.0) -> pd.DataFrame:
     """The Monte Carlo inputs (module docstring) as a DataFrame: ``interference_um``, ``friction_coefficient``,
     ``smoothing_loss_um``, ``damper_state`` and ``hours_<band>`` per sample. ``interference_shift_um`` moves the
-    whole fit (a stronger fit class)."""
-    from ..data import values
+    whole fit (a stronger fit class). ``system``: the :class:`~gearopt.data.System` of the data file (its
+    ``system.joints[joint]`` fit range and roughness, ``[engine]`` speeds; during the transition its validated dict is
+    accepted too, :func:`gearopt.data.system_of`)."""
     from ..dynamics.walk_off_envelope import JOINT_FRICTION_DATA, envelope_speeds_rpm
     check_range("samples", samples, 1, None)
-    j = values(data)["joints"][joint]
+    system = system_of(system, "sample_inputs")
+    j = joint_record(system, joint, "sample_inputs").entries
     rng = np.random.default_rng(seed)
     lo, hi = float(j["diametral_interference_min_um"]), float(j["diametral_interference_max_um"])
     mean, sigma = 0.5 * (lo + hi), (hi - lo) / 6.0
@@ -90,7 +93,7 @@ def sample_inputs(data: dict, joint: str, samples: int, seed: int = 0, *, speeds
     states = rng.choice(list(probs), size=samples, p=list(probs.values()))
     out = pd.DataFrame({"interference_um": delta, "friction_coefficient": mu, "smoothing_loss_um": smoothing,
                         "damper_state": states})
-    bands = envelope_speeds_rpm(data) if speeds_rpm is None else speeds_rpm
+    bands = envelope_speeds_rpm(system) if speeds_rpm is None else speeds_rpm
     exposure = dict(EXPOSURE_HOURS if exposure_hours is None else exposure_hours)
     for band in bands:
         if band not in exposure:
@@ -102,15 +105,17 @@ def sample_inputs(data: dict, joint: str, samples: int, seed: int = 0, *, speeds
     return out
 
 
-def sampled_capacity_N(data: dict, joint: str, speed_rpm: float, interference_um, smoothing_loss_um,
+def sampled_capacity_N(system: System, joint: str, speed_rpm: float, interference_um, smoothing_loss_um,
                        friction_coefficient) -> np.ndarray:
     """Vectorised fit capacity [N] of the Monte Carlo samples: linear in mu and in the effective interference above
     the centrifugal loss (the elastic Lame solution of :func:`~gearopt.dynamics.walk_off_envelope.fit_capacity_N`,
-    fitted through two of its evaluations at ``speed_rpm``; tested against it)."""
+    fitted through two of its evaluations at ``speed_rpm``; tested against it). ``system``: as
+    :func:`sample_inputs`."""
     from ..dynamics.walk_off_envelope import fit_capacity_N
+    system = system_of(system, "sampled_capacity_N")
     mu0 = 0.5
-    c_hi = fit_capacity_N(data, joint, interference_um=200.0, friction_coefficient=mu0, speed_rpm=speed_rpm)
-    c_lo = fit_capacity_N(data, joint, interference_um=100.0, friction_coefficient=mu0, speed_rpm=speed_rpm)
+    c_hi = fit_capacity_N(system, joint, interference_um=200.0, friction_coefficient=mu0, speed_rpm=speed_rpm)
+    c_lo = fit_capacity_N(system, joint, interference_um=100.0, friction_coefficient=mu0, speed_rpm=speed_rpm)
     slope = (c_hi - c_lo) / 100.0
     loss = 200.0 - c_hi / slope
     eff = np.maximum(np.asarray(interference_um, dtype=float) - np.asarray(smoothing_loss_um, dtype=float) - loss,
@@ -118,7 +123,7 @@ def sampled_capacity_N(data: dict, joint: str, speed_rpm: float, interference_um
     return np.maximum(slope * eff * np.asarray(friction_coefficient, dtype=float) / mu0, 1e-3)
 
 
-def walk_off_probability(envelope: pd.DataFrame, data: dict, joint: str, *, samples: int = 20000,
+def walk_off_probability(envelope: pd.DataFrame, system: System, joint: str, *, samples: int = 20000,
                          seed: int = 0, distance_mm: float = WALK_OFF_DISTANCE_MM,
                          damper_probabilities: dict | None = None, exposure_hours: dict | None = None,
                          interference_shift_um: float = 0.0, field_rate: float | None = None,
@@ -130,21 +135,23 @@ def walk_off_probability(envelope: pd.DataFrame, data: dict, joint: str, *, samp
     ``median_distance_mm`` and ``p99_distance_mm`` of the walked distance, ``drivers`` (Spearman rank correlation
     of each input with the walked distance, largest magnitude first; NaN when nothing walks), ``samples``,
     ``seed``, ``field_rate`` and the ``assumptions`` (distance, period, exposure, damper probabilities, sources).
+    ``system``: as :func:`sample_inputs`.
     """
     from ..dynamics.joint_friction import walked_distance_mm
     from ..dynamics.walk_off_envelope import envelope_speeds_rpm
     check_range("distance_mm", distance_mm, 0.0, None, low_inclusive=False, unit="mm")
+    system = system_of(system, "walk_off_probability")
     speeds = set(envelope["speed_rpm"].astype(float))
-    bands = {b: v for b, v in envelope_speeds_rpm(data).items() if v[0] in speeds}
+    all_bands = envelope_speeds_rpm(system)
+    bands = {b: v for b, v in all_bands.items() if v[0] in speeds}
     if not bands:
-        raise GearoptInputError(f"the envelope's speeds {sorted(speeds)} contain no speed band of "
-                                f"{envelope_speeds_rpm(data)}")
-    inputs = sample_inputs(data, joint, samples, seed, speeds_rpm=bands, damper_probabilities=damper_probabilities,
+        raise GearoptInputError(f"the envelope's speeds {sorted(speeds)} contain no speed band of {all_bands}")
+    inputs = sample_inputs(system, joint, samples, seed, speeds_rpm=bands, damper_probabilities=damper_probabilities,
                            exposure_hours=exposure_hours, interference_shift_um=interference_shift_um)
     table = _creep_interpolator(envelope, joint)
     distance = np.zeros(samples)
     for band, (speed, _) in bands.items():
-        cap = sampled_capacity_N(data, joint, speed, inputs["interference_um"].to_numpy(),
+        cap = sampled_capacity_N(system, joint, speed, inputs["interference_um"].to_numpy(),
                                  inputs["smoothing_loss_um"].to_numpy(), inputs["friction_coefficient"].to_numpy())
         creep = np.zeros(samples)
         for state in inputs["damper_state"].unique():

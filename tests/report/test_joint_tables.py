@@ -8,6 +8,7 @@ import pytest
 
 import gearopt as go
 from gearopt.blank.web import web_stress
+from gearopt.cases.timing_train import quasi_static_load_case
 from gearopt.data import load_default_data
 from gearopt.errors import GearoptInputError
 from gearopt.joints.walk_off import joint_margins, walk_off
@@ -18,7 +19,8 @@ COLUMNS = ["gear", "type", "pressure_MPa", "torque_capacity_Nm", "axial_capacity
 
 
 def test_helical_table_columns_and_data_capacities():
-    df = joint_table(load_default_data(), train="helical")
+    system = go.load_system()
+    df = joint_table(system, train="helical", torques_Nm=quasi_static_load_case(system, "helical"))
     assert list(df.index) == ["crank", "cam", "lpi", "lpg", "ac", "fp"]
     assert all(c in df.columns for c in COLUMNS)
     # default_train.toml [C] values: pressures 32.61 / 103.24 / 40.00 / 111.0 MPa; capacities 779.2 / 858.2 /
@@ -40,7 +42,8 @@ def test_helical_table_columns_and_data_capacities():
 
 
 def test_spur_table_axial_margins_inf_with_note():
-    df = joint_table(load_default_data(), train="spur")
+    system = go.load_system()
+    df = joint_table(system, train="spur", torques_Nm=quasi_static_load_case(system, "spur"))
     assert (df["axial_force_N"] == 0.0).all()
     assert (df["axial_margin"] == math.inf).all()
     assert df["note"].str.contains("spur: no axial tooth force").all()

@@ -3,13 +3,14 @@
 Everything that knows this train by name lives here: its torsional model with the engine, camshaft and accessory
 drives (:mod:`.model`), the co-design study of its spur and low-helix options (:mod:`.codesign`), the failure
 reproduction of the helical cam gear's walk-off (:mod:`.failure`), the comparison with the source study's macro
-design tables (:mod:`.macro_design`) and the verdict-first summary of the main job's result (:mod:`.summary`).
+design tables (:mod:`.macro_design`), its quasi-static accessory load case (:mod:`.loads`) and the verdict-first summary of the main job's result (:mod:`.summary`).
 ``problems/cam_gear_walkoff.py`` runs them.
 """
 
 from .codesign import (CONTACT_STRESS_ALLOWANCE, GEOMETRY_LIMITS, MESHES, WALK_OFF_JOINTS, CodesignOption,
                        CodesignStudy, codesign_study)
 from .failure import FIELD_RATE, HELICAL_ALTERNATIVES, failure_reproduction
+from .loads import QUASI_STATIC_CASE, accessory_load_torques_Nm, quasi_static_load_case
 from .model import TimingModel, default_timing_model
 
 
@@ -21,4 +22,5 @@ def timing_model(system, kind: str = "spur", **options) -> TimingModel:
 
 __all__ = ["TimingModel", "default_timing_model", "timing_model", "codesign_study", "CodesignStudy",
            "CodesignOption", "MESHES", "WALK_OFF_JOINTS", "GEOMETRY_LIMITS",
-           "CONTACT_STRESS_ALLOWANCE", "failure_reproduction", "FIELD_RATE", "HELICAL_ALTERNATIVES"]
+           "CONTACT_STRESS_ALLOWANCE", "failure_reproduction", "FIELD_RATE", "HELICAL_ALTERNATIVES",
+           "accessory_load_torques_Nm", "quasi_static_load_case", "QUASI_STATIC_CASE"]
