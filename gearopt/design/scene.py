@@ -11,15 +11,17 @@ unless a load case asks for it, one face slice for a spur pair without lead modi
 
 Example (robust PPTE of one mesh over a torque range)::
 
-    scene = Scene("crank-cam micro", train=go.load_default_train("spur"),
-                  load_cases=[LoadCase("low", 150.0), LoadCase("design", 300.0), LoadCase("high", 450.0)],
-                  variables=[DesignVariable(v, "crank-cam") for v in ("tip_relief_1_um", "tip_relief_2_um",
+    system = go.load_system(path)      # e.g. gearopt/data/minimal_train.toml, or your own file
+    MESH = "pinion-wheel"
+    scene = Scene("pinion-wheel micro", train=system.train("spur"), data=system,
+                  load_cases=[LoadCase("low", 60.0), LoadCase("design", 120.0), LoadCase("high", 180.0)],
+                  variables=[DesignVariable(v, MESH) for v in ("tip_relief_1_um", "tip_relief_2_um",
                              "tip_relief_1_start_roll_deg", "tip_relief_2_start_roll_deg")],
-                  objectives=[Objective("ppte_um", "crank-cam", aggregate="max")],
-                  limits=[Limit("max_contact_stress_MPa", "crank-cam", upper=1100.0),
-                          Limit("loaded_contact_ratio", "crank-cam", lower=1.2)])
+                  objectives=[Objective("ppte_um", MESH, aggregate="max")],
+                  limits=[Limit("max_contact_stress_MPa", MESH, upper=1100.0),
+                          Limit("loaded_contact_ratio", MESH, lower=1.2)])
     built = scene.build()
-    built.built          # ['geometry:crank-cam', 'ltca_smooth:crank-cam', 'ltca_evaluation:crank-cam']
+    built.built          # ['geometry:pinion-wheel', 'ltca_smooth:pinion-wheel', 'ltca_evaluation:pinion-wheel']
     result = built.solve()
     result.values, result.quantities, result.exact_check
 
@@ -164,7 +166,7 @@ class Scene:
         ``"target.variable"``, e.g. its ``SceneResult.values`` -- a warm start of both the design and the
         semi-infinite refinement). ``parametric``: the data the quantities use (load-case torques and joint demands,
         the oil temperature and the friction coefficient of contact temperatures) enter the NLP as
-        :class:`Problem` parameters named like ``torque_Nm[crank-cam]@design`` (for parametric sensitivities and
+        :class:`Problem` parameters named like ``torque_Nm[pinion-wheel]@design`` (for parametric sensitivities and
         sampling, :mod:`gearopt.studies`)."""
         return BuiltScene(self, positions=positions, initial=initial, parametric=parametric)
 
