@@ -16,6 +16,8 @@ from gearopt.design.joint_sizing import (JointDemand, JointSizing, PressFitSpec,
                                          size_press_fit, size_taper_fit, suggest_fit)
 from gearopt.design.blank_sizing import BlankSizing, BlankSpec, WebDemand, size_blank, web_demand_from_loads
 from gearopt.design.scene import BuiltScene, DesignVariable, Limit, LoadCase, Objective, Scene, SceneResult
+from gearopt.design.scene_options import (ContactModelOptions, ContactTemperatureOptions, ExactCheckOptions,
+                                          LTCAOptions, RefinementOptions)
 from gearopt.design.train_design import loaded_flanks, rank_tooth_counts
 
 __all__ = ["MicrogeometryDesign", "min_tip_relief_design",
@@ -23,4 +25,5 @@ __all__ = ["MicrogeometryDesign", "min_tip_relief_design",
            "enumerate_tooth_counts", "tooth_count_study", "JointDemand", "JointSizing", "PressFitSpec",
            "TaperFitSpec", "size_joint", "size_press_fit", "size_taper_fit", "suggest_fit", "BlankSizing",
            "BlankSpec", "WebDemand", "size_blank", "web_demand_from_loads", "BuiltScene", "SceneResult",
+           "LTCAOptions", "ContactModelOptions", "ContactTemperatureOptions", "ExactCheckOptions", "RefinementOptions",
            "loaded_flanks", "rank_tooth_counts"]

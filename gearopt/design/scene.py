@@ -29,6 +29,8 @@ A built scene is composed of parts with public interfaces, each in its own modul
 
 - declaration: :class:`Scene` and the records of :mod:`gearopt.design.scene_spec` in the vocabulary of
   :mod:`gearopt.design.scene_terms`;
+- options: :class:`~gearopt.design.scene_options.LTCAOptions` -- the LTCA options as typed records per concern
+  (smooth model, contact temperature, exact check, refinement), from the scene's flat ``ltca_options``;
 - inputs: :class:`~gearopt.design.scene_inputs.SceneInputs` -- every read of the data set, the dynamic load cases,
   the data as NLP parameters of a parametric build;
 - model graph: :class:`~gearopt.design.scene_models.SceneModels` (geometry, ISO 6336, joints, blanks, walk-off) and
@@ -63,8 +65,6 @@ from typing import Any, Callable, Mapping, Sequence
 import numpy as np
 import pandas as pd
 
-from ..contact.ltca_macro import DEFAULT_ENGAGEMENT_WIDTH_MM
-from ..contact.ltca_smooth import DEFAULT_SMOOTHING_UM
 from ..contact.microgeometry import Microgeometry
 from ..data import data_of, values
 from ..errors import GearoptInputError
@@ -76,32 +76,12 @@ from .scene_cache import ModelCache
 from .scene_contact import ContactModels
 from .scene_inputs import JOINT_DATA, SceneInputs
 from .scene_models import TRAIN_TARGET, SceneModels
+from .scene_options import DEFAULT_LTCA_OPTIONS, LTCAOptions
 from .scene_refine import SceneRefinement
 from .scene_result import SceneResult
 from .scene_spec import DesignVariable, Limit, LoadCase, Objective
 from .scene_terms import quantity_kind
 from .scene_transcription import SceneTranscription
-
-DEFAULT_LTCA_OPTIONS: dict[str, Any] = {
-    "positions": 40, "smoothing_um": DEFAULT_SMOOTHING_UM, "stiffness": "iso6336", "relief_smoothing_deg": 0.1,
-    "bulk_temperature_C": 100.0, "friction_coefficient": 0.06, "check_positions": 1280, "start_margin_deg": 0.25,
-    "helical_slices": 11, "engagement_width_mm": DEFAULT_ENGAGEMENT_WIDTH_MM, "root_rotation": "cw",
-    "refine_tolerance": 0.02, "max_refinements": 6, "max_helical_slices": 41, "min_smoothing_um": 0.005,
-    "refine_abs_tolerance_um": 0.01, "refine_stress_tolerance": 0.01,
-    "refine_neighbours": 3, "approach": "nested"}
-"""LTCA settings of a scene (override per scene with ``ltca_options``): the NLP's initial uniform positions and
-contact smoothing (:class:`~gearopt.contact.ltca_smooth.LTCAModel`), the relief-start blend of the design, the oil
-temperature and friction of the flash temperature, the positions of the exact-LTCA check of the optimum
-(benchmarks/results/ltca.json); for free macro geometry the face slices of a possibly helical mesh and the
-engagement width (:class:`~gearopt.contact.ltca_macro.MacroLTCAModel`); the crank's sense of rotation seen from the
-front (walk-off); and the semi-infinite refinement: relative PPTE agreement of smooth and exact model (with an absolute floor) and of their
-stress and temperature maxima (``refine_stress_tolerance``), the most
-re-solves, the most face slices it may raise a helical mesh to, the smallest contact smoothing it may halve down to
-and the grid neighbours added on either side of each worst position (:mod:`gearopt.design.scene_refine`);
-``approach``: ``"nested"`` (Newton's method inside the model, as the macro-symbolic LTCA does) or ``"lifted"`` (a
-mesh at fixed macro geometry: each position's approach an NLP variable held by an equality constraint; cheaper
-iterations, same optima, but from the same start it may reach another local optimum, so it is opt-in)."""
-
 
 @dataclass
 class Scene:
@@ -119,7 +99,9 @@ class Scene:
             validated dict of a data file; joint, blank and rating-material quantities need it (an error names a
             missing one), and its ``[lubrication]`` sets the oil temperature and friction coefficient of contact
             temperatures unless ``ltca_options`` give them.
-        ltca_options: overrides of :data:`DEFAULT_LTCA_OPTIONS`; iso6336_options: keyword arguments of
+        ltca_options: flat overrides of the LTCA options (:class:`~gearopt.design.scene_options.LTCAOptions`,
+            defaults :data:`DEFAULT_LTCA_OPTIONS`), e.g. ``{"positions": 24, "max_refinements": 0}``; an unknown
+            key or a bad value raises naming it; iso6336_options: keyword arguments of
             :func:`~gearopt.rating.contact_stress_iso6336` / :func:`~gearopt.rating.root_stress_iso6336` (K_A, ...).
         objective_aggregate: how several objectives combine: ``"sum"`` (their weighted, scaled sum) or ``"max"``
             (the largest of them, by an epigraph variable ``objectives.max``: e.g. the largest PPTE of several
@@ -189,7 +171,9 @@ class BuiltScene:
     ``positions``: mesh -> fractions of a base pitch at which the smooth LTCA samples that mesh (default: the uniform
     ``ltca_options["positions"]``); ``initial``: ``"target.variable"`` -> start value (a warm start); ``reuse``:
     models of an earlier build that do not depend on these (data, dynamics), taken over unbuilt; ``options``:
-    overrides of the scene's ``ltca_options`` for this build (the refinement's smoothing continuation).
+    flat overrides of the scene's ``ltca_options`` for this build (the refinement's smoothing continuation).
+    ``built.options`` is the build's :class:`~gearopt.design.scene_options.LTCAOptions`: the defaults, the data's
+    ``[lubrication]``, the scene's ``ltca_options`` and these overrides, in that order.
 
     Parts (module docstring): ``cache`` (:class:`ModelCache`), ``inputs`` (:class:`SceneInputs`), ``graph``
     (:class:`SceneModels`), ``contact`` (:class:`ContactModels`), ``transcription`` (:class:`SceneTranscription`);
@@ -202,19 +186,14 @@ class BuiltScene:
         self.scene = scene
         self.parametric = bool(parametric)
         self._options_override = dict(options or {})
-        self.options: dict[str, Any] = {**DEFAULT_LTCA_OPTIONS, **_lubrication_options(scene.data),
-                                        **dict(scene.ltca_options), **self._options_override}
-        unknown = set(scene.ltca_options) - set(DEFAULT_LTCA_OPTIONS)
-        if unknown:
-            raise GearoptInputError(f"ltca_options {sorted(unknown)} are unknown ({sorted(DEFAULT_LTCA_OPTIONS)})")
+        self.options: LTCAOptions = LTCAOptions.from_mapping(
+            scene.ltca_options, base=LTCAOptions().replace(**_lubrication_options(scene.data))
+        ).replace(**self._options_override)
         if scene.objective_aggregate not in ("sum", "max"):
             raise GearoptInputError(f"objective_aggregate={scene.objective_aggregate!r} must be 'sum' or 'max'")
         if scene.objective_aggregate == "max" and any(o.sense != "min" for o in scene.objectives):
             raise GearoptInputError("objective_aggregate='max' takes objectives to be minimised (sense='min'): the "
                                     "largest of them is minimised")
-        if self.options["approach"] not in ("lifted", "nested"):
-            raise GearoptInputError(f"ltca_options approach={self.options['approach']!r} must be 'lifted' or "
-                                    f"'nested'")
         self.problem = Problem(name=scene.name)
         self.cache = ModelCache(reuse)
         self.inputs = SceneInputs(scene, self.cache, self.problem, parametric=self.parametric)

@@ -65,7 +65,7 @@ class ContactModels:
     """The contact models of a build (module docstring), on its model graph ``graph``
     (:class:`~gearopt.design.scene_models.SceneModels`: pairs, driving gears, the model cache, the design variables,
     the data as parameters); ``positions``: mesh -> mesh positions of its smooth LTCA (fractions of a base pitch;
-    default the uniform ``options["positions"]``).
+    default the uniform ``options.model.positions``).
 
     Public interface: flanks (:meth:`loaded_flanks`, :meth:`flank_meshes`, :meth:`check_flank_target`), the
     microgeometry each mesh sees (:meth:`base_microgeometry`, :meth:`free_micro`, :meth:`microgeometry`,
@@ -167,7 +167,7 @@ class ContactModels:
         """The mesh's microgeometry: fixed fields from ``scene.microgeometry``, free ones (mesh or flank targets) as
         symbols or at ``values`` (``"target.variable"`` keys)."""
         base = self.base_microgeometry(mesh)
-        kw: dict[str, Any] = {"relief_smoothing_deg": self.options["relief_smoothing_deg"]}
+        kw: dict[str, Any] = {"relief_smoothing_deg": self.options.model.relief_smoothing_deg}
         for field in MICRO_FIELDS:
             vals = list(getattr(base, field))
             for i in (0, 1):
@@ -195,7 +195,7 @@ class ContactModels:
             field = name
             uses = [(m, self.loaded_flanks(m).index(target)) for m in self.flank_meshes(target)]
         if field == "tip_relief_start_roll_deg":
-            spans = [start_bounds(self.meshes[m].geometry(), i, self.options["start_margin_deg"]) for m, i in uses]
+            spans = [start_bounds(self.meshes[m].geometry(), i, self.options.model.start_margin_deg) for m, i in uses]
             lo, hi = max(s[0] for s in spans), min(s[1] for s in spans)
             if hi <= lo:
                 raise GearoptInputError(f"design variable {name!r} of {target!r}: the meshes {[m for m, _ in uses]} "
@@ -220,7 +220,7 @@ class ContactModels:
 
     def positions(self, mesh: str):
         """The mesh's positions setting of its smooth LTCA: a set of fractions, or the uniform count."""
-        return self.position_sets.get(mesh, int(self.options["positions"]))
+        return self.position_sets.get(mesh, self.options.model.positions)
 
     def positions_of(self, mesh: str) -> np.ndarray:
         """The mesh's positions of its smooth LTCA as fractions of a base pitch."""
@@ -242,15 +242,16 @@ class ContactModels:
     def ltca_model(self, mesh: str):
         needs, o = self.needs[mesh], self.options
         speed = self._ltca_speed(mesh)
-        common = dict(driving_gear=self.graph.driving_gear(mesh), stiffness=o["stiffness"],
+        common = dict(driving_gear=self.graph.driving_gear(mesh), stiffness=o.model.stiffness,
                       positions=self.positions(mesh),
-                      lead_modification=self._lead(mesh), smoothing_um=o["smoothing_um"],
+                      lead_modification=self._lead(mesh), smoothing_um=o.model.smoothing_um,
                       root_stress="ltca_root_stress" in needs, speed_rpm=speed,
-                      bulk_temperature_C=o["bulk_temperature_C"], friction_coefficient=o["friction_coefficient"])
+                      bulk_temperature_C=o.temperature.bulk_temperature_C,
+                      friction_coefficient=o.temperature.friction_coefficient)
         pair = self.graph.pair(mesh)
         if not self.graph.macro_free(mesh):
             if float(pair.geometry()["helix_angle_deg"]) != 0.0:
-                common["slices"] = o["helical_slices"]
+                common["slices"] = o.model.helical_slices
             return self.graph.model(f"ltca_smooth:{mesh}", lambda: LTCAModel(pair, **common), lambda m: (
                 f"positions={m.layout.positions}, slices={m.layout.slices}, root_stress={m.root_stress}, "
                 f"flash_temperature={speed is not None}"))
@@ -259,11 +260,11 @@ class ContactModels:
         def build():
             eps_a, eps_b = self.graph.contact_ratio_bounds(mesh)
             return MacroLTCAModel(self.meshes[mesh], **common, helical=helical,
-                                  slices=o["helical_slices"] if helical else None,
+                                  slices=o.model.helical_slices if helical else None,
                                   load_cases=len(self.mesh_cases(mesh)), max_contact_ratio=eps_a,
-                                  max_overlap_ratio=eps_b, engagement_width_mm=o["engagement_width_mm"],
+                                  max_overlap_ratio=eps_b, engagement_width_mm=o.model.engagement_width_mm,
                                   relief_shape=self.base_microgeometry(mesh).relief_shape,
-                                  relief_smoothing_deg=o["relief_smoothing_deg"])
+                                  relief_smoothing_deg=o.model.relief_smoothing_deg)
 
         return self.graph.model(f"ltca_macro:{mesh}", build, lambda m: (
             f"positions={m.positions}, slices={m.slices}, pairs={len(m.pair_index)}, root_stress={m.root_stress}, "
@@ -300,7 +301,7 @@ class ContactModels:
                 micro = micro_vector(self.microgeometry(mesh), self.meshes[mesh].geometry())
                 return model.evaluate(macro_vector(self.graph.pair(mesh)), micro, torques)
             return self.graph.model(f"ltca_evaluation:{mesh}", evaluate, detail)
-        if self.options["approach"] == "nested":
+        if self.options.model.approach == "nested":
             return self.graph.model(f"ltca_evaluation:{mesh}", lambda: model.evaluate(
                 self.microgeometry(mesh), torques, **self._ltca_data(mesh, model)), detail)
         return self.graph.model(f"ltca_evaluation:{mesh}", lambda: self._lifted_ltca(mesh, model, torques, numbers),
@@ -336,7 +337,7 @@ class ContactModels:
         if not self.graph.parametric:
             return {}
         used = {q.quantity for q in (*self.scene.objectives, *self.scene.limits) if q.target == mesh}
-        stiffness, data = self.options["stiffness"], {}
+        stiffness, data = self.options.model.stiffness, {}
         if stiffness == "iso6336" or (isinstance(stiffness, (int, float)) and not isinstance(stiffness, bool)):
             if stiffness == "iso6336":
                 c0 = float(iso6336_stiffness(self.graph.pair(mesh))["single_stiffness"])
@@ -360,7 +361,7 @@ class ContactModels:
         """Bulk + flash temperature; in a parametric build the oil temperature and the friction coefficient are
         parameters (Blok's flash temperature is proportional to the friction coefficient)."""
         bulk = self.inputs.datum(f"oil_temperature_C[{mesh}]", bulk_C, "C")
-        mu = self.options["friction_coefficient"]
+        mu = self.options.temperature.friction_coefficient
         if self.graph.parametric and mu > 0.0:
             flash_K = flash_K * (self.inputs.datum(f"friction_coefficient[{mesh}]", mu, "") / mu)
         return bulk + flash_K
@@ -416,21 +417,21 @@ class ContactModels:
             mods = self.microgeometry_at(values, mesh)
             pair, model = self.graph.numeric_pair(mesh, values), self.ltca_model(mesh)
             slices = default_slices(pair, mods)
-            positions = max(int(self.options["check_positions"]), self._model_positions(model)) if slices == 1 \
+            positions = max(self.options.check.check_positions, self._model_positions(model)) if slices == 1 \
                 else default_positions(slices)
             speed = model.speed_rpm
             for lc in self.mesh_cases(mesh):
                 r = ltca(pair, lc.mesh_torque_Nm(mesh), driving_gear=self.graph.driving_gear(mesh), microgeometry=mods,
-                         stiffness=self.options["stiffness"], positions=positions, slices=slices, speed_rpm=speed,
-                         bulk_temperature_C=self.options["bulk_temperature_C"],
-                         friction_coefficient=self.options["friction_coefficient"])
+                         stiffness=self.options.model.stiffness, positions=positions, slices=slices, speed_rpm=speed,
+                         bulk_temperature_C=self.options.temperature.bulk_temperature_C,
+                         friction_coefficient=self.options.temperature.friction_coefficient)
                 te = r.transmission_error_um
                 fractions = np.arange(positions) / positions
                 row = {"mesh": mesh, "load_case": lc.name, "torque_Nm": lc.mesh_torque_Nm(mesh), "slices": slices,
                        "ppte_um": r.ppte_um, "max_contact_stress_MPa": r.max_contact_stress_MPa,
                        "loaded_contact_ratio": r.loaded_contact_ratio,
                        "worst_fractions": extreme_fractions(te, fractions,
-                                                            neighbours=int(self.options["refine_neighbours"]))}
+                                                            neighbours=self.options.refinement.refine_neighbours)}
                 peaks = [r.contact_stress_MPa]
                 if model.root_stress:
                     row["max_root_stress_MPa"] = max(r.max_root_stress_MPa)
@@ -438,7 +439,7 @@ class ContactModels:
                 if speed is not None:
                     row["max_contact_temperature_C"] = r.max_flash_temperature_C
                     peaks.append(r.flash_temperature_rise_K)
-                row["stress_fractions"] = peak_fractions(peaks, fractions, int(self.options["refine_neighbours"]))
+                row["stress_fractions"] = peak_fractions(peaks, fractions, self.options.refinement.refine_neighbours)
                 if evaluate is not None:
                     row["smooth_dense_ppte_um"] = self._dense_smooth_ppte(mesh, values, lc, positions)
                     for q in ("ppte_um", "max_contact_stress_MPa", "max_root_stress_MPa", "max_contact_temperature_C"):
@@ -458,7 +459,7 @@ class ContactModels:
         if isinstance(model, MacroLTCAModel):
             key = f"ltca_macro_dense:{mesh}"
             dense = self.graph.cache.models.get(key) or MacroLTCAModel(
-                self.meshes[mesh], driving_gear=model.driving_gear, stiffness=o["stiffness"], positions=positions,
+                self.meshes[mesh], driving_gear=model.driving_gear, stiffness=o.model.stiffness, positions=positions,
                 slices=model.slices, helical=model.helical, max_contact_ratio=model.max_contact_ratio,
                 max_overlap_ratio=model.max_overlap_ratio, smoothing_um=model.smoothing_um,
                 engagement_width_mm=model.engagement_width_mm, relief_shape=model.relief_shape,
@@ -467,7 +468,7 @@ class ContactModels:
             pair = self.graph.numeric_pair(mesh, values)
             r = dense.evaluate(macro_vector(pair), micro_vector(mods, self.meshes[mesh].geometry()), [torque])
             return float(r.ppte_um[0])
-        dense = LTCAModel(self.meshes[mesh], driving_gear=model.layout.driving_gear, stiffness=o["stiffness"],
+        dense = LTCAModel(self.meshes[mesh], driving_gear=model.layout.driving_gear, stiffness=o.model.stiffness,
                           positions=positions, slices=model.layout.slices, smoothing_um=model.smoothing_um)
         return float(dense.evaluate(mods, torque).ppte_um)
 

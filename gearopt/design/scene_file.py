@@ -2,7 +2,8 @@
 be rerun without writing Python.
 
 A scene table holds ``train`` (``"spur"`` or ``"helical"``: a train of the data's ``[trains.*]``), optional
-``driving_gear``, ``ltca_options`` and ``iso6336_options`` tables, and arrays of tables ``load_cases``,
+``driving_gear``, ``ltca_options`` (flat keys of :class:`~gearopt.design.scene_options.LTCAOptions`) and
+``iso6336_options`` tables, and arrays of tables ``load_cases``,
 ``variables``, ``objectives`` and ``limits`` whose keys are the arguments of :class:`LoadCase`,
 :class:`DesignVariable`, :class:`Objective` and :class:`Limit` (units in the key names). A load case may give
 ``design_torque_fraction`` instead of ``torque_Nm``: that fraction of each mesh's ``design_torque_Nm`` (so one scene
@@ -21,6 +22,7 @@ from ..data import system_from_data, train_from_data
 from ..errors import GearoptInputError
 from ..validation import check_range
 from .scene import Scene
+from .scene_options import LTCAOptions
 from .scene_spec import DesignVariable, Limit, LoadCase, Objective
 
 _SCENE_KEYS = {"train", "driving_gear", "ltca_options", "iso6336_options", "load_cases", "variables", "objectives",
@@ -94,6 +96,11 @@ def scene_from_data(data: Mapping[str, Any], name: str, *, train_data: Mapping[s
                                     {**rest, "torque_Nm": {m: float(f) * t for m, t in design.items()}}))
         else:
             load_cases.append(_make(LoadCase, f"{where} load_cases[{i}]", lc))
+    ltca_options = dict(spec.get("ltca_options", {}))
+    try:                        # checked here to name the scene; the build takes the flat table
+        LTCAOptions.from_mapping(ltca_options)
+    except GearoptInputError as exc:
+        raise GearoptInputError(f"{where} {exc}") from None
     return Scene(name=name, train=train_from_data(source, kind), load_cases=load_cases,
                  variables=[_make(DesignVariable, f"{where} variables[{i}]", v)
                             for i, v in enumerate(spec.get("variables", []))],
@@ -101,7 +108,7 @@ def scene_from_data(data: Mapping[str, Any], name: str, *, train_data: Mapping[s
                              for i, o in enumerate(spec.get("objectives", []))],
                  limits=[_make(Limit, f"{where} limits[{i}]", lim) for i, lim in enumerate(spec.get("limits", []))],
                  driving_gear=spec.get("driving_gear", 1), data=source,
-                 ltca_options=dict(spec.get("ltca_options", {})),
+                 ltca_options=ltca_options,
                  iso6336_options=dict(spec.get("iso6336_options", {})))
 
 

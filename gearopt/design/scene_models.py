@@ -34,6 +34,7 @@ from ..rating import contact_stress_iso6336, rate_iso6336, root_stress_iso6336
 from .positions import corner_values
 from .scene_cache import ModelCache
 from .scene_inputs import SceneInputs
+from .scene_options import LTCAOptions
 from .scene_spec import LoadCase
 from .scene_terms import variable_kind
 
@@ -52,7 +53,8 @@ class SceneModels:
 
     Args:
         scene: the :class:`~gearopt.design.scene.Scene` declared.
-        options: the build's LTCA options (``DEFAULT_LTCA_OPTIONS`` with the scene's and the build's overrides).
+        options: the build's :class:`~gearopt.design.scene_options.LTCAOptions` (the defaults with the data's,
+            the scene's and the build's overrides).
         inputs: the build's :class:`~gearopt.design.scene_inputs.SceneInputs` (data set, parameters).
         cache: the build's :class:`~gearopt.design.scene_cache.ModelCache`.
         variables: ``(target, name)`` -> the design variable's symbol, filled by the transcription.
@@ -66,7 +68,7 @@ class SceneModels:
     :meth:`joint`, :meth:`blank`.
     """
 
-    def __init__(self, scene, options: Mapping[str, Any], inputs: SceneInputs, cache: ModelCache,
+    def __init__(self, scene, options: LTCAOptions, inputs: SceneInputs, cache: ModelCache,
                  variables: dict[tuple[str, str], Any], problem: Problem):
         self.scene = scene
         self.options = options
@@ -288,7 +290,7 @@ class SceneModels:
                     continue
                 pair = train.pairs[mesh]
                 torques[mesh] = t if self.driving_gear(mesh) == 1 else -t * pair.teeth[0] / pair.teeth[1]
-            return walk_off(train, torques, root_rotation=self.options["root_rotation"])
+            return walk_off(train, torques, root_rotation=self.options.root_rotation)
 
         return self.model(f"walk_off@{lc.name}", build, "axial forces and joint torques from the mesh torques")
 

@@ -90,12 +90,12 @@ def _admissible(built, quantities, exact, tol: float) -> bool:
         return False
     if not len(exact):
         return True
-    if exact_lower_limit_shortfalls(built, exact, float(built.options["refine_stress_tolerance"])):
+    if exact_lower_limit_shortfalls(built, exact, built.options.refinement.refine_stress_tolerance):
         return False
     if (lim["quantity"] == "ppte_um").any() and float(ppte_disagreement(
-            exact, "smooth_ppte_um", tol, float(built.options["refine_abs_tolerance_um"])).max()) > 1.0:
+            exact, "smooth_ppte_um", tol, built.options.refinement.refine_abs_tolerance_um).max()) > 1.0:
         return False
-    return bool((_stress_errors(exact) <= float(built.options["refine_stress_tolerance"])).all())
+    return bool((_stress_errors(exact) <= built.options.refinement.refine_stress_tolerance).all())
 
 
 def _minimax_ppte(built) -> bool:
@@ -173,17 +173,17 @@ def _remedies(current, ex, tol: float, raise_slices: bool = False) -> dict:
     a helical mesh's stress misses its exact peak at positions the NLP already samples."""
     if not len(ex):
         return {}
-    disc = ppte_disagreement(ex, "smooth_dense_ppte_um", tol, float(current.options["refine_abs_tolerance_um"]))
+    disc = ppte_disagreement(ex, "smooth_dense_ppte_um", tol, current.options.refinement.refine_abs_tolerance_um)
     helical = ex["slices"] > 1 if "slices" in ex else np.zeros(len(ex), dtype=bool)
     o, options = current.options, {}
-    n, n_max = int(o["helical_slices"]), int(o["max_helical_slices"])
+    n, n_max = o.model.helical_slices, o.refinement.max_helical_slices
     spur_left = bool((disc[~helical] > 0.5).any())
     if raise_slices or bool((disc[helical] > 0.5).any()):
         if n < n_max:
             options["helical_slices"] = min(2 * n - 1, n_max)
         else:
             spur_left = True
-    w, w_min = float(o["smoothing_um"]), float(o["min_smoothing_um"])
+    w, w_min = o.model.smoothing_um, o.refinement.min_smoothing_um
     if spur_left and w > w_min:
         options["smoothing_um"] = max(0.5 * w, w_min)
     return options
@@ -207,8 +207,9 @@ class SceneRefinement:
     def solve(self, *, starts: int = 1, seed: int = 0, verbose: bool = False, **ipopt):
         """Solve with the exchange method (module docstring, steps 1-5)."""
         built = self.built
-        tol, abs_tol = float(built.options["refine_tolerance"]), float(built.options["refine_abs_tolerance_um"])
-        stress_tol = float(built.options["refine_stress_tolerance"])
+        refinement = built.options.refinement
+        tol, abs_tol = refinement.refine_tolerance, refinement.refine_abs_tolerance_um
+        stress_tol = refinement.refine_stress_tolerance
         candidates = []                      # (exact objective, not verified, label, result or start tuple)
         keys = set(built.variable_names)
         built_positions = {m: built.positions_of(m) for m in built.ltca_meshes()}
@@ -219,7 +220,7 @@ class SceneRefinement:
             if _admissible(built, q0, ex0, tol):
                 verified = ppte_agrees(built, q0, ex0, tol, abs_tol)
                 candidates.append((_verified_objective(built, q0, ex0), not verified, "start", (start, q0, ex0)))
-        max_refinements = int(built.options["max_refinements"])
+        max_refinements = refinement.max_refinements
         rows, current, status = [], built, "max_refinements reached"
         t_start = time.perf_counter()
         for it in range(max_refinements + 1):
@@ -252,8 +253,8 @@ class SceneRefinement:
             if admissible:
                 candidates.append((exact_objective, not agrees, f"solve {it}", result))
             rows.append({"iteration": it, "positions": int(sum(len(p) for p in result.positions.values())),
-                         "helical_slices": int(current.options["helical_slices"]),
-                         "smoothing_um": float(current.options["smoothing_um"]),
+                         "helical_slices": current.options.model.helical_slices,
+                         "smoothing_um": current.options.model.smoothing_um,
                          "objective": float(result.solve.objective), "exact_objective": exact_objective,
                          "admissible": admissible, "max_ppte_error": err,
                          "max_stress_error": float(stress_err.max()) if len(ex) else 0.0,
@@ -287,7 +288,7 @@ class SceneRefinement:
                 sets[mesh] = np.sort(np.concatenate([fractions, new]))
             options = _remedies(current, ex, tol, raise_slices=stress_sliced)
             if shortfalls:      # tighten each broken lower limit by 1.25x its exact shortfall for the re-solve
-                backoff = dict(current.options.get("limit_backoff", {}))
+                backoff = dict(current.options.limit_backoff)
                 for label, amount in shortfalls.items():
                     backoff[label] = backoff.get(label, 0.0) + 1.25 * amount
                 options["limit_backoff"] = backoff

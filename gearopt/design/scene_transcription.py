@@ -170,7 +170,7 @@ class SceneTranscription:
     def start_constraints(self) -> None:
         """With free macro geometry, keep every free tip-relief start between the pitch point and the tip margin of
         the symbolic geometry of each mesh it acts in."""
-        margin = self.options["start_margin_deg"]
+        margin = self.options.model.start_margin_deg
         for mesh in self.contact.ltca_meshes():
             if not self.graph.macro_free(mesh):
                 continue
@@ -349,7 +349,7 @@ class SceneTranscription:
                 expr = self._ppte(expr, label)
             lower, upper, scale, unit = lim.lower, lim.upper, kind.scale, kind.unit
             if lower is not None:   # tightened by the refinement where the exact LTCA broke it (scene_refine)
-                lower = lower + float(self.options.get("limit_backoff", {}).get(label, 0.0))
+                lower = lower + self.options.backoff(label)
             if kind.squared:
                 upper, scale, unit = upper ** 2, upper ** 2 / 100.0, f"({unit})^2"
             if nm.is_numeric(expr) or not nm.depends_on(expr, self.problem.opti.x):   # data only (parametric)

@@ -1,0 +1,268 @@
+"""The LTCA options of a scene as typed records, one per concern, held by one :class:`LTCAOptions`:
+
+- :class:`ContactModelOptions` (``model``): the smooth LTCA of the NLP -- its initial uniform positions, contact
+  smoothing and stiffness (:class:`~gearopt.contact.ltca_smooth.LTCAModel`), the relief-start blend and the room of
+  a free tip-relief start, the face slices of a helical mesh and the engagement width of free macro geometry
+  (:class:`~gearopt.contact.ltca_macro.MacroLTCAModel`), the nested or lifted approach;
+- :class:`ContactTemperatureOptions` (``temperature``): the oil temperature and friction of the flash temperature;
+- :class:`ExactCheckOptions` (``check``): the positions of the exact-LTCA check of an optimum
+  (benchmarks/results/ltca.json);
+- :class:`RefinementOptions` (``refinement``): the semi-infinite PPTE refinement (:mod:`gearopt.design.scene_refine`);
+- ``root_rotation`` on :class:`LTCAOptions` itself: the crank's sense of rotation seen from the front (walk-off).
+
+Users give the options flat, as before: ``Scene(ltca_options={"positions": 24, "max_refinements": 0})`` and the
+``ltca_options`` table of a scene file name fields of any record by their (unique) field names;
+:meth:`LTCAOptions.from_mapping` turns such a mapping into the record (an unknown key raises naming the nearest
+option), :meth:`LTCAOptions.flat` turns it back, and :meth:`LTCAOptions.replace` takes flat overrides (a build's
+overrides, e.g. the refinement's halved smoothing or raised face slices). Every value is checked when a record is
+made: an error names the option, its value and the limit. :data:`DEFAULT_LTCA_OPTIONS` is the flat read-only view of
+the defaults.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import difflib
+from dataclasses import dataclass
+from types import MappingProxyType
+from typing import Any, Mapping
+
+from ..contact.ltca_macro import DEFAULT_ENGAGEMENT_WIDTH_MM
+from ..contact.ltca_smooth import DEFAULT_SMOOTHING_UM
+from ..errors import GearoptInputError
+from ..validation import as_number, check_choice, check_int, check_range
+
+APPROACHES = ("nested", "lifted")
+"""``approach`` values: Newton's method inside the model, or each position's approach an NLP variable."""
+STIFFNESS_KINDS = ("iso6336", "potential_energy")
+"""Named single-pair stiffness profiles (``stiffness`` may also be a number > 0 [N/(mm*um)])."""
+ROOT_ROTATIONS = ("cw", "ccw")
+"""Senses of rotation of the train's root gear seen from the front (+z)."""
+
+
+def _set(record, name: str, value) -> None:
+    object.__setattr__(record, name, value)
+
+
+def _real(record, name: str, low: float | None = None, high: float | None = None, *, unit: str = "",
+          low_inclusive: bool = True, high_inclusive: bool = True) -> None:
+    """Check the float field ``name`` of ``record`` in [low, high] and store it as a float."""
+    value = getattr(record, name)
+    check_range(name, value, low, high, unit=unit, low_inclusive=low_inclusive, high_inclusive=high_inclusive)
+    _set(record, name, as_number(name, value))
+
+
+def _count(record, name: str, low: int, high: int | None = None) -> None:
+    """Check the integer field ``name`` of ``record`` in [low, high] and store it as an int."""
+    _set(record, name, check_int(name, getattr(record, name), low, high))
+
+
+@dataclass(frozen=True)
+class ContactModelOptions:
+    """The smooth LTCA of the NLP (:class:`~gearopt.contact.ltca_smooth.LTCAModel`, with free macro geometry
+    :class:`~gearopt.contact.ltca_macro.MacroLTCAModel`).
+
+    Attributes:
+        positions: initial uniform mesh positions per base pitch of each mesh's smooth LTCA (2..100000).
+        smoothing_um: contact smoothing width [um] (> 0).
+        stiffness: single-pair stiffness profile: ``"iso6336"``, ``"potential_energy"`` or a number > 0
+            [N/(mm*um)].
+        relief_smoothing_deg: roll-angle blend of a relief start in the design's microgeometry [deg] (0..5).
+        start_margin_deg: the room of a free tip-relief start ends this far below the tip [deg] (>= 0).
+        helical_slices: face slices of a helical mesh, or of any mesh with a free helix angle (>= 1).
+        engagement_width_mm: engagement width of the macro-symbolic LTCA [mm] (> 0).
+        approach: ``"nested"`` (Newton's method inside the model, as the macro-symbolic LTCA does) or ``"lifted"``
+            (a mesh at fixed macro geometry: each position's approach an NLP variable held by an equality
+            constraint; cheaper iterations, same optima, but from the same start it may reach another local
+            optimum, so it is opt-in).
+    """
+
+    positions: int = 40
+    smoothing_um: float = DEFAULT_SMOOTHING_UM
+    stiffness: str | float = "iso6336"
+    relief_smoothing_deg: float = 0.1
+    start_margin_deg: float = 0.25
+    helical_slices: int = 11
+    engagement_width_mm: float = DEFAULT_ENGAGEMENT_WIDTH_MM
+    approach: str = "nested"
+
+    def __post_init__(self) -> None:
+        _count(self, "positions", 2, 100000)
+        _real(self, "smoothing_um", 0.0, None, unit="um", low_inclusive=False)
+        if isinstance(self.stiffness, str):
+            check_choice("stiffness", self.stiffness, STIFFNESS_KINDS)
+        else:
+            try:
+                _real(self, "stiffness", 0.0, None, unit="N/(mm*um)", low_inclusive=False)
+            except GearoptInputError as exc:
+                raise GearoptInputError(f"{exc} (stiffness is a number > 0 [N/(mm*um)] or one of "
+                                        f"{STIFFNESS_KINDS!r})") from None
+        _real(self, "relief_smoothing_deg", 0.0, 5.0, unit="deg")
+        _real(self, "start_margin_deg", 0.0, None, unit="deg")
+        _count(self, "helical_slices", 1, 10000)
+        _real(self, "engagement_width_mm", 0.0, None, unit="mm", low_inclusive=False)
+        check_choice("approach", self.approach, APPROACHES)
+
+
+@dataclass(frozen=True)
+class ContactTemperatureOptions:
+    """The contact (flash) temperature of the smooth and the exact LTCA; a scene's data ``[lubrication]`` sets both
+    unless the scene's ``ltca_options`` give them.
+
+    Attributes:
+        bulk_temperature_C: oil (bulk) temperature [degC] (-273.15..1000).
+        friction_coefficient: mean friction coefficient of the flash temperature (0 <= mu < 1).
+    """
+
+    bulk_temperature_C: float = 100.0
+    friction_coefficient: float = 0.06
+
+    def __post_init__(self) -> None:
+        _real(self, "bulk_temperature_C", -273.15, 1000.0, unit="degC")
+        _real(self, "friction_coefficient", 0.0, 1.0, high_inclusive=False)
+
+
+@dataclass(frozen=True)
+class ExactCheckOptions:
+    """The exact-LTCA check of an optimum (:meth:`~gearopt.design.scene_contact.ContactModels.exact_check`).
+
+    Attributes:
+        check_positions: uniform positions per base pitch of the exact LTCA of a spur mesh (at least the smooth
+            model's; a helical mesh takes its slices' default) (2..100000).
+    """
+
+    check_positions: int = 1280
+
+    def __post_init__(self) -> None:
+        _count(self, "check_positions", 2, 100000)
+
+
+@dataclass(frozen=True)
+class RefinementOptions:
+    """The semi-infinite PPTE refinement (:mod:`gearopt.design.scene_refine`).
+
+    Attributes:
+        refine_tolerance: relative agreement of the smooth and the exact PPTE that ends it (> 0).
+        refine_abs_tolerance_um: absolute floor of that agreement [um] (>= 0).
+        refine_stress_tolerance: relative agreement of the smooth and exact stress and temperature maxima (>= 0).
+        max_refinements: most re-solves (>= 0).
+        max_helical_slices: most face slices it may raise a helical mesh to (>= 1).
+        min_smoothing_um: smallest contact smoothing it may halve down to [um] (> 0).
+        refine_neighbours: grid neighbours added on either side of each exact worst position (>= 0).
+    """
+
+    refine_tolerance: float = 0.02
+    refine_abs_tolerance_um: float = 0.01
+    refine_stress_tolerance: float = 0.01
+    max_refinements: int = 6
+    max_helical_slices: int = 41
+    min_smoothing_um: float = 0.005
+    refine_neighbours: int = 3
+
+    def __post_init__(self) -> None:
+        _real(self, "refine_tolerance", 0.0, None, low_inclusive=False)
+        _real(self, "refine_abs_tolerance_um", 0.0, None, unit="um")
+        _real(self, "refine_stress_tolerance", 0.0, None)
+        _count(self, "max_refinements", 0, 1000)
+        _count(self, "max_helical_slices", 1, 10000)
+        _real(self, "min_smoothing_um", 0.0, None, unit="um", low_inclusive=False)
+        _count(self, "refine_neighbours", 0, 1000)
+
+
+_GROUPS = {"model": ContactModelOptions, "temperature": ContactTemperatureOptions, "check": ExactCheckOptions,
+           "refinement": RefinementOptions}
+_TOP_LEVEL = ("root_rotation",)
+OPTION_GROUP: Mapping[str, str | None] = MappingProxyType({
+    **{f.name: group for group, cls in _GROUPS.items() for f in dataclasses.fields(cls)},
+    **{name: None for name in _TOP_LEVEL}})
+"""Flat option name -> the :class:`LTCAOptions` field holding its record (``None``: a field of ``LTCAOptions``)."""
+
+
+@dataclass(frozen=True)
+class LTCAOptions:
+    """The LTCA options of a scene build (module docstring): one record per concern and the walk-off sense.
+
+    Attributes:
+        model: :class:`ContactModelOptions`.
+        temperature: :class:`ContactTemperatureOptions`.
+        check: :class:`ExactCheckOptions`.
+        refinement: :class:`RefinementOptions`.
+        root_rotation: the crank's (the train root's) sense of rotation seen from the front, ``"cw"`` or ``"ccw"``
+            (walk-off).
+        limit_backoff: set by the refinement, not a user option: ``(limit label, amount)`` pairs by which a re-solve
+            tightens lower limits the exact LTCA broke (:meth:`backoff`).
+    """
+
+    model: ContactModelOptions = ContactModelOptions()
+    temperature: ContactTemperatureOptions = ContactTemperatureOptions()
+    check: ExactCheckOptions = ExactCheckOptions()
+    refinement: RefinementOptions = RefinementOptions()
+    root_rotation: str = "cw"
+    limit_backoff: tuple[tuple[str, float], ...] = ()
+
+    def __post_init__(self) -> None:
+        for group, cls in _GROUPS.items():
+            if not isinstance(getattr(self, group), cls):
+                raise GearoptInputError(f"LTCAOptions {group}={getattr(self, group)!r} must be a {cls.__name__}")
+        check_choice("root_rotation", self.root_rotation, ROOT_ROTATIONS)
+        backoff = self.limit_backoff.items() if isinstance(self.limit_backoff, Mapping) else self.limit_backoff
+        pairs = []
+        for label, amount in backoff:
+            check_range(f"limit_backoff[{label}]", amount)
+            pairs.append((str(label), float(amount)))
+        _set(self, "limit_backoff", tuple(pairs))
+
+    @classmethod
+    def from_mapping(cls, mapping: Mapping[str, Any] | None = None, *, base: "LTCAOptions | None" = None
+                     ) -> "LTCAOptions":
+        """The record of flat options (``{"positions": 24, "max_refinements": 0}``, the ``ltca_options`` of a scene
+        or scene file) on top of ``base`` (default: the defaults). An unknown key raises naming the nearest option;
+        a bad value raises naming the option, its value and its limit."""
+        mapping = dict(mapping or {})
+        unknown = [k for k in mapping if k not in OPTION_GROUP]
+        if unknown:
+            raise GearoptInputError("ltca_options: " + "; ".join(_unknown_text(k) for k in unknown)
+                                    + f" (options: {', '.join(sorted(OPTION_GROUP))})")
+        return (base or cls()).replace(**mapping)
+
+    def replace(self, **options: Any) -> "LTCAOptions":
+        """A copy with flat options replaced (``replace(smoothing_um=0.025, helical_slices=21)``), each checked;
+        ``limit_backoff`` (a mapping of limit label to amount) is accepted as well."""
+        unknown = [k for k in options if k not in OPTION_GROUP and k != "limit_backoff"]
+        if unknown:
+            raise GearoptInputError("LTCA options: " + "; ".join(_unknown_text(k) for k in unknown))
+        changes: dict[str, Any] = {}
+        per_group: dict[str, dict[str, Any]] = {}
+        for name, value in options.items():
+            group = OPTION_GROUP.get(name)
+            if group is None:
+                changes[name] = value
+            else:
+                per_group.setdefault(group, {})[name] = value
+        for group, values in per_group.items():
+            changes[group] = dataclasses.replace(getattr(self, group), **values)
+        return dataclasses.replace(self, **changes) if changes else self
+
+    def flat(self) -> dict[str, Any]:
+        """The options as one flat dict (the keys of :data:`DEFAULT_LTCA_OPTIONS`; ``limit_backoff`` left out):
+        ``LTCAOptions.from_mapping(o.flat()) == o`` for a record without a backoff."""
+        return {name: getattr(self if group is None else getattr(self, group), name)
+                for name, group in OPTION_GROUP.items()}
+
+    def backoff(self, label: str) -> float:
+        """The amount by which the refinement tightens the lower limit ``label`` (0 if none)."""
+        return dict(self.limit_backoff).get(label, 0.0)
+
+
+def _unknown_text(key: str) -> str:
+    close = difflib.get_close_matches(str(key), list(OPTION_GROUP), n=1)
+    return f"unknown option {key!r}" + (f" (did you mean {close[0]!r}?)" if close else "")
+
+
+DEFAULT_LTCA_OPTIONS: Mapping[str, Any] = MappingProxyType(LTCAOptions().flat())
+"""The default LTCA options of a scene as a flat read-only mapping (``LTCAOptions().flat()``; override per scene
+with ``ltca_options``): see :class:`LTCAOptions` and its records for what each sets."""
+
+__all__ = ["LTCAOptions", "ContactModelOptions", "ContactTemperatureOptions", "ExactCheckOptions",
+           "RefinementOptions", "DEFAULT_LTCA_OPTIONS", "OPTION_GROUP", "APPROACHES", "STIFFNESS_KINDS",
+           "ROOT_ROTATIONS"]
