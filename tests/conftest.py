@@ -22,6 +22,8 @@ LONGEST_FIRST: tuple[str, ...] = (
     "tests/test_readme.py::test_readme_block_runs_alone[1]",        # LTCA + microgeometry NLP
     "tests/test_readme.py::test_docs_example_runs_alone[2]",        # the co-design scene
     "tests/problems/test_studies_scripts.py",
+    "tests/problems/test_any_train_scripts.py",                     # ~35 s: six scripts on a renamed pair
+    "tests/dynamics/test_train_model.py",
     "tests/benchmarks/test_benchmarks_quick.py::test_benchmark_quick_mode[bench_microgeometry_nlp]",
     "tests/benchmarks/test_benchmarks_quick.py::test_benchmark_quick_mode[bench_dynamics_speed]",
     "tests/test_readme.py::test_readme_block_runs_alone[2]",        # the scene, 8 starts
