@@ -106,18 +106,13 @@ def _rate_command(args) -> int:
     return _verdict(rows)
 
 
-def _default_mesh(system, train) -> str:
-    """The mesh a command acts on when none is named: the train's only mesh, else its root mesh."""
-    return next(iter(train.pairs)) if len(train.pairs) == 1 else train.root_mesh
-
-
 def _microgeometry_command(args) -> int:
     from .design.microgeometry_nlp import optimise_microgeometry
     from .report.contact_headlines import ppte_over_range, tip_relief_drawing, verified_margins
 
     system = _system(args)
     train = system.train(args.train)
-    mesh = args.mesh or _default_mesh(system, train)
+    mesh = args.mesh or system.default_mesh(args.train)
     if mesh not in train.pairs:
         raise GearoptInputError(f"{system.source}: --mesh {mesh!r} is not a mesh of the {args.train} train "
                                 f"({', '.join(train.pairs)})")
@@ -134,7 +129,8 @@ def _microgeometry_command(args) -> int:
     print(f"{mesh}: optimised microgeometry over {', '.join(f'{t:g}' for t in rng['torques_Nm'])} N m")
     for name, value in design.values.items():
         print(f"  {name:34s} {value:.3f}")
-    for gear, d in tip_relief_drawing(train.pairs[mesh], design.values).items():
+    for key, d in tip_relief_drawing(train.pairs[mesh], design.values).items():
+        gear = train.pairs[mesh].names[int(key[-1]) - 1]       # "gear_1" -> the user's name of gear 1
         print(f"  {gear}: tip relief {d.get('amount_um', 0):.1f} um from d = {d['start_diameter_mm']:.2f} mm, "
               f"length {d['relief_length_mm']:.2f} mm on the line of action")
     print(f"  PPTE worst over the range: optimised {o['worst_ppte_um']:.3g} um (at {o['worst_torque_Nm']:g} N m), "

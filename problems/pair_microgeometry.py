@@ -109,7 +109,7 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
     system = load_system(args.data)
     train = system.train("spur")
-    args.mesh = args.mesh or (next(iter(train.pairs)) if len(train.pairs) == 1 else train.root_mesh)
+    args.mesh = args.mesh or system.default_mesh("spur")
     if args.mesh not in train.pairs:
         raise GearoptInputError(f"{system.source}: --mesh {args.mesh!r} is not a mesh of the spur train "
                                 f"({', '.join(train.pairs)})")

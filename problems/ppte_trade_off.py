@@ -46,17 +46,11 @@ from gearopt.studies.scene_study import RELIEF  # noqa: E402  (the four relief v
 DEFAULT_OUT = Path("out") / "ppte_trade_off"
 
 
-def default_mesh(system) -> str:
-    """The mesh studied when none is named: the spur train's only mesh, else its root mesh."""
-    train = system.train("spur")
-    return next(iter(train.pairs)) if len(train.pairs) == 1 else train.root_mesh
-
-
 def build_scene(quick: bool, data_file: Path | None = None, mesh: str | None = None) -> tuple[Scene, dict]:
-    """The data's tip-relief scene of ``mesh`` (default :func:`default_mesh`; ``quick``: 24 NLP positions instead
+    """The data's tip-relief scene of ``mesh`` (default :meth:`System.default_mesh <gearopt.System.default_mesh>`; ``quick``: 24 NLP positions instead
     of 40) and its data (``data_file``: your own train; default the packaged timing train)."""
     system = load_system(data_file)
-    mesh = mesh or default_mesh(system)
+    mesh = mesh or system.default_mesh("spur")
     system.mesh(mesh)
     scene = relief_scene_from_data(system.data, system.train("spur"), mesh, positions=24 if quick else None)
     return scene, {"mesh": mesh, "torques_Nm": [lc.torque_Nm for lc in scene.load_cases],

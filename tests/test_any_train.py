@@ -140,3 +140,10 @@ def test_an_unreachable_centre_distance_names_file_and_mesh(tmp_path, capsys):
     code, text = _run(["rate", "--data", bad], capsys)
     assert code == 2 and str(bad) in text and "pinion-wheel" in text and "centre_distance_mm" in text
     assert "Traceback" not in text
+
+
+def test_microgeometry_names_the_users_gears(train_file, capsys):
+    path, mesh = train_file
+    _, text = _run(["microgeometry", "--data", path, "--quick"], capsys)    # the only mesh, named by default
+    gears = mesh.split("-")
+    assert f"  {gears[0]}: tip relief" in text and f"  {gears[1]}: tip relief" in text

@@ -263,6 +263,13 @@ class System:
                 return j
         return None
 
+    def default_mesh(self, kind: str = "spur") -> str:
+        """The mesh a study of one mesh takes when none is named: the ``kind`` train's only mesh, else its root
+        mesh (``[trains.<kind>] root_mesh``)."""
+        if kind not in self.trains:
+            self.train(kind)                      # raises naming the missing [trains.<kind>]
+        return next(iter(self.meshes)) if len(self.meshes) == 1 else self.trains[kind].root_mesh
+
     def design_torque_Nm(self, mesh: str) -> float:
         """The design torque of ``mesh`` on its driving gear [N m]; a mesh without one raises naming the key to
         add."""
