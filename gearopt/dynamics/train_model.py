@@ -297,6 +297,36 @@ def _load_shares(system, train, ratios, leaves, parent, shares) -> tuple[dict, s
     return {g: 1.0 / len(leaves) for g in leaves}, "equal shares [E]"
 
 
+def mean_backlash_line_of_action_mm(geometry) -> float:
+    """Mean backlash of a pair along the transverse line of action [mm]: the mean normal backlash of its
+    allowances and centre-distance tolerance (``normal_backlash_min_mm``/``_max_mm``) over cos beta_b."""
+    beta_b = float(geometry["base_helix_angle_deg"])
+    return 0.5 * (float(geometry["normal_backlash_min_mm"]) + float(geometry["normal_backlash_max_mm"])) / \
+        math.cos(math.radians(beta_b))
+
+
+def add_gear_mesh(net: TorsionalNetwork, name: str, pair, nodes: tuple[str, str], *, stiffness_N_per_m: float,
+                  damping_N_s_per_m: float, backlash_mm: float, stiffness_shape, iso6336_stiffness_N_per_m: float,
+                  stiffness_source: str, damping_ratio: float, iso6336_validity: str, **mesh_options) -> dict:
+    """Add the mesh ``name`` of ``pair`` between ``nodes`` to ``net`` (base radii, teeth and base helix angle from
+    the pair's geometry; ``mesh_options``: ``stiffness_variation``, ``contact_width_um``, ``damping_width_um``) and
+    return its row of a model's ``mesh_table``."""
+    g = pair.geometry()
+    rb = tuple(0.5 * float(v) for v in g["base_diameter_mm"])
+    beta_b = float(g["base_helix_angle_deg"])
+    net.add_mesh(nodes[0], nodes[1], base_radii_mm=rb, teeth=pair.teeth, stiffness_N_per_m=stiffness_N_per_m,
+                 damping_N_s_per_m=damping_N_s_per_m, backlash_mm=backlash_mm, stiffness_shape=stiffness_shape,
+                 base_helix_angle_deg=beta_b, name=name, **mesh_options)
+    return {"mesh": name, "gear_1": pair.names[0], "gear_2": pair.names[1], "teeth_1": pair.teeth[0],
+            "teeth_2": pair.teeth[1], "base_radius_1_mm": rb[0], "base_radius_2_mm": rb[1],
+            "transverse_contact_ratio": float(g["transverse_contact_ratio"]),
+            "overlap_contact_ratio": float(g["overlap_contact_ratio"]), "base_helix_angle_deg": beta_b,
+            "mean_stiffness_N_per_m": stiffness_N_per_m, "iso6336_mean_stiffness_N_per_m": iso6336_stiffness_N_per_m,
+            "stiffness_source": stiffness_source, "damping_N_s_per_m": damping_N_s_per_m,
+            "damping_ratio": damping_ratio, "backlash_line_of_action_mm": backlash_mm,
+            "iso6336_validity": iso6336_validity}
+
+
 def train_model(system, kind: str = "spur", *, speed_rpm: float | None = None, min_speed_rpm: float | None = None,
                 damping_ratio: float | None = None, shaft_inertias_kgm2: dict | None = None,
                 load_shares: dict | None = None, backlash: str = "data",
@@ -413,8 +443,7 @@ def train_model(system, kind: str = "spur", *, speed_rpm: float | None = None, m
             j_bt = 0.5 * (stated[0] + stated[1]) * (2.0 * (rb[0] + rb[1])) / (2.0 * a)
             j_source = f"meshes.{name}.backlash_min_mm/backlash_max_mm (mean, circumferential) x cos alpha_wt"
         else:
-            j_bt = 0.5 * (float(g["normal_backlash_min_mm"]) + float(g["normal_backlash_max_mm"])) / \
-                math.cos(math.radians(beta_b))
+            j_bt = mean_backlash_line_of_action_mm(g)
             j_source = "pair geometry (mean normal backlash / cos beta_b)"
         if j_bt < 0.0:
             raise GearoptInputError(f"{source}: mesh {name!r} has negative backlash {j_bt:.4g} mm (the teeth jam)")
@@ -422,17 +451,12 @@ def train_model(system, kind: str = "spur", *, speed_rpm: float | None = None, m
         c = float(row["damping_N_s_per_m"])
         shape = MeshStiffnessShape.from_contact_ratios(float(g["transverse_contact_ratio"]),
                                                        float(g["overlap_contact_ratio"]), stiffness_harmonics)
-        net.add_mesh(pair.names[0], pair.names[1], base_radii_mm=rb, teeth=pair.teeth, stiffness_N_per_m=k,
-                     damping_N_s_per_m=c, backlash_mm=j_bt, stiffness_shape=shape,
-                     stiffness_variation=stiffness_variation, base_helix_angle_deg=beta_b,
-                     contact_width_um=contact_width_um, damping_width_um=damping_width_um, name=name)
-        rows.append({"mesh": name, "gear_1": pair.names[0], "gear_2": pair.names[1], "teeth_1": pair.teeth[0],
-                     "teeth_2": pair.teeth[1], "base_radius_1_mm": rb[0], "base_radius_2_mm": rb[1],
-                     "transverse_contact_ratio": float(g["transverse_contact_ratio"]),
-                     "overlap_contact_ratio": float(g["overlap_contact_ratio"]), "base_helix_angle_deg": beta_b,
-                     "mean_stiffness_N_per_m": k, "iso6336_mean_stiffness_N_per_m": k, "stiffness_source": "iso6336",
-                     "damping_N_s_per_m": c, "damping_ratio": zeta, "backlash_line_of_action_mm": j_bt,
-                     "backlash_source": j_source, "iso6336_validity": row["iso6336_validity"]})
+        rows.append({**add_gear_mesh(net, name, pair, pair.names, stiffness_N_per_m=k, damping_N_s_per_m=c,
+                                     backlash_mm=j_bt, stiffness_shape=shape, iso6336_stiffness_N_per_m=k,
+                                     stiffness_source="iso6336", damping_ratio=zeta,
+                                     iso6336_validity=row["iso6336_validity"], stiffness_variation=stiffness_variation,
+                                     contact_width_um=contact_width_um, damping_width_um=damping_width_um),
+                     "backlash_source": j_source})
         if row["iso6336_validity"] != "ok":
             notes.append(f"{name}: ISO 6336-1 stiffness outside its validity: {row['iso6336_validity']}")
     mesh_df = pd.DataFrame(rows).set_index("mesh")
@@ -484,4 +508,4 @@ def train_model(system, kind: str = "spur", *, speed_rpm: float | None = None, m
                       notes=notes, gear_nodes={g: g for g in order})
 
 
-__all__ = ["TrainModel", "train_model", "EXCITATION_PREFIX", "KINDS"]
+__all__ = ["TrainModel", "train_model", "add_gear_mesh", "mean_backlash_line_of_action_mm", "EXCITATION_PREFIX", "KINDS"]

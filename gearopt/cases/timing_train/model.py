@@ -58,6 +58,7 @@ from ...dynamics.mesh import (
     MeshStiffnessShape,
 )
 from ...dynamics.network import TorsionalNetwork
+from ...dynamics.train_model import add_gear_mesh, mean_backlash_line_of_action_mm
 from ...dynamics.simulate import Simulation, simulate, simulator
 
 KINDS = ("spur", "helical")
@@ -293,10 +294,7 @@ def default_timing_model(kind: str = "spur", *, data: dict | None = None, load: 
         name = row["mesh"]
         pair = train.pairs[name]
         g = pair.geometry()
-        rb = tuple(0.5 * float(v) for v in g["base_diameter_mm"])
-        beta_b = float(g["base_helix_angle_deg"])
-        backlash = 0.5 * (float(g["normal_backlash_min_mm"]) + float(g["normal_backlash_max_mm"])) / \
-            math.cos(math.radians(beta_b))
+        backlash = mean_backlash_line_of_action_mm(g)
         k_iso = float(row["mean_mesh_stiffness_N_per_um"]) * 1e6
         c = float(row["damping_N_s_per_m"])
         if mesh_stiffness == "ltca":
@@ -307,17 +305,12 @@ def default_timing_model(kind: str = "spur", *, data: dict | None = None, load: 
             shape = MeshStiffnessShape.from_contact_ratios(float(g["transverse_contact_ratio"]),
                                                            float(g["overlap_contact_ratio"]), stiffness_harmonics)
             k = k_iso
-        net.add_mesh(gear_node[pair.names[0]], gear_node[pair.names[1]], base_radii_mm=rb, teeth=pair.teeth,
-                     stiffness_N_per_m=k, damping_N_s_per_m=c, backlash_mm=backlash, stiffness_shape=shape,
-                     stiffness_variation=stiffness_variation, base_helix_angle_deg=beta_b,
-                     contact_width_um=contact_width_um, damping_width_um=damping_width_um, name=name)
-        rows.append({"mesh": name, "gear_1": pair.names[0], "gear_2": pair.names[1], "teeth_1": pair.teeth[0],
-                     "teeth_2": pair.teeth[1], "base_radius_1_mm": rb[0], "base_radius_2_mm": rb[1],
-                     "transverse_contact_ratio": float(g["transverse_contact_ratio"]),
-                     "overlap_contact_ratio": float(g["overlap_contact_ratio"]), "base_helix_angle_deg": beta_b,
-                     "mean_stiffness_N_per_m": k, "iso6336_mean_stiffness_N_per_m": k_iso,
-                     "stiffness_source": mesh_stiffness, "damping_N_s_per_m": c, "damping_ratio": zeta,
-                     "backlash_line_of_action_mm": backlash, "iso6336_validity": row["iso6336_validity"]})
+        rows.append(add_gear_mesh(net, name, pair, (gear_node[pair.names[0]], gear_node[pair.names[1]]),
+                                  stiffness_N_per_m=k, damping_N_s_per_m=c, backlash_mm=backlash,
+                                  stiffness_shape=shape, iso6336_stiffness_N_per_m=k_iso,
+                                  stiffness_source=mesh_stiffness, damping_ratio=zeta,
+                                  iso6336_validity=row["iso6336_validity"], stiffness_variation=stiffness_variation,
+                                  contact_width_um=contact_width_um, damping_width_um=damping_width_um))
         if row["iso6336_validity"] != "ok":
             notes.append(f"{name}: ISO 6336-1 stiffness outside its validity: {row['iso6336_validity']}")
     mesh_df = pd.DataFrame(rows).set_index("mesh")
