@@ -20,7 +20,8 @@ from .data import System, load_default_data, load_default_train, load_system
 from .contact import LTCAModel, Microgeometry, harris_map, ltca
 from .rating import rate_iso6336
 from .joints import press_fit, taper_fit, walk_off
-from .design import DesignVariable, Limit, LoadCase, Objective, Scene, optimise_microgeometry
+from .design import (DesignVariable, Limit, LoadCase, Objective, Scene, TrainDesign, evaluate_requirements,
+                     optimise_microgeometry, recommend)
 
 __version__ = "0.1.0"
 
@@ -38,6 +39,9 @@ __all__ = [
     "press_fit", "taper_fit", "walk_off",
     # design: declarative scenes and their spec records, the microgeometry NLP
     "Scene", "LoadCase", "DesignVariable", "Objective", "Limit", "optimise_microgeometry",
+    # the verdict: a design judged on every requirement of the data's [requirements] by the exact models, and the
+    # one recommended among candidates (with its design sheet)
+    "TrainDesign", "evaluate_requirements", "recommend",
     # errors: the base classes (the specific ones are in gearopt.errors)
     "GearoptError", "GearoptInputError", "SolveError",
 ]

@@ -82,27 +82,47 @@ def _verdict(rows: list[tuple[str, float, float, str, str]]) -> int:
 
 
 def _rate_command(args) -> int:
-    from .report.rating_tables import rating_table
-
     system = _system(args)
     train = system.train(args.train)
     torques = {m: t for m, t in system.design_torques_Nm().items() if m in train.pairs}
     if not torques:
         raise MissingSectionError(f"{system.source}: no mesh states a design torque: gearopt rate needs "
                                   f"design_torque_Nm in [meshes.<name>] (meshes: {', '.join(system.meshes)})")
-    K_A = system.design_loads.application_factor_K_A if system.design_loads is not None else 1.0
-    table = rating_table(train, torques, K_A=K_A)
+    loads = system.design_loads
+    K_A = loads.application_factor_K_A if loads is not None else 1.0
+    req = system.requirements
+    min_s_h = req.min_S_H if args.min_s_h is None else args.min_s_h
+    min_s_f = req.min_S_F if args.min_s_f is None else args.min_s_f
+    if args.unit_factors:
+        from .report.rating_tables import rating_table
+
+        table = rating_table(train, torques, K_A=K_A)
+        cols = ["mesh", "torque_Nm", "sigma_H_MPa", "S_H", "sigma_F_1_MPa", "sigma_F_2_MPa", "S_F_1", "S_F_2"]
+        basis = f"ISO 6336-2/-3 method B, K_A {K_A:g}, other load factors and life factors 1 (--unit-factors)"
+        table["S_H_1"] = table["S_H_2"] = table["S_H"]
+    else:
+        from .design.requirements import rating_table
+
+        if loads is None or loads.speed_rpm is None:
+            raise MissingSectionError(f"{system.source}: [design_loads] speed_rpm is missing: gearopt rate computes "
+                                      f"K_v and the life and lubrication factors at that speed; add it, or rate with "
+                                      f"--unit-factors (load factors 1)")
+        table = rating_table(system, train, torques, loads.speed_rpm, application_factor=K_A)
+        cols = ["mesh", "torque_Nm", "K_v", "K_Hbeta", "K_Halpha", "S_H_1", "S_H_2", "S_F_1", "S_F_2", "S_B"]
+        basis = (f"ISO 6336 with every factor computed (K_v, K_Hbeta, K_Halpha, life, lubrication, size), K_A "
+                 f"{K_A:g}, {loads.speed_rpm:g} rpm of the root gear, endurance; --unit-factors for load factors 1")
     with pd.option_context("display.width", 200, "display.max_columns", 30):
-        print(table[["mesh", "torque_Nm", "sigma_H_MPa", "S_H", "sigma_F_1_MPa", "sigma_F_2_MPa", "S_F_1",
-                     "S_F_2"]].round(3).to_string(index=False))
-    print(f"ISO 6336-2/-3 method B at the meshes' design torques, K_A {K_A:g}, other load factors and life factors 1")
+        print(table[cols].round(3).to_string(index=False))
+    print(f"at the meshes' design torques: {basis}")
     unrated = sorted(set(train.pairs) - set(torques))
     if unrated:
         print(f"not rated (no design_torque_Nm): {', '.join(unrated)}")
     rows = []
     for _, r in table.iterrows():
-        rows.append((f"S_H {r['mesh']}", float(r["S_H"]), args.min_s_h, ">=", "-"))
-        rows.append((f"S_F {r['mesh']}", float(min(r["S_F_1"], r["S_F_2"])), args.min_s_f, ">=", "-"))
+        rows.append((f"S_H {r['mesh']}", float(min(r["S_H_1"], r["S_H_2"])), min_s_h, ">=", "-"))
+        rows.append((f"S_F {r['mesh']}", float(min(r["S_F_1"], r["S_F_2"])), min_s_f, ">=", "-"))
+        if "S_B" in cols:
+            rows.append((f"S_B {r['mesh']}", float(r["S_B"]), req.min_S_B, ">=", "-"))
     return _verdict(rows)
 
 
@@ -119,8 +139,7 @@ def _microgeometry_command(args) -> int:
     torques = list(system.torque_range_Nm(mesh))
     limits = system.design_limits
     max_root = limits.max_root_stress_MPa if limits is not None else None
-    min_lcr = limits.min_loaded_contact_ratio if limits is not None and limits.min_loaded_contact_ratio is not None \
-        else 1.2
+    min_lcr = system.requirements.min_loaded_contact_ratio
     opts = dict(positions=20, check_positions=160) if args.quick else {}
     design = optimise_microgeometry(train.pairs[mesh], torques, max_root_stress_MPa=max_root,
                                     min_loaded_contact_ratio=min_lcr, **opts)
@@ -307,11 +326,16 @@ def main(argv: list[str] | None = None) -> int:
     t.add_argument("kind", choices=["spur", "helical"])
     _add_data(t)
     t.set_defaults(run=_train_command)
-    r = sub.add_parser("rate", help="ISO 6336 contact and root safety of every mesh at the design loads")
+    r = sub.add_parser("rate", help="ISO 6336 contact, root and scuffing safety of every mesh at the design loads "
+                                     "(every factor computed)")
     _add_data(r)
     r.add_argument("--train", choices=["spur", "helical"], default="spur")
-    r.add_argument("--min-s-h", type=float, default=1.0, help="minimum contact safety S_H (default 1.0)")
-    r.add_argument("--min-s-f", type=float, default=1.4, help="minimum root safety S_F (default 1.4)")
+    r.add_argument("--min-s-h", type=float, default=None,
+                   help="minimum contact safety S_H (default: the data's [requirements] min_S_H)")
+    r.add_argument("--min-s-f", type=float, default=None,
+                   help="minimum root safety S_F (default: the data's [requirements] min_S_F)")
+    r.add_argument("--unit-factors", action="store_true",
+                   help="load factors K_v, K_Hbeta, K_Halpha and life factors 1 (default: every factor computed)")
     r.set_defaults(run=_rate_command)
     m = sub.add_parser("microgeometry", help="PPTE-minimising tip relief of one spur mesh over its torque range")
     _add_data(m)

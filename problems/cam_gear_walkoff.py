@@ -41,6 +41,7 @@ import numpy as np
 import pandas as pd
 
 import gearopt as go
+from gearopt.cli import run_script
 from gearopt.data import load_default_data, load_thesis_tables, system_from_data, train_from_data
 from gearopt.design.shift_distribution import optimise_shift_split
 from gearopt.geometry.forces import mesh_torque_Nm
@@ -53,7 +54,7 @@ from gearopt.studies.background import side_process
 from gearopt.report import to_markdown, write_table
 from gearopt.report.joint_tables import blank_table, joint_table, web_table
 from gearopt.report.rating_tables import rating_table
-from gearopt.cases.timing_train.summary import build_summary, eng, headlines_markdown, summary_markdown
+from gearopt.cases.timing_train.summary import QUICK_BANNER, build_summary, eng, headlines_markdown, summary_markdown
 from gearopt.studies import DESIGNS, mesh_contact_study
 from gearopt.cases.timing_train.macro_design import (change_table, conversion_table, mesh_check_table, shift_table,
                                          sum_shift_table)
@@ -400,11 +401,12 @@ def contact_stage(data: dict, trains: dict, quick: bool = False, on_study=None) 
     loads = data_values(data)["design_loads"]
     lub = data_values(data)["lubrication"]
     limits = data_values(data)["design_limits"]
+    required = system_from_data(data).requirements
     options = dict(crank_speed_rpm=loads["speed_rpm"], torque_fractions=loads["torque_range_fractions"],
                    bulk_temperature_C=lub["oil_temperature_C"], friction_coefficient=lub["mean_friction_coefficient"],
                    max_root_stress_MPa=limits["max_root_stress_MPa"],
-                   max_flash_temperature_C=limits["max_contact_temperature_C"],
-                   min_loaded_contact_ratio=limits["min_loaded_contact_ratio"])
+                   max_flash_temperature_C=required.max_contact_temperature_C,
+                   min_loaded_contact_ratio=required.min_loaded_contact_ratio)
     if quick:
         options.update(positions=80, nlp_positions=20, harris_points=4, helical_slices=5, starts=1, max_refinements=1)
     studies = {}
@@ -414,6 +416,24 @@ def contact_stage(data: dict, trains: dict, quick: bool = False, on_study=None) 
         if on_study is not None:
             on_study(mesh, studies[mesh])
     return studies
+
+
+def recommendation_stage(data: dict, codesign: dict, design_torques: pd.DataFrame, dynamics: dict) -> dict:
+    """The one answer: every design of the co-design study judged on every requirement of the data's
+    ``[requirements]`` with the exact models (contact of the three contact meshes over their ranges, ISO 6336 at
+    the design torques and at the dynamic peaks, joints at the design load and over speed), the best chosen
+    (:func:`gearopt.cases.timing_train.recommendation.timing_recommendation`); ``Recommendation.as_json()``."""
+    from gearopt.cases.timing_train.recommendation import timing_recommendation
+
+    rec = timing_recommendation(system_from_data(data), codesign, contact_meshes=CONTACT_MESHES,
+                                design_torques=design_torques, sweep=dynamics["sweeps"]["spur"])
+    return json.loads(json.dumps(rec.as_json(), default=_json_default))
+
+
+def _json_default(v):
+    if isinstance(v, (np.floating, np.integer, np.bool_)):
+        return v.item()
+    raise TypeError(f"{type(v).__name__} is not JSON serialisable")
 
 
 def codesign_stage(data: dict, quick: bool = False):
@@ -688,9 +708,11 @@ def write_outputs(out: Path, macro: dict, split: dict, timings: dict, contact: d
                   ratings: dict | None = None, joints: dict | None = None, dynamics: dict | None = None,
                   design_torques: pd.DataFrame | None = None, teeth: dict | None = None,
                   sizing: dict | None = None, data: dict | None = None,
-                  failure: dict | None = None, codesign=None, sections: dict | None = None) -> None:
+                  failure: dict | None = None, codesign=None, sections: dict | None = None,
+                  recommendation: dict | None = None, quick: bool = False) -> None:
     """report.md and result.json of the whole run (tables and figures of each section too); ``sections``: the
-    sections :func:`write_sections` already wrote (their report lines and result entries)."""
+    sections :func:`write_sections` already wrote (their report lines and result entries); ``recommendation``:
+    the recommended design (``Recommendation.as_json()``), whose verdict and design sheet open the report."""
     out.mkdir(parents=True, exist_ok=True)
     if sections is None:
         sections = write_sections(out, contact, ratings, joints, dynamics, design_torques)
@@ -772,11 +794,16 @@ def write_outputs(out: Path, macro: dict, split: dict, timings: dict, contact: d
         "codesign": codesign.to_json() if codesign is not None else {},
         "stage_time_s": timings,
     }
-    summary = build_summary(result, **summary_inputs(data or load_default_data(), dynamics, out))
-    result = {"summary": summary, **result}
-    head = ["# Cam gear walk-off: spur redesign of the timing train", "",
-            "Generated by `problems/cam_gear_walkoff.py`; every table below is also a CSV file in this folder.", "",
-            summary_markdown(summary)]
+    head = ([QUICK_BANNER, ""] if quick else []) + ["# Cam gear walk-off: spur redesign of the timing train", ""]
+    if recommendation is not None:
+        summary = build_summary(recommendation, quick=quick, **summary_inputs(data or load_default_data(), dynamics,
+                                                                              out))
+        result = {"summary": summary, "recommendation": recommendation, **result}
+        head += [summary_markdown(summary, recommendation),
+                 "Generated by `problems/cam_gear_walkoff.py`; every table below is also a CSV file in this folder. "
+                 "The evidence follows: the failure the redesign cures, then each stage.", ""]
+    else:
+        head += ["Generated by `problems/cam_gear_walkoff.py`; no recommendation (the co-design did not run).", ""]
     (out / "report.md").write_text("\n".join(head + lines) + "\n")
     (out / "result.json").write_text(json.dumps(result, indent=2) + "\n")
 
@@ -798,10 +825,10 @@ KEY_FIGURES = ("te_crank_cam", "te_torques_crank_cam", "harris_crank_cam", "dyna
 
 
 def summary_inputs(data: dict, dynamics: dict | None, out: Path) -> dict:
-    """Limits, load basis and key figures of the verdict-first summary (:func:`gearopt.cases.timing_train.summary.build_summary`)
-    from the data's ``[design_loads]``/``[design_limits]`` and what the run drew."""
+    """Load basis and key figures of the verdict-first summary (:func:`gearopt.cases.timing_train.summary.build_summary`)
+    from the data's ``[design_loads]`` and what the run drew."""
     values = data_values(data)
-    loads, limits = values["design_loads"], dict(values.get("design_limits", {}))
+    loads = values["design_loads"]
     basis = {"rating": ("ISO 6336 method B at the static design torques ("
                         + ", ".join(f"{m} {t:g} N m" for m, t in system_from_data(data).design_torques_Nm().items()
                                     if m in RATED_MESHES)
@@ -825,8 +852,7 @@ def summary_inputs(data: dict, dynamics: dict | None, out: Path) -> dict:
                                 + (" (not periodic: peaks may not have settled)" if change > 0.05 else "")
                                 if np.isfinite(change) else "cycle-to-cycle change not measured (one cycle)"))
     figures = [f"figures/{stem}.png" for stem in KEY_FIGURES if (out / "figures" / f"{stem}.png").exists()]
-    return {"limits": {k: v for k, v in limits.items() if isinstance(v, (int, float))}, "load_basis": basis,
-            "figures": figures}
+    return {"load_basis": basis, "figures": figures}
 
 
 def trade_off_stage(data: dict, trains: dict, quick: bool = False):
@@ -1034,9 +1060,15 @@ def main(argv: list[str] | None = None) -> int:
             timings.update(r["timings"])
 
         t0 = time.perf_counter()
+        recommendation = recommendation_stage(data, side_results["codesign_nlp"]["section"][1], design_torques,
+                                              dynamics)
+        timings["recommendation"] = time.perf_counter() - t0
+
+        t0 = time.perf_counter()
         write_outputs(args.out, macro, split, timings, contact, ratings, joints, dynamics, design_torques, teeth,
                       sizing, data=data, codesign=CodesignOutputs(*side_results["codesign_nlp"]["section"]),
-                      sections={**sections, "failure": side_results["failure_reproduction"]["section"]})
+                      sections={**sections, "failure": side_results["failure_reproduction"]["section"]},
+                      recommendation=recommendation, quick=args.quick)
         write_trade_off(args.out, *side_results["trade_off_study"]["section"])
         timings["write_outputs"] = time.perf_counter() - t0
         t0 = time.perf_counter()
@@ -1092,11 +1124,13 @@ def main(argv: list[str] | None = None) -> int:
           f"(wall {result['wall_time_s']:.1f} s; {', '.join(result['side_process_stages']) or 'no stage'} in the "
           f"side process)")
     summary = json.loads((args.out / "result.json").read_text())["summary"]
-    print(f"verdict: {summary['verdict']}" + (f" ({len(summary['failed'])} requirements fail: "
-                                              + "; ".join(summary["failed"]) + ")" if summary["failed"] else ""))
+    print(f"recommended design: {summary['design']} ({summary['why']})")
+    print(("QUICK RUN (reduced settings, not the full run's finding) " if args.quick else "")
+          + f"verdict: {summary['verdict']}" + (f" ({len(summary['failed'])} requirements fail: "
+                                                 + "; ".join(summary["failed"]) + ")" if summary["failed"] else ""))
     print(f"wrote {args.out}/report.md, result.json and CSV tables")
-    return 0
+    return 1 if summary["verdict"] == "FAIL" else 0
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(run_script(main))

@@ -44,8 +44,7 @@ def run(mesh: str, quick: bool, data_path: Path | None = None) -> dict:
     t_design = system.design_torque_Nm(mesh)
     # the design torque first (optimise_microgeometry reports at the first load case), then the rest of the range
     torques = list(system.torque_range_Nm(mesh))
-    limits = system.design_limits
-    min_lcr = limits.min_loaded_contact_ratio if limits and limits.min_loaded_contact_ratio is not None else 1.2
+    min_lcr = system.requirements.min_loaded_contact_ratio
     settings = (dict(positions=20, check_positions=160, starts=1) if quick else {})
     timings = {}
     t0 = time.perf_counter()

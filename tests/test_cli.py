@@ -55,10 +55,17 @@ def test_rate_reads_the_users_file_and_fails_on_a_low_safety(tmp_path, capsys):
     capsys.readouterr()
     # ten times the crank-cam torque: sigma_H grows with sqrt(T) (ISO 6336-2), S_H 1.95 -> ~0.62 < 1
     path = _data_with(tmp_path, "design_torque_Nm = 300.0", "design_torque_Nm = 3000.0")
-    assert main(["rate", "--data", str(path)]) == 1
+    assert main(["rate", "--data", str(path), "--unit-factors"]) == 1
     out = capsys.readouterr().out
     line = next(l for l in out.splitlines() if l.startswith("S_H crank-cam"))
+    # load factors 1: the analytic law sigma_H ~ sqrt(T) holds exactly
     assert line.endswith("FAIL") and float(line.split()[2]) == pytest.approx(1.948 / 10 ** 0.5, rel=0.01)
+    # by default every factor is computed (issue 27): K_v, K_Hbeta, K_Halpha > 1 lower S_H further
+    assert main(["rate", "--data", str(path)]) == 1
+    out = capsys.readouterr().out
+    computed = next(l for l in out.splitlines() if l.startswith("S_H crank-cam"))
+    assert computed.endswith("FAIL") and float(computed.split()[2]) < float(line.split()[2])
+    assert "every factor computed" in out and "S_B crank-cam" in out
 
 
 def test_scene_from_file_solves_and_names_bad_keys(tmp_path, capsys):

@@ -52,6 +52,8 @@ SECTION_MEANINGS = {
     "design_loads": "application factor, torque-range fractions and speed of the design loads",
     "excitation": "a generic driving torque (mean plus harmonics) on one gear, for trains without an engine",
     "design_limits": "design limits",
+    "requirements": "the requirements every verdict judges and the design NLPs carry (each key optional; defaults "
+                    "in gearopt.data.requirements)",
     "thesis": "tables of the source study (comparison data)",
 }
 

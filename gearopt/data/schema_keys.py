@@ -30,6 +30,7 @@ SECTION_USES = {
     "excitation": "the torsional dynamics of a train without an engine",
     "engine": "the torsional dynamics of an engine's train",
     "dynamics": "mesh damping of the torsional dynamics",
+    "requirements": "the limits the verdict judges and the design NLPs carry (optional: defaults)",
 }
 """What each optional section is for (the message of a missing one names it)."""
 
@@ -176,6 +177,30 @@ RULES: dict[str, Rule] = {
                                                     1000.0, required=False),
     "design_limits.min_loaded_contact_ratio": Rule("smallest admissible loaded contact ratio", 0.0, 5.0,
                                                    required=False),
+    "requirements.min_slip_margin": Rule("smallest joint slip margin (capacity / torque demand), static at the weakest "
+                                         "fit and over speed at the dynamic peaks", 0.0, 100.0, required=False),
+    "requirements.min_axial_margin": Rule("smallest walk-off margin (axial capacity / thrust), static and over speed",
+                                          0.0, 100.0, required=False),
+    "requirements.min_hub_yield_safety": Rule("smallest hub yield safety (nominal fit)", 0.0, 100.0, required=False),
+    "requirements.min_S_H": Rule("smallest ISO 6336-2 pitting safety S_H (static and at the dynamic peak)", 0.0,
+                                 100.0, required=False),
+    "requirements.min_S_F": Rule("smallest ISO 6336-3 tooth-root safety S_F (static and at the dynamic peak)", 0.0,
+                                 100.0, required=False),
+    "requirements.min_S_B": Rule("smallest ISO/TS 6336-20 flash-temperature scuffing safety S_B", 0.0, 100.0,
+                                 required=False),
+    "requirements.max_contact_temperature_C": Rule("largest contact temperature (bulk + flash, exact LTCA)", -50.0,
+                                                   1000.0, required=False),
+    "requirements.min_loaded_contact_ratio": Rule("smallest loaded contact ratio (exact LTCA, every load case)", 0.0,
+                                                  5.0, required=False),
+    "requirements.min_contact_ratio": Rule("smallest worst-case transverse contact ratio (tolerances)", 0.0, 5.0,
+                                           required=False),
+    "requirements.ppte_form": Rule("the PPTE requirement: 'unmodified' (largest PPTE over the range <= the "
+                                   "unmodified pair's) or 'value' (<= max_ppte_um)", choices=("unmodified", "value"),
+                                   required=False),
+    "requirements.max_ppte_um": Rule("largest PPTE over each mesh's design range (ppte_form = 'value')", 0.0, 1000.0,
+                                     low_inclusive=False, required=False),
+    "requirements.ppte_no_load_case_worse": Rule("also no load case of the range worse than the unmodified pair",
+                                                 kind="bool", required=False),
     "microgeometry.initial.tip_relief_shape": Rule("tip relief shape", choices=("linear", "parabolic", "arc")),
 }
 

@@ -21,6 +21,7 @@ from typing import Any, Mapping
 
 from ..errors import DataFileError, GearoptInputError, MissingSectionError
 from ..geometry.train import GearSpec, GearTrain, MeshSpec, RackSpec
+from .requirements import Requirements, requirements_from_data
 from .schema_keys import SECTION_USES
 
 
@@ -195,7 +196,8 @@ class System:
 
     ``source`` names the file in messages; ``sections`` the sections the file has; ``gears``/``meshes``/
     ``trains``/``joints``/``materials`` by name; ``excitation`` a :class:`DrivingTorque`, ``"engine"`` (the file's
-    ``[engine]`` section drives the train) or None. :meth:`train` builds a :class:`~gearopt.geometry.GearTrain`,
+    ``[engine]`` section drives the train) or None; ``requirements`` the :class:`~gearopt.data.requirements.Requirements`
+    every verdict judges (``[requirements]`` completed by ``[design_limits]`` and the defaults). :meth:`train` builds a :class:`~gearopt.geometry.GearTrain`,
     :meth:`require` names a missing section, :meth:`section` returns any section's validated entries and
     :attr:`data` the validated file (provenance included) for the models that read a whole section tree.
     """
@@ -213,6 +215,7 @@ class System:
     materials: Mapping[str, Mapping[str, Any]]
     excitation: DrivingTorque | str | None
     sections: frozenset[str]
+    requirements: Requirements = field(default_factory=Requirements)
     _data: Mapping[str, Any] = field(repr=False, compare=False, default_factory=dict)
 
     # -- sections ------------------------------------------------------------------------------------------------
@@ -408,7 +411,9 @@ def system_from_data(data: Mapping[str, Any], *, source: str = "<data>") -> Syst
                   meshes=ReadOnlyMap(meshes), trains=ReadOnlyMap(trains), design_loads=loads,
                   design_limits=limits, lubrication=lub, joints=ReadOnlyMap(joints),
                   materials=_frozen(d.get("materials", {})), excitation=excitation,
-                  sections=frozenset(k for k in data if not k.endswith("_source")), _data=copy.deepcopy(dict(data)))
+                  sections=frozenset(k for k in data if not k.endswith("_source")),
+                  requirements=requirements_from_data(d.get("requirements"), d.get("design_limits"), source=source),
+                  _data=copy.deepcopy(dict(data)))
 
 
 _SYSTEMS: dict[tuple, System] = {}

@@ -2,7 +2,8 @@
 what they need, and the NLPs of the toolbox: profile-shift split, tooth counts, microgeometry, joint and blank sizing.
 
 :class:`Scene` and its spec records (:class:`LoadCase`, :class:`DesignVariable`, :class:`Objective`,
-:class:`Limit`) and :func:`optimise_microgeometry` are imported from gearopt itself (``gearopt.__all__``); the
+:class:`Limit`), :func:`optimise_microgeometry`, :class:`TrainDesign`, :func:`evaluate_requirements` and
+:func:`recommend` are imported from gearopt itself (``gearopt.__all__``); the
 framework's names (:class:`~gearopt.nlp.Problem`, :func:`~gearopt.nlp.multistart`, ...) from :mod:`gearopt.nlp`."""
 
 from gearopt.nlp import register_internal_package
@@ -19,6 +20,9 @@ from gearopt.design.scene import BuiltScene, DesignVariable, Limit, LoadCase, Ob
 from gearopt.design.scene_options import (ContactModelOptions, ContactTemperatureOptions, ExactCheckOptions,
                                           LTCAOptions, RefinementOptions)
 from gearopt.design.train_design import loaded_flanks, rank_tooth_counts
+from gearopt.design.requirements import (DynamicPeaks, RequirementRow, RequirementsCheck, TrainDesign,
+                                         evaluate_requirements, rating_headroom)
+from gearopt.design.recommendation import Recommendation, design_sheet, recommend
 
 __all__ = ["MicrogeometryDesign", "min_tip_relief_design",
            "optimise_shift_split", "ToothCountEnumeration", "ToothCountStudy", "bonmin_cross_check",
@@ -26,4 +30,5 @@ __all__ = ["MicrogeometryDesign", "min_tip_relief_design",
            "TaperFitSpec", "size_joint", "size_press_fit", "size_taper_fit", "suggest_fit", "BlankSizing",
            "BlankSpec", "WebDemand", "size_blank", "web_demand_from_loads", "BuiltScene", "SceneResult",
            "LTCAOptions", "ContactModelOptions", "ContactTemperatureOptions", "ExactCheckOptions", "RefinementOptions",
-           "loaded_flanks", "rank_tooth_counts"]
+           "loaded_flanks", "rank_tooth_counts", "DynamicPeaks", "RequirementRow", "RequirementsCheck",
+           "rating_headroom", "Recommendation", "design_sheet"]

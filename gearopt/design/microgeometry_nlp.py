@@ -59,8 +59,27 @@ class MicrogeometryDesign:
 
     @property
     def ppte_um(self) -> float:
+        """The headline: the largest exact-LTCA PPTE of the optimum over its torque range [um] (the value at the
+        first, design torque is :attr:`design_torque_ppte_um`)."""
+        return max(r.ppte_um for r in self.exact["optimised"].values())
+
+    @property
+    def worst_torque_Nm(self) -> float:
+        """The load case [N m] of the largest exact PPTE."""
+        runs = self.exact["optimised"]
+        return max(runs, key=lambda t: runs[t].ppte_um)
+
+    @property
+    def design_torque_ppte_um(self) -> float:
         """Exact-LTCA PPTE of the optimum at the first (design) torque [um]."""
         return self.exact["optimised"][self.torques_Nm[0]].ppte_um
+
+    @property
+    def worse_than_unmodified_Nm(self) -> list[float]:
+        """Load cases [N m] at which the optimum's exact PPTE exceeds the unmodified pair's (flagged: a relief
+        sized for the top of the range costs at its light end)."""
+        opt, base = self.exact["optimised"], self.exact.get("unmodified", {})
+        return sorted(t for t in opt if t in base and opt[t].ppte_um > base[t].ppte_um)
 
 
 def min_tip_relief_design(pair: GearPair, torque_Nm: float, *, driving_gear: int = 1) -> Microgeometry:

@@ -52,6 +52,7 @@ class SceneTranscription:
         self.initial_overrides: dict[str, float] = dict(initial or {})
         self._records: list[dict[str, Any]] = []
         self._objective_terms: list[Any] = []
+        self._ppte_epigraphs: dict[str, Any] = {}
 
     # -- the NLP -------------------------------------------------------------------------------------------------
 
@@ -274,13 +275,17 @@ class SceneTranscription:
         return f"{quantity}[{target}]" + (f"@{lc.name}" if lc is not None else "")
 
     def _ppte(self, te, label: str):
-        """PPTE of a TE column by its epigraph: hi >= te >= lo, PPTE = hi - lo (exact at a minimum or an upper limit)."""
+        """PPTE of a TE column by its epigraph: hi >= te >= lo, PPTE = hi - lo (exact at a minimum or an upper limit).
+        An objective and a limit on the same PPTE share one epigraph (hi - lo bounds the PPTE from above for both)."""
+        if label in self._ppte_epigraphs:
+            return self._ppte_epigraphs[label]
         start = self.initial(te)
         p, n = self.problem, int(np.size(start))
         hi = p.variable(f"{label}.te_max_um", init=float(start.max()), scale=5.0, unit="um")
         lo = p.variable(f"{label}.te_min_um", init=float(start.min()), scale=5.0, unit="um")
         p.subject_to(f"{label}.te_below_max", nm.repeat_rows(hi, n) - te, lower=0.0, unit="um")
         p.subject_to(f"{label}.te_above_min", te - nm.repeat_rows(lo, n), lower=0.0, unit="um")
+        self._ppte_epigraphs[label] = hi - lo
         return hi - lo
 
     def add_objective(self, obj: Objective) -> None:

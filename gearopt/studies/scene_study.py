@@ -119,22 +119,23 @@ def relief_scene_from_data(data: dict, train, mesh: str, *, positions: int | Non
                            ltca_options: dict | None = None) -> Scene:
     """The data's tip-relief scene of ``mesh``: the four relief variables, the largest PPTE over the design torque
     range (``[meshes.<mesh>] design_torque_Nm`` x ``[design_loads] torque_range_fractions``) minimised, the loaded contact ratio
-    >= ``[design_limits] min_loaded_contact_ratio`` and the largest contact stress not above the unmodified pair's
+    >= the requirement's ``min_loaded_contact_ratio`` and the largest contact stress not above the unmodified pair's
     own maximum over the range (exact LTCA). ``positions``: NLP positions of the smooth LTCA (default 40);
     ``ltca_options``: further scene LTCA options (e.g. ``max_refinements``, :data:`gearopt.design.scene.DEFAULT_LTCA_OPTIONS`)."""
     from ..contact.ltca import ltca
     from ..data import system_from_data, values
 
     d = values(data)
-    loads, limits = d["design_loads"], d["design_limits"]
-    design = system_from_data(data).design_torque_Nm(mesh)
+    loads = d["design_loads"]
+    system = system_from_data(data)
+    design = system.design_torque_Nm(mesh)
     torques = [design * f for f in loads["torque_range_fractions"]]
     stress = max(ltca(train.pairs[mesh], t).max_contact_stress_MPa for t in torques)
     return Scene(f"{mesh} tip relief", train=train, load_cases=[LoadCase(f"T{t:g}", t) for t in torques],
                  variables=[DesignVariable(v, mesh) for v in RELIEF],
                  objectives=[Objective("ppte_um", mesh, aggregate="max")],
                  limits=[Limit("max_contact_stress_MPa", mesh, upper=stress),
-                         Limit("loaded_contact_ratio", mesh, lower=limits["min_loaded_contact_ratio"])],
+                         Limit("loaded_contact_ratio", mesh, lower=system.requirements.min_loaded_contact_ratio)],
                  ltca_options={**({} if positions is None else {"positions": positions}), **(ltca_options or {})})
 
 

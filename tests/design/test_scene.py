@@ -194,3 +194,25 @@ def test_multistart_scene_reports_every_start_and_keeps_the_best(train):
     objective = multi.starts.loc[multi.starts["success"], "objective"]
     assert multi.solve.objective == pytest.approx(objective.min())
     assert multi.solve.objective <= single.solve.objective + 1e-9
+
+
+def test_a_ppte_limit_beside_the_ppte_objective_binds_the_light_load_case(train):
+    """Issue 27: the requirement "no load case worse than the unmodified flanks" as a PPTE limit per load case, on
+    the same mesh and load cases as the minimax PPTE objective (one shared epigraph per load case). Without it the
+    minimax relief is worse than unmodified at the lightest load; with it the smooth PPTE at that load case stays
+    at or below the unmodified pair's."""
+    torques = (150.0, 300.0, 450.0)
+    free = micro_scene(train, torques=torques).build()
+    loose = free.solve(refine=False)
+    model = free.models[f"ltca_smooth:{MESH}"]
+    unmod = np.ptp(model.evaluate(go.Microgeometry(), list(torques)).transmission_error_um, axis=0)
+    q = loose.quantities.query("quantity == 'ppte_um' and role == 'objective'").set_index("load_case")["value"]
+    assert q["T150"] > unmod[0]                      # the minimax design costs at the light end
+    limits = [Limit("ppte_um", MESH, upper=float(u), load_cases=(f"T{t:g}",)) for t, u in zip(torques, unmod)]
+    bound = micro_scene(train, torques=torques)
+    bound = Scene(bound.name, train=train, load_cases=bound.load_cases, variables=bound.variables,
+                  objectives=bound.objectives, limits=list(bound.limits) + limits)
+    result = bound.build().solve(refine=False)
+    te = model.evaluate(result.microgeometry[MESH], list(torques)).transmission_error_um
+    assert np.all(np.ptp(te, axis=0) <= unmod * (1 + 1e-6))
+    assert np.ptp(te, axis=0).max() >= q.max() - 1e-6   # the limit costs the worst case, it cannot help it

@@ -1,12 +1,18 @@
 """Verdict-first summary and honest contact headlines: worst cases, PASS/FAIL, units, engineering precision."""
 
+import math
+from pathlib import Path
+
 import numpy as np
 import pytest
 
 import gearopt as go
-from gearopt.design import optimise_microgeometry
-from gearopt.report import contact_headlines as ch
 from gearopt.cases.timing_train.summary import build_summary, eng, headlines_markdown, summary_markdown
+from gearopt.contact.microgeometry import Microgeometry
+from gearopt.design import optimise_microgeometry
+from gearopt.design.recommendation import recommend
+from gearopt.design.requirements import DynamicPeaks, TrainDesign, evaluate_requirements
+from gearopt.report import contact_headlines as ch
 
 
 def test_engineering_precision():
@@ -14,52 +20,67 @@ def test_engineering_precision():
         ["0.195", "1050", "4.09", "1.00e-03", "inf", "inf"]
 
 
-def _result(crank_margin):
-    joint = lambda m, y: {"spur": {"nominal": {"torque_margin": 2.0, "hub_yield_safety": y},
-                                   "weakest": {"torque_margin": m}}}
-    return {"joints": {"crank": joint(crank_margin, 5.0), "ac": joint(3.0, 0.83)},
-            "rating": {"spur": {"crank-cam": {"S_H": 1.95, "S_F_1": 5.2, "S_F_2": 1.3}}},
-            "meshes": {"spur": {"crank-cam": {"worst_case_transverse_contact_ratio": 1.54}}}}
+MINIMAL = Path(go.__file__).parent / "data" / "minimal_train.toml"
 
 
-def test_worst_instance_decides_and_every_failure_is_named():
-    s = build_summary(_result(0.195))
-    rows = {r["requirement"].split(" (")[0].split(",")[0]: r for r in s["requirements"]}
-    slip = rows["Joint slip margin at design load"]
-    assert (slip["value"], slip["worst_case"], slip["verdict"], slip["failing"]) == (0.195, "crank", "FAIL", ["crank"])
-    hub = rows["Hub yield safety"]
-    assert (hub["value"], hub["worst_case"], hub["verdict"]) == (0.83, "ac", "FAIL")
-    root = rows["Root safety S_F"]
-    assert (root["worst_case"], root["limit"], root["verdict"]) == ("crank-cam gear 2", 1.4, "FAIL")
-    assert rows["Contact safety S_H"]["verdict"] == "PASS"
-    assert s["verdict"] == "FAIL" and len(s["failed"]) == 3
-    # stages not run are said, not silently passed
-    assert any("dynamics" in x for x in s["left_out"]) and any("contact" in x for x in s["left_out"])
-    text = summary_markdown(s)
-    assert text.startswith("## Summary: FAIL (3 of 5 requirements fail)") and "| 0.195 | >= 1.00 |" in text
-    # the limits are the caller's
-    assert build_summary(_result(1.2), limits={"min_S_F": 1.2, "min_hub_yield_safety": 0.8})["verdict"] == "PASS"
+@pytest.fixture(scope="module")
+def recommended():
+    """The minimal pair's recommendation between two tip reliefs, as result.json holds it."""
+    system = go.load_system(MINIMAL)
+    train = system.train("spur")
+    start = tuple(float(v) for v in train.pairs["pinion-wheel"].geometry()["hpstc_roll_deg"])
+    designs = [TrainDesign(train, {"pinion-wheel": Microgeometry(tip_relief_um=(a, a), tip_relief_start_roll_deg=start,
+                                                                  relief_smoothing_deg=0.1)}, name=f"relief {a:g}")
+               for a in (6.0, 12.0)]
+    return recommend(system, designs).as_json()
 
 
-def test_computed_factor_rating_decides_over_the_unit_factor_one():
-    # with every ISO 6336 factor computed, that rating is the one judged (both gears' S_H), not the K = 1 table
-    r = _result(2.0)
-    r["rating"]["spur_computed_factors"] = {"crank-cam": {"S_H_1": 1.3, "S_H_2": 0.9, "S_F_1": 2.0, "S_F_2": 1.6}}
-    rows = {x["requirement"].split(" (")[0]: x for x in build_summary(r)["requirements"]}
-    assert "computed factors" in next(x["requirement"] for x in build_summary(r)["requirements"]
-                                      if x["requirement"].startswith("Contact safety"))
-    assert (rows["Contact safety S_H"]["value"], rows["Contact safety S_H"]["worst_case"]) == (0.9, "crank-cam gear 2")
-    assert rows["Contact safety S_H"]["verdict"] == "FAIL" and rows["Root safety S_F"]["verdict"] == "PASS"
+def test_the_verdict_is_the_recommended_designs_requirement_list(recommended):
+    s = build_summary(recommended)
+    assert [r["name"] for r in s["requirements"]] == [r["name"] for r in recommended["requirements"]]
+    assert s["failed"] == [r["name"] for r in recommended["requirements"] if r["verdict"] == "FAIL"]
+    assert s["verdict"] == recommended["verdict"] == ("FAIL" if s["failed"] else "PASS")
+    for r in s["requirements"]:                          # engineering precision: three significant figures
+        if isinstance(r["value"], float) and r["value"] != 0:
+            assert r["value"] == float(eng(r["value"]))
+        assert r["verdict"] == "PASS" or r["what_it_would_take"]
 
 
-def test_ratings_at_the_dynamic_peak_torque_are_judged_too():
-    # issue 17: the ratings at the loads that occur (the dynamics' peak mesh torque), beside the static rating
-    r = _result(2.0)
-    r["rating"]["spur_dynamic_peak"] = {"crank-cam": {"S_H_1": 1.1, "S_H_2": 1.2, "S_F_1": 1.3, "S_F_2": 2.0}}
-    rows = {x["requirement"]: x for x in build_summary(r)["requirements"]}
-    sh, sf = rows["Contact safety S_H at the dynamic peak torque"], rows["Root safety S_F at the dynamic peak torque"]
-    assert (sh["value"], sh["worst_case"], sh["verdict"]) == (1.1, "crank-cam gear 1", "PASS")
-    assert (sf["value"], sf["worst_case"], sf["verdict"]) == (1.3, "crank-cam gear 1", "FAIL")
+def test_report_opening_holds_the_verdict_and_the_flank_reliefs_with_start_diameters(recommended):
+    text = summary_markdown(build_summary(recommended, quick=True), recommended)
+    head = text.splitlines()[:40]
+    assert head[0].startswith(f"## Verdict: {recommended['verdict']}")
+    assert f"Recommended design: {recommended['design']}" in head[2]
+    rows = [line for line in head if line.startswith("| pinion | driving |") or line.startswith("| wheel | driven |")]
+    assert len(rows) == 2
+    for f, line in zip(recommended["flanks"], rows):
+        assert f"| {f['tip_relief_start_diameter_mm']:.2f} |" in line and "blended over 0.1 deg" in line
+    assert "| requirement | worst case | value | limit | unit | verdict | what it would take |" in text
+    assert "µm" in text
+
+
+def test_margins_over_speed_carry_their_spread_over_the_recorded_cycles():
+    """A rattling backlash response: the requirement is judged on the worst cycle, and the row and its Markdown say
+    how the per-cycle worst margins spread (median, best) at that worst instance."""
+    system = go.load_system(MINIMAL)
+
+    def entry(joint, speed, worst, median, best):
+        return {"joint": joint, "speed_rpm": speed, "torque_margin": worst, "axial_margin": math.inf,
+                "peak_torque_Nm": 100.0, "peak_axial_force_N": 0.0, "cycles": 5,
+                "torque_margin_cycle_worst": worst, "torque_margin_cycle_median": median,
+                "torque_margin_cycle_best": best}
+    dyn = DynamicPeaks(joint_margins=[entry("pinion", 1500.0, 0.62, 0.70, 0.81), entry("pinion", 1800.0, 0.66, 0.71,
+                                                                                         0.75),
+                                      entry("wheel", 1500.0, 3.1, 3.3, 3.6)])
+    check = evaluate_requirements(system, TrainDesign(system.train("spur")), dynamic=dyn)
+    slip = check.row("slip_margin_over_speed", "all joints")
+    assert (slip.value, slip.worst_case, slip.verdict) == (0.62, "pinion at 1500 rpm", "FAIL")
+    assert slip.detail["cycle_spread"] == {"cycles": 5, "worst": 0.62, "median": 0.7, "best": 0.81}
+    assert slip.fixed                                     # no design variable moves a dynamics result
+    rec = {"verdict": check.verdict, "design": "design", "option": "", "why": "test", "requirements": check.as_json(),
+           "macro": {"root_gear": "pinion", "root_profile_shift": 0.2, "helix_angle_deg": 0.0}, "flanks": [],
+           "gears": {}}
+    assert "per-cycle worst over 5 cycles: median 0.700, best 0.810" in summary_markdown(build_summary(rec), rec)
 
 
 @pytest.fixture(scope="module")
@@ -102,20 +123,3 @@ def test_margins_named_in_their_own_units(design):
              "verified_margins": verified}
     text = "\n".join(headlines_markdown(entry))
     assert "worst over 150-450 N m" in text and "start diameter [mm]" in text
-
-
-def test_margins_over_speed_carry_their_spread_over_the_recorded_cycles():
-    """A rattling backlash response: the requirement is judged on the worst cycle, and the row and its Markdown say
-    how the per-cycle worst margins spread (median, best) at that worst instance."""
-    entry = lambda speed, worst, median, best: {
-        "speed_rpm": speed, "torque_margin": worst, "axial_margin": "inf", "cycles": 5,
-        "torque_margin_cycle_worst": worst, "torque_margin_cycle_median": median, "torque_margin_cycle_best": best,
-        "axial_margin_cycle_worst": "inf", "axial_margin_cycle_median": "inf", "axial_margin_cycle_best": "inf"}
-    result = {"dynamics": {"joint_margins_over_speed": {
-        "crank": {"spur": [entry(2500.0, 0.62, 0.70, 0.81), entry(3000.0, 0.66, 0.71, 0.75)]},
-        "cam": {"spur": [entry(2500.0, 3.1, 3.3, 3.6)]}}}}
-    s = build_summary(result)
-    slip = next(r for r in s["requirements"] if r["requirement"].startswith("Joint slip margin over speed"))
-    assert (slip["value"], slip["worst_case"], slip["verdict"]) == (0.62, "crank at 2500 rpm", "FAIL")
-    assert slip["cycle_spread"] == {"cycles": 5, "worst": 0.62, "median": 0.7, "best": 0.81}
-    assert "per-cycle worst over 5 cycles: median 0.700, best 0.810" in summary_markdown(s)

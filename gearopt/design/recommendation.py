@@ -1,0 +1,169 @@
+"""One recommended design among candidate designs, chosen on the exact models, and its design sheet.
+
+:func:`recommend` judges every candidate (:class:`~gearopt.design.requirements.TrainDesign`) on every requirement
+of the system (:func:`~gearopt.design.requirements.evaluate_requirements`) and picks:
+
+1. among the candidates that meet every requirement, the one with the smallest largest PPTE;
+2. when none does, the one that fails the fewest requirements a design variable can move (a fixed check of the
+   data fails for every candidate alike), then the fewest failing requirements, then the smallest largest PPTE.
+
+:func:`design_sheet` writes what a drawing needs: per gear the teeth, profile shift, tip diameter with its
+tolerance and the joint (fit or nut torque); per loaded flank, once however many meshes load it, the tip relief
+amount [um], its start diameter and its length along the line of action to the tip [mm], the crown [um], the
+relief's shape and its start transition.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any, Callable, Mapping, Sequence
+
+import pandas as pd
+
+from ..data import System
+from ..errors import GearoptInputError
+from ..geometry import involute as inv
+from .requirements import DynamicPeaks, RequirementsCheck, TrainDesign, evaluate_requirements
+
+
+def _largest_ppte(check: RequirementsCheck) -> float:
+    values = [r.value for r in check.rows if r.quantity == "ppte_um"]
+    return max(values) if values else math.inf
+
+
+@dataclass
+class Recommendation:
+    """The chosen design (``design``, its ``check``), why it won (``why``), every candidate's check
+    (``checks``) and its design sheet (``sheet``: ``{"gears": ..., "flanks": [...]}``)."""
+
+    design: TrainDesign
+    check: RequirementsCheck
+    why: str
+    checks: dict[str, RequirementsCheck]
+    sheet: dict
+    option: str = ""
+    notes: list[str] = field(default_factory=list)
+
+    @property
+    def verdict(self) -> str:
+        return self.check.verdict
+
+    def candidates_table(self) -> pd.DataFrame:
+        """One row per candidate: verdict, failing requirements (movable / fixed), largest PPTE [um]."""
+        return pd.DataFrame([{"candidate": name, "verdict": c.verdict,
+                              "failing_movable": sum(not r.fixed for r in c.failed),
+                              "failing_fixed": sum(r.fixed for r in c.failed), "largest_ppte_um": _largest_ppte(c),
+                              "chosen": name == self.design.name} for name, c in self.checks.items()])
+
+    def as_json(self) -> dict:
+        """``result.json["recommendation"]``: option, design, why, macro, verdict, gears, flanks, requirements,
+        candidates."""
+        tr = self.design.train
+        return {"option": self.option or self.design.name, "design": self.design.name, "why": self.why,
+                "macro": {"root_profile_shift": float(tr.profile_shifts[tr.root_gear]),
+                          "root_gear": tr.root_gear, "helix_angle_deg": float(tr.helix_angle_deg)},
+                "verdict": self.verdict, "gears": self.sheet["gears"], "flanks": self.sheet["flanks"],
+                "requirements": self.check.as_json(),
+                "candidates": self.candidates_table().to_dict(orient="records"), "notes": list(self.notes)}
+
+
+def recommend(system: System, candidates: Sequence[TrainDesign], *, contact_meshes: Sequence[str] | None = None,
+              dynamic: DynamicPeaks | Callable[[TrainDesign], DynamicPeaks | None] | None = None,
+              options: Mapping[str, str] | None = None,
+              ltca_options: Mapping[str, Any] | None = None) -> Recommendation:
+    """Judge every candidate and choose one (module docstring). ``dynamic``: the dynamic results of every candidate,
+    or a function of the candidate returning its own; ``options``: {candidate name: the train option it belongs
+    to} for the sheet; the other arguments go to :func:`evaluate_requirements`."""
+    if not candidates:
+        raise GearoptInputError("recommend() needs at least one candidate design")
+    names = [c.name for c in candidates]
+    if len(set(names)) != len(names):
+        raise GearoptInputError(f"candidate names must be unique: {names}")
+    checks = {c.name: evaluate_requirements(system, c, contact_meshes=contact_meshes,
+                                            dynamic=dynamic(c) if callable(dynamic) else dynamic,
+                                            ltca_options=ltca_options) for c in candidates}
+
+    def key(c: TrainDesign):
+        chk = checks[c.name]
+        return (chk.verdict != "PASS", sum(not r.fixed for r in chk.failed), len(chk.failed), _largest_ppte(chk))
+
+    ranked = sorted(candidates, key=key)
+    best = ranked[0]
+    chk = checks[best.name]
+    if chk.verdict == "PASS":
+        passing = [c.name for c in ranked if checks[c.name].verdict == "PASS"]
+        why = (f"meets every requirement; the smallest largest PPTE ({_largest_ppte(chk):.3g} um) of the "
+               f"{len(passing)} passing candidate(s) ({', '.join(passing)})")
+    else:
+        movable = [r.name for r in chk.failed if not r.fixed]
+        fixed = [r.name for r in chk.failed if r.fixed]
+        why = (f"no candidate meets every requirement; this one fails the fewest the design can move "
+               f"({len(movable)}{': ' + '; '.join(movable) if movable else ''}), then has the smallest largest "
+               f"PPTE ({_largest_ppte(chk):.3g} um); {len(fixed)} fixed check(s) of the data fail for every "
+               f"candidate alike")
+    return Recommendation(design=best, check=chk, why=why, checks=checks, sheet=design_sheet(system, best),
+                          option=(options or {}).get(best.name, ""))
+
+
+def _joint_sheet(system: System, gear: str) -> dict | None:
+    joint = system.joint_of(gear)
+    if joint is None:
+        return None
+    e = joint.entries
+    if joint.joint_type == "press_fit":
+        return {"joint": joint.name, "type": "press_fit", "fit": e.get("fit"),
+                "diametral_interference_um": e.get("diametral_interference_um"),
+                "shaft_diameter_mm": e.get("shaft_diameter_mm")}
+    return {"joint": joint.name, "type": joint.joint_type, "nut_torque_Nm": e.get("nut_torque_Nm"),
+            "taper": e.get("taper"), "taper_large_diameter_mm": e.get("taper_large_diameter_mm")}
+
+
+def design_sheet(system: System, design: TrainDesign) -> dict:
+    """``{"gears": {gear: {...}}, "flanks": [{...}, ...]}`` of ``design`` (module docstring). A flank loaded by
+    several meshes appears once; its modifications must agree between those meshes (else an error names them)."""
+    tr = design.train
+    gears = {}
+    for name, spec in tr.gears.items():
+        lo, hi = system.gear(name).tip_diameter_allowance_mm if name in system.gears else (0.0, 0.0)
+        d_a = float(tr.tip_diameters_mm[name])
+        gears[name] = {"teeth": int(spec.teeth), "profile_shift": float(tr.profile_shifts[name]),
+                       "tip_diameter_mm": d_a, "tip_diameter_tolerance_mm": [float(lo), float(hi)],
+                       "face_width_mm": float(spec.face_width_mm), "joint": _joint_sheet(system, name)}
+    flanks: dict[tuple[str, str], dict] = {}
+    for mesh, mg in design.microgeometry.items():
+        pair = tr.pairs[mesh]
+        g = pair.geometry()
+        for i, (gear, side) in enumerate(((pair.names[0], "driving"), (pair.names[1], "driven"))):
+            amount = float(mg.tip_relief_um[i])
+            d_b, d_a = float(g["base_diameter_mm"][i]), float(g["tip_diameter_mm"][i])
+            start_roll = mg.tip_relief_start_roll_deg[i]
+            start_d = mg.tip_relief_start_diameter_mm[i]
+            if start_roll is not None:
+                start_d = float(inv.diameter_at_roll_length(0.5 * d_b * math.radians(float(start_roll)), d_b))
+            entry = {"gear": gear, "flank": side, "tip_relief_um": amount,
+                     "tip_relief_start_diameter_mm": None if start_d is None else float(start_d),
+                     "tip_relief_length_mm": (None if start_d is None else
+                                              float(inv.roll_length_at(d_a, d_b) - inv.roll_length_at(start_d, d_b))),
+                     "tip_relief_start_roll_deg": None if start_roll is None else float(start_roll),
+                     "crown_um": float(mg.profile_crown_um[i]), "lead_crown_um": float(mg.lead_crown_um[i]),
+                     "relief_shape": mg.relief_shape,
+                     "start_transition": (f"blended over {mg.relief_smoothing_deg:g} deg of roll"
+                                          if mg.relief_smoothing_deg > 0 else "sharp"),
+                     "relief_smoothing_deg": float(mg.relief_smoothing_deg), "meshes": [mesh]}
+            key = (gear, side)
+            if key in flanks:
+                other = flanks[key]
+                for k in ("tip_relief_um", "tip_relief_start_diameter_mm", "crown_um"):
+                    a, b = other[k], entry[k]
+                    if (a is None) != (b is None) or (a is not None and abs(a - b) > 1e-6 * max(1.0, abs(a))):
+                        raise GearoptInputError(
+                            f"flank {gear}:{side} has {k} {a} in {other['meshes']} and {b} in {mesh}: a flank is "
+                            f"ground one way (give the meshes one flank variable)")
+                other["meshes"].append(mesh)
+            else:
+                flanks[key] = entry
+    return {"gears": gears, "flanks": list(flanks.values())}
+
+
+__all__ = ["Recommendation", "recommend", "design_sheet"]
