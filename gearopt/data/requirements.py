@@ -18,7 +18,12 @@ Defaults and their sources:
 - loaded contact ratio (LTCA, every load case) >= 1.2 and worst-case transverse contact ratio (tolerances) >= 1.2;
 - PPTE: the largest PPTE over each mesh's design range <= the unmodified pair's largest (``ppte_form =
   "unmodified"``) or <= ``max_ppte_um`` (``ppte_form = "value"``); with ``ppte_no_load_case_worse = true`` also no
-  load case of the range worse than the unmodified pair at that load case.
+  load case of the range worse than the unmodified pair at that load case;
+- the largest PPTE judged again with the flank reliefs at the corners of their manufacturing tolerances -- amounts
+  ``ppte_relief_tolerance_um`` = ±2 µm, starts ``ppte_relief_start_tolerance_deg`` = ±0.5° roll, and with
+  ``ppte_sharp_start`` the relief's start both blended as designed and sharp (engineering estimates for ground
+  profile modifications, about the profile form tolerance f_fα of ISO 1328-1:2013 flank tolerance class 5-6 for
+  these gear sizes; the class is an estimate, the values are not read from the standard's tables).
 """
 
 from __future__ import annotations
@@ -37,7 +42,8 @@ class Requirements:
 
     ``min_*`` are lower limits, ``max_*`` upper limits; ``ppte_form`` ``"unmodified"`` or ``"value"``;
     ``max_ppte_um`` the PPTE limit [um] of the ``"value"`` form; ``ppte_no_load_case_worse`` also fails a design
-    worse than the unmodified pair at any load case of the range."""
+    worse than the unmodified pair at any load case of the range; ``ppte_relief_tolerance_um``,
+    ``ppte_relief_start_tolerance_deg`` and ``ppte_sharp_start`` the tolerances the PPTE is judged over too."""
 
     min_slip_margin: float = 1.0
     min_axial_margin: float = 1.0
@@ -51,6 +57,9 @@ class Requirements:
     ppte_form: str = "unmodified"
     max_ppte_um: float | None = None
     ppte_no_load_case_worse: bool = True
+    ppte_relief_tolerance_um: float = 2.0
+    ppte_relief_start_tolerance_deg: float = 0.5
+    ppte_sharp_start: bool = True
 
     def __post_init__(self):
         if self.ppte_form not in PPTE_FORMS:

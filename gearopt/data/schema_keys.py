@@ -201,6 +201,12 @@ RULES: dict[str, Rule] = {
                                      low_inclusive=False, required=False),
     "requirements.ppte_no_load_case_worse": Rule("also no load case of the range worse than the unmodified pair",
                                                  kind="bool", required=False),
+    "requirements.ppte_relief_tolerance_um": Rule("half-width of the tip-relief amount tolerance the PPTE is judged "
+                                                  "over (0: nominal only)", 0.0, 100.0, required=False),
+    "requirements.ppte_relief_start_tolerance_deg": Rule("half-width of the relief-start tolerance [roll angle] the "
+                                                         "PPTE is judged over", 0.0, 10.0, required=False),
+    "requirements.ppte_sharp_start": Rule("judge the PPTE with a sharp relief start too (not only the designed blend)",
+                                          kind="bool", required=False),
     "microgeometry.initial.tip_relief_shape": Rule("tip relief shape", choices=("linear", "parabolic", "arc")),
 }
 

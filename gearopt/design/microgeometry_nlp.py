@@ -56,6 +56,7 @@ class MicrogeometryDesign:
     starts: pd.DataFrame = field(default=None)
     table: pd.DataFrame = field(default=None)
     refinement: pd.DataFrame | None = field(default=None)
+    limits: dict = field(default_factory=dict)   # the requirements' limits (the NLP may carry them tightened)
 
     @property
     def ppte_um(self) -> float:
@@ -212,8 +213,12 @@ def optimise_microgeometry(pair: GearPair, torque_Nm: float | Sequence[float], *
     exact = {"unmodified": {t: ltca(pair, t, **check_opts) for t in torques},
              "min_tip_relief": {t: ltca(pair, t, microgeometry=minimum, **check_opts) for t in torques},
              "optimised": {t: ltca(pair, t, microgeometry=current, **check_opts) for t in torques}}
+    limits = {"contact_stress": spec["max_contact_stress_MPa"], "root_stress": spec.get("max_root_stress_MPa"),
+              "flash_temperature": spec.get("max_flash_temperature_C"),
+              "loaded_contact_ratio": spec["min_loaded_contact_ratio"]}
     design = MicrogeometryDesign(microgeometry=current, values=numbers, solve=solved, exact=exact, torques_Nm=torques,
-                                 starts=pd.DataFrame(records), refinement=refinement)
+                                 starts=pd.DataFrame(records), refinement=refinement,
+                                 limits={k: v for k, v in limits.items() if v is not None})
     design.table = comparison_table(exact, torques)
     return design
 

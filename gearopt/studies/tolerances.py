@@ -25,13 +25,15 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..data.requirements import Requirements
 from ..errors import GearoptInputError
 
 DISTRIBUTIONS = ("uniform", "normal")
 
-MICROGEOMETRY_TOLERANCES = {"tip_relief_1_um": 2.0, "tip_relief_2_um": 2.0,
-                            "tip_relief_1_start_roll_deg": 0.5, "tip_relief_2_start_roll_deg": 0.5}
-"""Symmetric half-widths of the default microgeometry tolerances (see the module docstring: estimates)."""
+MICROGEOMETRY_TOLERANCES = {f"tip_relief_{g}_{k}": v for g in (1, 2) for k, v in (
+    ("um", Requirements().ppte_relief_tolerance_um), ("start_roll_deg", Requirements().ppte_relief_start_tolerance_deg))}
+"""Symmetric half-widths of the default microgeometry tolerances (see the module docstring: estimates), the same
+as the PPTE requirement's defaults (:class:`gearopt.data.requirements.Requirements`)."""
 
 OIL_TEMPERATURE_SPREAD_K = 10.0
 """Half-width of the default oil-temperature spread [K] (data: 90-110 °C at rated load)."""

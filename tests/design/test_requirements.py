@@ -86,6 +86,33 @@ def test_every_requirement_is_judged_with_value_limit_unit_and_verdict(check, mi
     assert result.verdict == ("FAIL" if result.failed else "PASS")
     ppte = result.row("ppte_um", MESH)
     assert ppte.limit == 2.0 and ppte.torques_Nm == sorted(minimal.torque_range_Nm(MESH))
+    # the same requirement judged over the relief tolerances: the nominal design is one of the variants' neighbours,
+    # so the toleranced worst is at least the nominal worst; a sharp start is among the variants
+    robust = result.row("ppte_um_toleranced", MESH)
+    assert robust.value >= ppte.value - 1e-9 and robust.limit == ppte.limit
+    assert "sharp" in robust.basis and "±2 µm" in robust.basis
+
+
+def test_the_toleranced_ppte_is_the_worst_of_its_corner_designs(minimal):
+    """The toleranced row equals the exact LTCA of the variant it names (rebuilt here from the label's numbers)."""
+    mods = _relief(minimal, MESH, 8.0)
+    design = TrainDesign(minimal.train("spur"), {MESH: mods})
+    row = evaluate_requirements(minimal, design).row("ppte_um_toleranced", MESH)
+    torque = float(row.worst_case.split(" at ")[1].split(" N m")[0])
+    parts = row.worst_case.split(", ")[1:3]
+    amounts = tuple(float(p.split()[1]) for p in parts)
+    starts = tuple(float(p.split("from ")[1].rstrip("°")) for p in parts)
+    sharp = row.worst_case.endswith("sharp start")
+    variant = Microgeometry(tip_relief_um=amounts, tip_relief_start_roll_deg=starts,
+                            relief_smoothing_deg=0.0 if sharp else 0.1)
+    value = ltca(minimal.train("spur").pairs[MESH], torque, microgeometry=variant,
+                 speed_rpm=minimal.design_loads.speed_rpm).ppte_um
+    assert value == pytest.approx(row.value, rel=0.01)       # the label rounds to 3 significant figures
+    # no tolerance and no sharp start: no toleranced row
+    exact_only = dataclasses.replace(minimal.requirements, ppte_relief_tolerance_um=0.0,
+                                     ppte_relief_start_tolerance_deg=0.0, ppte_sharp_start=False)
+    rows = evaluate_requirements(minimal, design, requirements=exact_only).rows
+    assert "ppte_um_toleranced" not in {r.quantity for r in rows}
 
 
 def test_ppte_row_reproduces_a_converged_exact_ltca_to_1_percent(check, minimal):
