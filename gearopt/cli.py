@@ -128,6 +128,7 @@ def _rate_command(args) -> int:
 
 def _microgeometry_command(args) -> int:
     from .design.microgeometry_nlp import optimise_microgeometry
+    from .design.requirements import TrainDesign, evaluate_requirements
     from .report.contact_headlines import ppte_over_range, tip_relief_drawing, verified_margins
 
     system = _system(args)
@@ -154,10 +155,19 @@ def _microgeometry_command(args) -> int:
               f"length {d['relief_length_mm']:.2f} mm on the line of action")
     print(f"  PPTE worst over the range: optimised {o['worst_ppte_um']:.3g} um (at {o['worst_torque_Nm']:g} N m), "
           f"unmodified {u['worst_ppte_um']:.3g} um; at the design torque {o['design_torque_ppte_um']:.3g} um")
-    rows = [(f"PPTE {t} N m, optimised vs unmodified", o["ppte_um_by_torque"][t], u["ppte_um_by_torque"][t], "<=",
-             "um") for t in o["ppte_um_by_torque"]]
+    if design.worse_than_unmodified_Nm:
+        print("  worse than the unmodified flanks at " + ", ".join(f"{t:g}" for t in design.worse_than_unmodified_Nm)
+              + " N m")
+    # the data's [requirements] of this mesh's contact, judged on the exact LTCA (the same rows as every verdict),
+    # beside the NLP's own stress limits
+    check = evaluate_requirements(system, TrainDesign(train, {mesh: design.microgeometry}, name=mesh,
+                                                      variables=("flanks",)), contact_meshes=[mesh],
+                                  groups=("contact",))
+    rows = [(r.name, r.value, r.limit, r.sense, r.unit) for r in check.rows]
     rows += [(f"{name} (exact LTCA, worst load case)", m["margin"], 0.0, ">=", m["unit"] or "-")
-             for name, m in verified_margins(design).items()]
+             for name, m in verified_margins(design).items() if name != "loaded_contact_ratio"]
+    for r in check.failed:
+        print(f"  {r.name}: what it would take: {r.what_it_would_take}")
     return _verdict(rows)
 
 

@@ -17,6 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
+from gearopt.cli import run_script
 from gearopt.data import load_default_data
 from gearopt.cases.timing_train import CONTACT_STRESS_ALLOWANCE, CodesignStudy, codesign_study
 
@@ -61,11 +62,31 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
     t0 = time.perf_counter()
     study = run(quick=args.quick, data_file=args.data, contact_stress_allowance=args.contact_stress_allowance)
-    write(study, args.out)
+    result = write(study, args.out)
     print(study.summary().to_string())
+    rec = recommend_among(study, result, args.data, args.out)
+    print(f"recommended design: {rec['design']} -- {rec['verdict']} ({rec['why']}); static requirements only (the "
+          f"main job, problems/cam_gear_walkoff.py, adds the dynamic peaks)")
     print(f"wrote {args.out}/report.md, result.json, codesign_summary.csv in {time.perf_counter() - t0:.1f} s")
-    return 0
+    return 1 if rec["verdict"] == "FAIL" else 0
+
+
+def recommend_among(study: CodesignStudy, result: dict, data_file: Path | None, out: Path) -> dict:
+    """The study's designs judged on every static requirement of the data's ``[requirements]`` (exact models; no
+    dynamics here), the best recommended (:func:`gearopt.cases.timing_train.recommendation.timing_recommendation`);
+    written to ``result.json["recommendation"]`` and the report."""
+    from gearopt.cases.timing_train.recommendation import timing_recommendation
+    from gearopt.cases.timing_train.summary import build_summary, summary_markdown
+    from gearopt.data import load_system
+
+    rec = json.loads(json.dumps(timing_recommendation(load_system(data_file), result,
+                                                      contact_meshes=tuple(study.flanks)).as_json(), default=_json))
+    result["recommendation"] = rec
+    (out / "result.json").write_text(json.dumps(result, indent=2, default=_json) + "\n")
+    report = (out / "report.md").read_text()
+    (out / "report.md").write_text(summary_markdown(build_summary(rec), rec) + "\n" + report)
+    return rec
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(run_script(main))

@@ -31,6 +31,7 @@ from gearopt.dynamics.walk_off_envelope import (
 )
 from gearopt.report import to_markdown, write_table
 from gearopt.studies.failure import CREEP_NOISE_UM, WALK_OFF_DISTANCE_MM
+from gearopt.cli import run_script
 
 DEFAULT_OUT = Path("out") / "failure_reproduction"
 
@@ -105,4 +106,4 @@ def main(argv: list[str] | None = None) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(run_script(main))

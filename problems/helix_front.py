@@ -61,6 +61,7 @@ from gearopt.data import load_default_data, system_from_data, train_from_data, v
 from gearopt.design.scene import DesignVariable, Limit, LoadCase, Objective, Scene
 from gearopt.cases.timing_train import GEOMETRY_LIMITS, MESHES
 from gearopt.studies import pareto_front, verify_front
+from gearopt.cli import run_script
 
 MESH, JOINT, QUANTITY = "crank-cam", "cam", "axial_utilisation"
 FLANKS = ("crank:driving", "cam:driven")
@@ -196,4 +197,4 @@ def main(argv: list[str] | None = None) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(run_script(main))

@@ -36,6 +36,7 @@ from gearopt.data import load_default_data, train_from_data  # noqa: E402
 from gearopt.design.shift_distribution import OBJECTIVES, optimise_shift_split  # noqa: E402
 from gearopt.errors import GearoptInputError  # noqa: E402
 from gearopt.report import ltca_figures as figs  # noqa: E402
+from gearopt.cli import run_script
 
 DEFAULT_OUT = Path("out") / "shift_split"
 LIMITS = dict(min_contact_ratio=1.2, min_tip_thickness_ratio=0.2)
@@ -154,4 +155,4 @@ def main(argv: list[str] | None = None) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(run_script(main))

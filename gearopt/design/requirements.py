@@ -539,15 +539,22 @@ class DynamicPeaks:
     basis: str = "largest dynamic mesh torque with backlash"
 
 
+GROUPS = ("contact", "geometry", "rating", "joints", "dynamics")
+"""The requirement groups of :func:`evaluate_requirements` (all judged by default)."""
+
+
 def evaluate_requirements(system: System, design: TrainDesign, *, contact_meshes: Sequence[str] | None = None,
                           requirements: Requirements | None = None, dynamic: DynamicPeaks | None = None,
-                          ltca_options: Mapping[str, Any] | None = None) -> RequirementsCheck:
+                          ltca_options: Mapping[str, Any] | None = None,
+                          groups: Sequence[str] = GROUPS) -> RequirementsCheck:
     """Judge ``design`` on every requirement (module docstring) with the exact models.
 
     ``contact_meshes``: the meshes whose PPTE, contact temperature and loaded contact ratio are judged (default:
     the meshes with microgeometry in ``design``, else every mesh with a design torque); ``requirements``: default
     ``system.requirements``; ``dynamic``: results of a dynamics run (:class:`DynamicPeaks`) for the dynamic-peak
-    rows; ``ltca_options``: resolution overrides of the LTCA runs."""
+    rows; ``ltca_options``: resolution overrides of the LTCA runs; ``groups``: the requirement groups to judge
+    (:data:`GROUPS`: the contact of ``contact_meshes``, the geometry of every mesh, the ISO rating, the joints, the
+    dynamic results)."""
     req = requirements or system.requirements
     torques = system.design_torques_Nm()
     unknown = sorted(set(torques) - set(design.train.pairs))
@@ -555,19 +562,25 @@ def evaluate_requirements(system: System, design: TrainDesign, *, contact_meshes
         raise GearoptInputError(f"{system.source}: design torques name meshes {unknown} the design's train lacks")
     meshes = list(contact_meshes if contact_meshes is not None
                   else [m for m in design.microgeometry if m in torques] or list(torques))
+    unknown_groups = sorted(set(groups) - set(GROUPS))
+    if unknown_groups:
+        raise GearoptInputError(f"groups {unknown_groups} are not requirement groups ({GROUPS})")
     rows: list[RequirementRow] = []
-    if meshes:
+    if meshes and "contact" in groups:
         rows += _contact_rows(system, design, req, meshes, ltca_options)
-    rows.append(_contact_ratio_rows(design, req))
+    if "geometry" in groups:
+        rows.append(_contact_ratio_rows(design, req))
     loads = system.design_loads
-    if torques and loads is not None and loads.speed_rpm is not None:
+    if "rating" in groups and torques and loads is not None and loads.speed_rpm is not None:
         rows += _rating_rows(system, design, req, torques, loads.speed_rpm,
                              application_factor=loads.application_factor_K_A, label="",
                              basis=f"ISO 6336 at the design torques, every factor computed, K_A "
                                    f"{loads.application_factor_K_A:g}, endurance",
                              fixed="macro" not in design.variables)
-    if torques and system.joints:
+    if "joints" in groups and torques and system.joints:
         rows += _joint_rows(system, design, req, torques)
+    if "dynamics" not in groups:
+        dynamic = None
     if dynamic is not None and dynamic.mesh_torques_Nm:
         peaks = {m: float(t) for m, (t, _) in dynamic.mesh_torques_Nm.items()}
         speeds = {m: float(s) for m, (_, s) in dynamic.mesh_torques_Nm.items()}
@@ -610,5 +623,5 @@ def _joint_speed_rows(system: System, req: Requirements, dynamic: DynamicPeaks, 
     return rows
 
 
-__all__ = ["TrainDesign", "RequirementRow", "RequirementsCheck", "DynamicPeaks", "evaluate_requirements",
+__all__ = ["GROUPS", "TrainDesign", "RequirementRow", "RequirementsCheck", "DynamicPeaks", "evaluate_requirements",
            "mesh_ltca_runs", "rating_table", "rating_headroom", "joint_what_it_would_take", "contact_speed_rpm"]

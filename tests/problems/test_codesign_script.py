@@ -42,3 +42,14 @@ def test_reported_ppte_is_the_exact_ltca_of_the_reported_design(out):
                           relief_smoothing_deg=0.1)
     assert ltca(train.pairs["cam-fp"], torque, microgeometry=mg).ppte_um == pytest.approx(
         spur["meshes"]["cam-fp"]["ppte_um"], rel=1e-9)
+
+
+def test_one_design_is_recommended_and_the_exit_code_says_its_verdict(out, run_quick):
+    """Issue 27: the study ends in one answer judged on the data's requirements; exit 1 when it fails one."""
+    result = json.loads((out / "result.json").read_text())
+    rec = result["recommendation"]
+    assert rec["design"] in {f"spur {d}" for d in ("sequential", "codesign")}
+    assert run_quick.exit_codes["codesign"] == (1 if rec["verdict"] == "FAIL" else 0)
+    assert (out / "report.md").read_text().startswith(f"## Verdict: {rec['verdict']}")
+    keys = [(f["gear"], f["flank"]) for f in rec["flanks"]]
+    assert len(keys) == len(set(keys))
