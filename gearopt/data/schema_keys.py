@@ -121,6 +121,8 @@ RULES: dict[str, Rule] = {
     "materials.*.description": Rule("free text"),
     "materials.*.used_for": Rule("free text"),
     "joints.*.joint_type": Rule("'press_fit' or 'taper_nut'", choices=("press_fit", "taper_nut")),
+    "joints.*.free": Rule("the joint's interference (press fit) or nut torque (taper) is a design variable: a "
+                          "recommendation sizes it for the requirements", kind="bool", required=False),
     "joints.*.gear": Rule("the gear held by the joint (a key of gears)"),
     "joints.*.friction_coefficient": Rule("friction coefficient of the joint surfaces", 0.0, 1.0,
                                           low_inclusive=False, high_inclusive=False),

@@ -15,7 +15,7 @@ its design load by that name (``[meshes.<name>] design_torque_Nm``).
 from __future__ import annotations
 
 import copy
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any, Mapping
 
@@ -174,6 +174,12 @@ class Joint:
     def __getitem__(self, key: str) -> Any:
         return self.entries[key]
 
+    @property
+    def free(self) -> bool:
+        """Whether the joint's interference (press fit) or nut torque (taper) is a design variable (``free = true``):
+        a recommendation sizes it for the requirements."""
+        return bool(self.entries.get("free", False))
+
 
 @dataclass(frozen=True)
 class DrivingTorque:
@@ -272,6 +278,18 @@ class System:
         if kind not in self.trains:
             self.train(kind)                      # raises naming the missing [trains.<kind>]
         return next(iter(self.meshes)) if len(self.meshes) == 1 else self.trains[kind].root_mesh
+
+    def with_joint_entries(self, changes: Mapping[str, Mapping[str, Any]], note: str = "sized joints") -> "System":
+        """A copy of the system with entries of ``[joints.<name>]`` replaced (``{joint: {key: value}}``), validated
+        again (a design's sized joints: the capacity models read the joints from the system)."""
+        data = self.data
+        for joint, entries in changes.items():
+            if joint not in data.get("joints", {}):
+                raise GearoptInputError(f"{self.source}: with_joint_entries names joint {joint!r}, not in [joints] "
+                                        f"({sorted(data.get('joints', {}))})")
+            data["joints"][joint].update(dict(entries))
+        new = system_from_data(data, source=f"{self.source} ({note})" if changes else self.source)
+        return replace(new, requirements=self.requirements)       # a caller's requirements stay the system's
 
     def design_torque_Nm(self, mesh: str) -> float:
         """The design torque of ``mesh`` on its driving gear [N m]; a mesh without one raises naming the key to

@@ -7,6 +7,10 @@ of the system (:func:`~gearopt.design.requirements.evaluate_requirements`) and p
 2. when none does, the one that fails the fewest requirements a design variable can move (a fixed check of the
    data fails for every candidate alike), then the fewest failing requirements, then the smallest largest PPTE.
 
+Joints the data marks free (``[joints.<name>] free = true``) are design variables: each candidate's are sized first
+for its own demands (:func:`~gearopt.design.requirements.size_free_joints`) and judged as sized; the sheet gives
+the sized fit or nut torque.
+
 :func:`design_sheet` writes what a drawing needs: per gear the teeth, profile shift, tip diameter with its
 tolerance and the joint (fit or nut torque); per loaded flank, once however many meshes load it, the tip relief
 amount [um], its start diameter and its length along the line of action to the tip [mm], the crown [um], the
@@ -16,7 +20,7 @@ relief's shape and its start transition.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any, Callable, Mapping, Sequence
 
 import pandas as pd
@@ -24,7 +28,8 @@ import pandas as pd
 from ..data import System
 from ..errors import GearoptInputError
 from ..geometry import involute as inv
-from .requirements import DynamicPeaks, RequirementsCheck, TrainDesign, evaluate_requirements
+from .requirements import (DynamicPeaks, RequirementsCheck, TrainDesign, evaluate_requirements, size_free_joints,
+                           with_capacities)
 
 
 def _largest_ppte(check: RequirementsCheck) -> float:
@@ -69,41 +74,57 @@ class Recommendation:
 
 
 def recommend(system: System, candidates: Sequence[TrainDesign], *, contact_meshes: Sequence[str] | None = None,
-              dynamic: DynamicPeaks | Callable[[TrainDesign], DynamicPeaks | None] | None = None,
-              options: Mapping[str, str] | None = None,
+              dynamic: DynamicPeaks | Callable[[TrainDesign, System], DynamicPeaks | None] | None = None,
+              options: Mapping[str, str] | None = None, size_joints: bool = True,
               ltca_options: Mapping[str, Any] | None = None) -> Recommendation:
-    """Judge every candidate and choose one (module docstring). ``dynamic``: the dynamic results of every candidate,
-    or a function of the candidate returning its own; ``options``: {candidate name: the train option it belongs
-    to} for the sheet; the other arguments go to :func:`evaluate_requirements`."""
+    """Judge every candidate and choose one (module docstring). ``dynamic``: the dynamic results of every
+    candidate, or a function of the candidate and the system (its joints as sized) returning its own;
+    ``options``: {candidate name: the train option it belongs to} for the sheet; ``size_joints``: size the joints
+    the data marks free for each candidate first (:func:`size_free_joints`: its joints become design variables);
+    the other arguments go to :func:`evaluate_requirements`."""
     if not candidates:
         raise GearoptInputError("recommend() needs at least one candidate design")
     names = [c.name for c in candidates]
     if len(set(names)) != len(names):
         raise GearoptInputError(f"candidate names must be unique: {names}")
-    checks = {c.name: evaluate_requirements(system, c, contact_meshes=contact_meshes,
-                                            dynamic=dynamic(c) if callable(dynamic) else dynamic,
-                                            ltca_options=ltca_options) for c in candidates}
+
+    def dynamics_of(c: TrainDesign, sys: System):
+        return dynamic(c, sys) if callable(dynamic) else dynamic
+
+    checks, systems, sizing, judged = {}, {}, {}, {}
+    for c in candidates:
+        sys_c, notes = size_free_joints(system, c, dynamics_of(c, system)) if size_joints else (system, {})
+        if sys_c is not system:
+            c = replace(c, variables=tuple(dict.fromkeys((*c.variables, "joints"))))
+        dyn = dynamics_of(c, sys_c)
+        if sys_c is not system and isinstance(dynamic, DynamicPeaks):
+            dyn = with_capacities(dynamic, sys_c, [n for n, j in sys_c.joints.items() if j.free])
+        checks[c.name] = evaluate_requirements(sys_c, c, contact_meshes=contact_meshes, dynamic=dyn,
+                                               ltca_options=ltca_options)
+        systems[c.name], sizing[c.name], judged[c.name] = sys_c, notes, c
 
     def key(c: TrainDesign):
         chk = checks[c.name]
         return (chk.verdict != "PASS", sum(not r.fixed for r in chk.failed), len(chk.failed), _largest_ppte(chk))
 
     ranked = sorted(candidates, key=key)
-    best = ranked[0]
+    best = judged[ranked[0].name]
     chk = checks[best.name]
     if chk.verdict == "PASS":
         passing = [c.name for c in ranked if checks[c.name].verdict == "PASS"]
-        why = (f"meets every requirement; the smallest largest PPTE ({_largest_ppte(chk):.3g} um) of the "
+        why = (f"meets every requirement; the smallest largest PPTE ({_largest_ppte(chk):.3g} µm) of the "
                f"{len(passing)} passing candidate(s) ({', '.join(passing)})")
     else:
         movable = [r.name for r in chk.failed if not r.fixed]
         fixed = [r.name for r in chk.failed if r.fixed]
         why = (f"no candidate meets every requirement; this one fails the fewest the design can move "
                f"({len(movable)}{': ' + '; '.join(movable) if movable else ''}), then has the smallest largest "
-               f"PPTE ({_largest_ppte(chk):.3g} um); {len(fixed)} fixed check(s) of the data fail for every "
+               f"PPTE ({_largest_ppte(chk):.3g} µm); {len(fixed)} fixed check(s) of the data fail for every "
                f"candidate alike")
-    return Recommendation(design=best, check=chk, why=why, checks=checks, sheet=design_sheet(system, best),
-                          option=(options or {}).get(best.name, ""))
+    rec = Recommendation(design=best, check=chk, why=why, checks=checks,
+                         sheet=design_sheet(systems[best.name], best), option=(options or {}).get(best.name, ""))
+    rec.notes += [f"joint {j} sized: {text}" for j, text in sizing[best.name].items()]
+    return rec
 
 
 def _joint_sheet(system: System, gear: str) -> dict | None:
@@ -112,10 +133,12 @@ def _joint_sheet(system: System, gear: str) -> dict | None:
         return None
     e = joint.entries
     if joint.joint_type == "press_fit":
-        return {"joint": joint.name, "type": "press_fit", "fit": e.get("fit"),
+        return {"joint": joint.name, "type": "press_fit", "fit": e.get("fit"), "free": joint.free,
                 "diametral_interference_um": e.get("diametral_interference_um"),
+                "diametral_interference_range_um": [e.get("diametral_interference_min_um"),
+                                                    e.get("diametral_interference_max_um")],
                 "shaft_diameter_mm": e.get("shaft_diameter_mm")}
-    return {"joint": joint.name, "type": joint.joint_type, "nut_torque_Nm": e.get("nut_torque_Nm"),
+    return {"joint": joint.name, "type": joint.joint_type, "nut_torque_Nm": e.get("nut_torque_Nm"), "free": joint.free,
             "taper": e.get("taper"), "taper_large_diameter_mm": e.get("taper_large_diameter_mm")}
 
 

@@ -543,6 +543,86 @@ GROUPS = ("contact", "geometry", "rating", "joints", "dynamics")
 """The requirement groups of :func:`evaluate_requirements` (all judged by default)."""
 
 
+def with_capacities(dynamic: DynamicPeaks, system: System, joints: Sequence[str]) -> DynamicPeaks:
+    """``dynamic`` with the over-speed margins of ``joints`` recomputed for the capacities of ``system`` (e.g. after
+    sizing them): torque margin = torque capacity at the row's speed / peak joint torque (the capacity is constant
+    over a cycle, so the smallest ratio over the cycle is this), axial margin = axial capacity / peak thrust (inf
+    without thrust); the per-cycle spreads of those rows are dropped (they belonged to the old capacity)."""
+    rows = []
+    for e in dynamic.joint_margins:
+        if e["joint"] not in joints:
+            rows.append(e)
+            continue
+        cap = joint_capacity(system, e["joint"], speed_rpm=float(e["speed_rpm"]))
+        t, f = abs(float(e["peak_torque_Nm"])), abs(float(e["peak_axial_force_N"]))
+        rows.append({k: v for k, v in e.items() if "_margin_cycle_" not in k and k != "cycles"}
+                    | {"torque_margin": cap.torque_capacity_Nm / t if t > 0 else math.inf,
+                       "axial_margin": cap.axial_capacity_N / f if f > 0 else math.inf})
+    return dataclasses.replace(dynamic, joint_margins=rows)
+
+
+def size_free_joints(system: System, design: TrainDesign, dynamic: DynamicPeaks | None = None,
+                     requirements: Requirements | None = None) -> tuple[System, dict[str, str]]:
+    """Size every joint the data marks free (``[joints.<name>] free = true``) for the slip (and, with a thrust,
+    walk-off) margin of the requirements at the weakest tolerance (:func:`size_joint`): against the design load of
+    ``design``'s train and, given ``dynamic``, every over-speed peak of the joint; with the requirement's hub
+    yield safety. Returns the system with the sized joints (a press fit's ISO 286 fit and interference band, a
+    taper's nut torque) and ``{joint: what was chosen}``; a joint no admissible design holds keeps the data's and
+    says why."""
+    req = requirements or system.requirements
+    free = [n for n, j in system.joints.items() if j.free]
+    if not free:
+        return system, {}
+    torques = system.design_torques_Nm()
+    load = walk_off(design.train, torques)
+    changes: dict[str, dict] = {}
+    notes: dict[str, str] = {}
+    for name in free:
+        joint = system.joints[name]
+        demands = []
+        t, f = float(load.joint_torque_Nm[joint.gear]), float(load.axial_force_N[joint.gear])
+        if t != 0.0 or f != 0.0:
+            demands.append(JointDemand(torque_Nm=t, axial_force_N=f, name="design load"))
+        for e in (dynamic.joint_margins if dynamic is not None else ()):
+            if e["joint"] == name and (float(e["peak_torque_Nm"]) or float(e["peak_axial_force_N"])):
+                demands.append(JointDemand(torque_Nm=float(e["peak_torque_Nm"]),
+                                           axial_force_N=float(e["peak_axial_force_N"]),
+                                           speed_rpm=float(e["speed_rpm"]), name=f"{float(e['speed_rpm']):g} rpm"))
+        if not demands:
+            continue
+        margin = max(req.min_slip_margin, req.min_axial_margin if any(d.axial_force_N for d in demands) else 0.0)
+        try:
+            sized = size_joint(system, name, demands, target_margin=max(1.0, margin),        # the sizing's own
+                               min_hub_yield_safety=max(0.5, req.min_hub_yield_safety))  # ranges
+        except SolveError as exc:
+            notes[name] = (f"kept the data's: no admissible {joint.joint_type.replace('_', ' ')} holds the demands "
+                           f"({type(exc).__name__})")
+            continue
+        v = sized.values
+        if sized.joint_type == "press_fit":
+            fit = sized.fit
+            if fit is not None:
+                changes[name] = {"fit": fit["fit"], "diametral_interference_um": fit["mean_um"],
+                                 "diametral_interference_min_um": fit["min_um"],
+                                 "diametral_interference_max_um": fit["max_um"],
+                                 "hub_bore_lower_deviation_um": fit["hole_lower_um"],
+                                 "hub_bore_upper_deviation_um": fit["hole_upper_um"],
+                                 "shaft_lower_deviation_um": fit["shaft_lower_um"],
+                                 "shaft_upper_deviation_um": fit["shaft_upper_um"]}
+                notes[name] = (f"fit {fit['fit']} (interference {fit['min_um']:.0f}-{fit['max_um']:.0f} µm; needs "
+                               f">= {v['required_min_interference_um']:.3g} µm at the weakest tolerance)")
+            else:
+                changes[name] = {"fit": "selective", "diametral_interference_um": v["interference_um"],
+                                 "diametral_interference_min_um": v["interference_min_um"],
+                                 "diametral_interference_max_um": v["interference_max_um"]}
+                notes[name] = (f"interference {v['interference_min_um']:.3g}-{v['interference_max_um']:.3g} µm (no "
+                               f"ISO 286 fit: selective assembly)")
+        else:
+            changes[name] = {"nut_torque_Nm": round(float(v["nut_torque_Nm"]), 1)}
+            notes[name] = f"nut torque {changes[name]['nut_torque_Nm']:g} N m"
+    return (system.with_joint_entries(changes) if changes else system), notes
+
+
 def evaluate_requirements(system: System, design: TrainDesign, *, contact_meshes: Sequence[str] | None = None,
                           requirements: Requirements | None = None, dynamic: DynamicPeaks | None = None,
                           ltca_options: Mapping[str, Any] | None = None,
@@ -623,5 +703,5 @@ def _joint_speed_rows(system: System, req: Requirements, dynamic: DynamicPeaks, 
     return rows
 
 
-__all__ = ["GROUPS", "TrainDesign", "RequirementRow", "RequirementsCheck", "DynamicPeaks", "evaluate_requirements",
+__all__ = ["GROUPS", "with_capacities", "size_free_joints", "TrainDesign", "RequirementRow", "RequirementsCheck", "DynamicPeaks", "evaluate_requirements",
            "mesh_ltca_runs", "rating_table", "rating_headroom", "joint_what_it_would_take", "contact_speed_rpm"]

@@ -232,3 +232,28 @@ def test_a_flank_ground_two_ways_is_refused(minimal):
                                                       train.pairs["pinion-idler"].geometry()["hpstc_roll_deg"]))
     with pytest.raises(GearoptInputError, match="pinion:driving.*ground one way"):
         design_sheet(system, TrainDesign(train, {"pinion-wheel": a, "pinion-idler": b}))
+
+
+def test_a_free_joint_is_sized_to_its_requirement_and_judged_as_sized(minimal):
+    """[joints.wheel] free = true: the recommendation sizes its nut torque for the slip requirement at the weakest
+    nut factor (the sizing NLP, gearopt.design.joint_sizing) and judges it with the numeric joint models: the slip
+    margin of the sized joint sits at the requirement (the smallest nut torque that holds), and the sheet says so."""
+    from gearopt.design.requirements import size_free_joints
+
+    design = TrainDesign(minimal.train("spur"), {MESH: _relief(minimal, MESH)})
+    sized, notes = size_free_joints(minimal, design)
+    assert set(notes) == {"wheel"} and "nut torque" in notes["wheel"]
+    assert sized.joints["wheel"]["nut_torque_Nm"] != minimal.joints["wheel"]["nut_torque_Nm"]
+    assert sized.joints["pinion"].entries == minimal.joints["pinion"].entries       # not free: unchanged
+    from gearopt.joints.catalogue import joint_capacity
+    from gearopt.joints.walk_off import joint_margins, walk_off
+
+    load = walk_off(design.train, minimal.design_torques_Nm())
+    cap = joint_capacity(sized, "wheel", interference="min", nut_factor="max", smoothing=True)
+    m = joint_margins(cap.type, load.joint_torque_Nm["wheel"], load.axial_force_N["wheel"], cap.torque_capacity_Nm,
+                      cap.axial_capacity_N)
+    assert float(m["combined_margin"]) == pytest.approx(minimal.requirements.min_slip_margin, rel=0.02)
+    rec = recommend(minimal, [design])
+    assert rec.sheet["gears"]["wheel"]["joint"]["nut_torque_Nm"] == sized.joints["wheel"]["nut_torque_Nm"]
+    assert any("joint wheel sized" in n for n in rec.notes)
+    assert not rec.check.row("slip_margin", "all joints").fixed           # a free joint is a design variable

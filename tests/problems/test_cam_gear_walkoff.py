@@ -283,6 +283,19 @@ def test_recommendation_is_reproduced_independently(run):
         s_f += list(sf["S_F"])
     assert min(s_h) == pytest.approx(rows[("S_H", "all rated meshes")]["value"], rel=0.01)
     assert min(s_f) == pytest.approx(rows[("S_F", "all rated meshes")]["value"], rel=0.01)
+    # the joints as the design sheet gives them (a joint the data marks free is sized by the recommendation)
+    joints = {}
+    for gear, g in rec["gears"].items():
+        j = g["joint"]
+        if j is None:
+            continue
+        if j["type"] == "press_fit":
+            lo, hi = j["diametral_interference_range_um"]
+            joints[j["joint"]] = {"fit": j["fit"], "diametral_interference_um": j["diametral_interference_um"],
+                                  "diametral_interference_min_um": lo, "diametral_interference_max_um": hi}
+        else:
+            joints[j["joint"]] = {"nut_torque_Nm": j["nut_torque_Nm"]}
+    system = system.with_joint_entries(joints)
     demand = walk_off(train, system.design_torques_Nm())
     slip = []
     for name, joint in system.joints.items():

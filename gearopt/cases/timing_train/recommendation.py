@@ -25,7 +25,7 @@ import pandas as pd
 from ...contact.microgeometry import Microgeometry
 from ...data import System
 from ...design.recommendation import Recommendation, recommend
-from ...design.requirements import DynamicPeaks, TrainDesign
+from ...design.requirements import DynamicPeaks, TrainDesign, with_capacities
 from ...joints.catalogue import joint_capacity
 from ...geometry.forces import mesh_torque_Nm
 from ...joints.walk_off import joint_margins, walk_off
@@ -113,8 +113,11 @@ def timing_recommendation(system: System, codesign: Mapping[str, Any], *, contac
     if design_torques is not None and sweep is not None:
         spur = dynamic_peaks(design_torques, sweep)
 
-    def dynamic(design: TrainDesign):
-        return None if spur is None else helical_dynamic_peaks(system, design, spur, sweep)
+    def dynamic(design: TrainDesign, sized: System):
+        if spur is None:
+            return None
+        own = spur if sized is system else with_capacities(spur, sized, [n for n, j in sized.joints.items() if j.free])
+        return helical_dynamic_peaks(sized, design, own, sweep)
 
     return recommend(system, designs, contact_meshes=contact_meshes, dynamic=dynamic, options=options,
                      ltca_options=ltca_options)

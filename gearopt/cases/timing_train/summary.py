@@ -69,9 +69,15 @@ def design_sheet_markdown(recommendation: dict) -> list[str]:
         j = g.get("joint") or {}
         joint = ("-" if not j else f"press fit {j.get('fit')}" if j["type"] == "press_fit"
                  else f"taper, nut torque {eng(j.get('nut_torque_Nm'))} N·m")
+        if j and j.get("free"):
+            joint += " (sized)"
         lo, hi = g["tip_diameter_tolerance_mm"]
         lines.append(f"| {name} | {g['teeth']} | {g['profile_shift']:+.4f} | {g['tip_diameter_mm']:.3f} | "
                      f"{lo:+.3f}/{hi:+.3f} | {joint} |")
+    notes = recommendation.get("notes") or []
+    if notes:
+        lines += ["", "Joints the data marks free, sized for this design's demands (design load and the dynamic peaks "
+                      "over speed, weakest tolerance): " + "; ".join(n.removeprefix("joint ") for n in notes) + "."]
     return lines + [""]
 
 
