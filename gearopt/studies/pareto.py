@@ -24,7 +24,7 @@ Example::
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
@@ -61,6 +61,26 @@ class ParetoFront:
     ends: dict[str, dict[str, float]] = field(default_factory=dict)
     units: dict[str, str] = field(default_factory=dict)
     variables: list[str] = field(default_factory=list)
+    limit: float | None = None          # the scene's own limit on the quantity (the requirement the ε replaced)
+
+    @property
+    def feasible(self) -> pd.Series:
+        """Per row: the point meets the scene's own limit on the quantity (the requirement the front's ε replaced;
+        True for every point when the scene had none)."""
+        q = self.table[self.quantity_column].astype(float)
+        if self.limit is None:
+            return pd.Series(True, index=self.table.index)
+        return (q >= self.limit * (1 - 1e-9)) if self.sense == "max" else (q <= self.limit * (1 + 1e-9))
+
+    def with_verification(self, verification: pd.DataFrame) -> "ParetoFront":
+        """The front with the columns of :func:`~gearopt.studies.front_check.verify_front` merged by point:
+        ``verified`` (the exact LTCA agrees with the smooth model at the re-solved point), ``exact_objective``
+        (the verified design's exact objective) and ``verification``."""
+        cols = [c for c in ("verified", "exact_objective", "verification") if c in verification.columns]
+        table = self.table.drop(columns=[c for c in cols if c in self.table.columns])
+        table = table.merge(verification[["point"] + cols], on="point", how="left")
+        table["verified"] = table["verified"].fillna(False).astype(bool)
+        return replace(self, table=table)
 
     @property
     def solved(self) -> pd.DataFrame:
@@ -69,8 +89,11 @@ class ParetoFront:
 
     def knee(self) -> pd.Series:
         """The solved point farthest from the straight line between the two ends, both axes normalised by their
-        ranges (the point where the trade-off bends most)."""
+        ranges (the point where the trade-off bends most), among the points that meet the scene's own limit on the
+        quantity (all solved points when fewer than two do)."""
         s = self.solved
+        inside = s[self.feasible.loc[s.index]]
+        s = inside if len(inside) >= 2 else s          # the knee of the front that meets the requirement
         x, y = _normalised(s[self.quantity_column].to_numpy(float), s[self.objective_column].to_numpy(float))
         dist = np.abs((x[-1] - x[0]) * (y[0] - y) - (x[0] - x) * (y[-1] - y[0])) / max(
             math.hypot(x[-1] - x[0], y[-1] - y[0]), 1e-300)
@@ -82,19 +105,31 @@ class ParetoFront:
         import matplotlib.pyplot as plt
 
         if ax is None:
-            fig, ax = plt.subplots(figsize=(6.5, 4.5))
+            fig, ax = plt.subplots(figsize=(6.5, 5.5))
         else:
             fig = ax.figure
-        s, bad = self.solved, self.table[self.table["status"] != OK]
-        ax.plot(s[self.quantity_column], s[self.objective_column], "o-", color="C0", label="ε-constraint front")
-        ends = s.iloc[[0, -1]]
-        ax.plot(ends[self.quantity_column], ends[self.objective_column], "s", color="C3", ms=8,
+        solved, bad = self.solved, self.table[self.table["status"] != OK]
+        ok = self.feasible.loc[solved.index]
+        s, beyond = solved[ok], solved[~ok]
+        ax.plot(s[self.quantity_column], s[self.objective_column], "o-", color="C0",
+                label="ε-constraint front (smooth model)")
+        if len(beyond):
+            ax.plot(beyond[self.quantity_column], beyond[self.objective_column], "o", mfc="none", color="0.6",
+                    label=f"beyond the requirement ({len(beyond)})")
+        if self.limit is not None:
+            ax.axvline(self.limit, color="C3", lw=1.0, ls="--", label=f"requirement {self.limit:g}")
+        if "exact_objective" in solved.columns:
+            v = solved[solved["verified"]]
+            ax.plot(v[self.quantity_column], v["exact_objective"], "x", color="k", ms=7,
+                    label=f"exact LTCA of the verified points ({len(v)} of {len(solved)})")
+        ends = solved.iloc[[0, -1]]
+        ax.plot(ends[self.quantity_column], ends[self.objective_column], "s", color="C3", ms=8, mfc="none",
                 label="single-objective optima")
         for _, row in bad.iterrows():
             ax.axvline(row["epsilon"], color="C1", lw=0.8, ls=":")
         if len(bad):
             ax.plot([], [], color="C1", ls=":", label=f"failed points ({len(bad)})")
-        if annotate and len(s) >= 3:
+        if annotate and len(solved) >= 3:
             k = self.knee()
             text = "\n".join(_variable_label(n, float(k[n])) for n in self.variables)
             rising = s[self.objective_column].iloc[-1] > s[self.objective_column].iloc[0]
@@ -107,7 +142,8 @@ class ParetoFront:
         ax.set_ylabel(_axis(self.objective_column, self.units.get(self.objective_column, "")))
         ax.set_title(f"{self.scene}: trade-off front")
         ax.grid(alpha=0.3)
-        ax.legend(fontsize=8)
+        # below the axes: the knee's design annotation takes the empty upper corner inside
+        ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.16), ncol=2, frameon=False)
         fig.tight_layout()
         return fig
 
@@ -327,8 +363,14 @@ def _front(model, rows: list[dict[str, Any]], ends: dict[str, dict[str, float]])
     table = table[front_cols + [c for c in table.columns if c not in front_cols]]
     names = [f"{v.target}.{v.name}" for v in spec.scene.variables]
     units = {obj_col: unit_obj, q_col: kind.unit}
-    return ParetoFront(spec.scene.name, spec.quantity, spec.target, spec.sense, obj_col, q_col, table, ends, units,
-                       names)
+    own = [lim for lim in spec.scene.limits if (lim.quantity, lim.target) == (spec.quantity, spec.target)]
+    limit = None
+    if own:
+        limit = own[0].lower if spec.sense == "max" else own[0].upper
+    front = ParetoFront(spec.scene.name, spec.quantity, spec.target, spec.sense, obj_col, q_col, table, ends, units,
+                        names, limit=None if limit is None else float(limit))
+    front.table.insert(5, "meets_limit", front.feasible.to_numpy())
+    return front
 
 
 def _objective_column(scene: Scene) -> tuple[str, str]:

@@ -21,6 +21,7 @@ from ..nlp import InitialGuessWarning
 from .monte_carlo import MonteCarloResult, monte_carlo
 from .pareto import ParetoFront, pareto_front
 from ..errors import GearoptInputError
+from .front_check import verify_front
 from .sensitivity import SensitivityReport, sensitivity_report
 from .tolerances import Tolerance
 
@@ -49,7 +50,8 @@ class SceneStudy:
             "front": {"quantity": self.front.quantity_column, "objective": self.front.objective_column,
                       "points": int(len(self.front.table)),
                       "failed": int((self.front.table["status"] != "ok").sum()), "ends": self.front.ends,
-                      "knee": {c: float(knee[c]) for c in (self.front.objective_column, self.front.quantity_column)}},
+                      "knee": {c: float(knee[c]) for c in (self.front.objective_column, self.front.quantity_column)},
+                      **self._front_checks()},
             "objective": ({"name": self.sensitivity.objective_name, "unit": self.sensitivity.objective_unit,
                            "value": self.sensitivity.objective} if self.sensitivity is not None else
                           {"value": float(self.optimum.solve.objective)}),
@@ -66,6 +68,18 @@ class SceneStudy:
             "tolerances": [t.__dict__ for t in self.monte_carlo.tolerances],
         }
 
+    def _front_checks(self) -> dict[str, Any]:
+        """The front's requirement and verification counts for the headline."""
+        t, out = self.front.table, {"limit": self.front.limit}
+        solved = t[t["status"] == "ok"]
+        out["beyond_requirement"] = int((~self.front.feasible.loc[solved.index]).sum())
+        if "verified" in t.columns:
+            out["verified"] = int(solved["verified"].sum())
+            v = solved[solved["verified"]]
+            gap = (v["exact_objective"] - v[self.front.objective_column]) / v["exact_objective"].abs()
+            out["largest_smooth_gap_percent"] = float(100 * gap.max()) if len(v) else None
+        return out
+
     def markdown(self, figure: str | None = None, rows: int = 8) -> str:
         """A report section body: the front's ends and knee (and ``figure``, a relative path), the largest
         sensitivities, the robustness summary."""
@@ -76,11 +90,20 @@ class SceneStudy:
                  f"{f['ends']['objective']['quantity']:.4g} to {f['ends']['quantity']['objective']:.4g} at "
                  f"{f['ends']['quantity']['quantity']:.4g}; knee at {f['knee'][f['quantity']]:.4g} "
                  f"({f['knee'][f['objective']]:.4g}).", ""]
+        if f.get("limit") is not None:
+            lines += [f"The requirement on {f['quantity']} is {f['limit']:.4g}: {f['beyond_requirement']} point(s) lie "
+                      f"beyond it (drawn hollow, not part of the front a design may choose from).", ""]
+        if f.get("verified") is not None:
+            lines += [f"{f['verified']} of {f['points'] - f['failed']} solved points verified by the exact LTCA "
+                      f"(column `verified`; `exact_objective` is the verified design's exact value, drawn as x)"
+                      + (f"; the smooth front is up to {f['largest_smooth_gap_percent']:.3g} % below the exact "
+                         f"objective" if f.get("largest_smooth_gap_percent") is not None else "") + ".", ""]
         if figure:
             lines += [f"![front]({figure})", ""]
         if self.sensitivity is not None:
             note = f" {self.sensitivity.note}." if self.sensitivity.note else ""
-            lines += [f"Sensitivities of the optimum ({h['objective']['name']} = {h['objective']['value']:.4g} "
+            lines += [f"Sensitivities of the optimum -- local first-order estimates, exact only for small changes "
+                      f"({h['objective']['name']} = {h['objective']['value']:.4g} "
                       f"{h['objective']['unit']}; limits from the multipliers, data from the KKT system):{note}", "",
                       self.sensitivity.markdown(rows), ""]
         else:
@@ -99,10 +122,17 @@ class SceneStudy:
 
 def scene_study(scene: Scene, quantity: str, target: str, *, points: int = 9, samples: int = 1000, seed: int = 0,
                 starts: int = 4, executor: Any = "serial", tolerances: Sequence[Tolerance] | None = None,
-                **ipopt: Any) -> SceneStudy:
+                verify: bool = True, verify_ltca_options: dict | None = None, **ipopt: Any) -> SceneStudy:
     """Front of ``scene`` against ``quantity`` of ``target``, sensitivity report and Monte Carlo of its optimum
-    (best of ``starts``, as the front's ends); see the module docstring."""
+    (best of ``starts``, as the front's ends); see the module docstring. ``verify`` (default): every solved point
+    of the front re-solved by the scene's exact-LTCA refinement (:func:`verify_front`, with
+    ``verify_ltca_options``, default one re-solve): the table says which points verified and their exact
+    objective."""
     front = pareto_front(scene, quantity, target, points=points, executor=executor, starts=starts, **ipopt)
+    if verify:
+        front = front.with_verification(verify_front(front, scene, executor,
+                                                     ltca_options=verify_ltca_options or {"max_refinements": 1},
+                                                     **ipopt))
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", InitialGuessWarning)
         optimum = scene.build().solve(starts=starts, **ipopt)

@@ -27,3 +27,22 @@ def test_a_failed_sensitivity_report_is_recorded_and_the_study_goes_on(monkeypat
     assert head["objective"]["value"] == pytest.approx(float(study.optimum.solve.objective))
     assert len(study.monte_carlo.table) == 16 and head["front"]["points"] >= 3
     assert "Sensitivities of the optimum: not available -- the parametric re-solve" in study.markdown()
+
+
+@pytest.mark.filterwarnings("ignore")
+def test_the_front_is_verified_and_says_where_the_requirement_cuts_it():
+    """Issue 27: a trade-off front is verified by the exact LTCA by default (a column says which points were), and
+    the points beyond the scene's own limit on the traded quantity are flagged, not the front."""
+    scene = relief_scene()
+    study = scene_study_module.scene_study(scene, "loaded_contact_ratio", MESH, points=3, samples=8, starts=1)
+    t = study.front.table
+    assert {"verified", "exact_objective", "meets_limit"} <= set(t.columns)
+    limit = next(lim.lower for lim in scene.limits if lim.quantity == "loaded_contact_ratio")
+    assert study.front.limit == limit
+    q = t[study.front.quantity_column]
+    assert list(t["meets_limit"]) == list(q >= limit * (1 - 1e-9))
+    head = study.headline()["front"]
+    assert head["verified"] == int(t.loc[t["status"] == "ok", "verified"].sum())
+    assert head["beyond_requirement"] == int((~t["meets_limit"] & (t["status"] == "ok")).sum())
+    text = study.markdown()
+    assert "verified by the exact LTCA" in text and "local first-order estimates" in text
