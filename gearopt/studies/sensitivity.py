@@ -45,7 +45,7 @@ import pandas as pd
 
 from ..design.scene import SceneResult
 from ..design.scene_terms import quantity_kind
-from ..errors import GearoptInputError
+from ..errors import GearoptError, GearoptInputError
 from ..nlp import InitialGuessWarning
 from .parametric import kkt_sensitivity
 
@@ -75,13 +75,23 @@ class SensitivityReport:
     objective) and which numbers still hold."""
 
     def markdown(self, rows: int | None = None) -> str:
-        """The table as Markdown (the ``rows`` largest, default all)."""
+        """The table as Markdown (the ``rows`` largest, default all): local first-order estimates, and for the
+        entries re-solved at ±5 % the re-solved objective beside the estimate."""
         t = self.table if rows is None else self.table.head(rows)
-        cols = ["name", "kind", "value", "unit", "sensitivity", "log_sensitivity", "active"]
+        cols = ["name", "kind", "value", "unit", "sensitivity", "log_sensitivity", "active",
+                "objective at -5 % (re-solve / first order)", "objective at +5 % (re-solve / first order)"]
         lines = ["| " + " | ".join(cols) + " |", "|" + "---|" * len(cols)]
+
+        def pair(r, tag):
+            got, est = getattr(r, f"objective_{tag}_5pct", np.nan), getattr(r, f"first_order_{tag}_5pct", np.nan)
+            if not np.isfinite(est):
+                return ""
+            return f"{got:.4g} / {est:.4g}" if np.isfinite(got) else f"failed / {est:.4g}"
+
         for r in t.itertuples(index=False):
             lines.append(f"| {r.name} | {r.kind} | {r.value:.5g} | {r.unit} | {r.sensitivity:.4g} | "
-                         f"{r.log_sensitivity:.4g} | {'yes' if r.active else ''} |")
+                         f"{r.log_sensitivity:.4g} | {'yes' if r.active else ''} | {pair(r, 'minus')} | "
+                         f"{pair(r, 'plus')} |")
         return "\n".join(lines)
 
     def to_csv(self, path: str | Path) -> Path:
@@ -91,8 +101,20 @@ class SensitivityReport:
         return path
 
 
-def sensitivity_report(result: SceneResult, *, active_tol: float = 1e-9, **ipopt: Any) -> SensitivityReport:
+RESOLVE_STEP = 0.05
+"""Relative change of a datum at which :func:`sensitivity_report` re-solves the scene to check its first-order
+estimate (``resolve_top`` entries)."""
+
+
+def sensitivity_report(result: SceneResult, *, active_tol: float = 1e-9, resolve_top: int = 3,
+                       **ipopt: Any) -> SensitivityReport:
     """The sensitivity report of a solved scene (``scene.build().solve()``); see the module docstring.
+
+    The sensitivities are local first-order estimates. For the ``resolve_top`` data with the largest logarithmic
+    sensitivity the scene is re-solved with the datum at ±5 % (:data:`RESOLVE_STEP`, from the optimum): the columns
+    ``objective_minus_5pct`` / ``objective_plus_5pct`` hold the re-solved objective and ``first_order_minus_5pct``
+    / ``first_order_plus_5pct`` the estimate beside it (NaN for the other rows and for limits, whose
+    sensitivities are the multipliers).
 
     Raises:
         GearoptInputError: ``result`` is not a solved scene result, or the parametric re-solve lands on another
@@ -125,7 +147,36 @@ def sensitivity_report(result: SceneResult, *, active_tol: float = 1e-9, **ipopt
     table = pd.DataFrame(rows, columns=COLUMNS)
     table = table.iloc[np.argsort(-np.nan_to_num(np.abs(table["log_sensitivity"].to_numpy(float)), nan=-1.0),
                                   kind="stable")].reset_index(drop=True)
+    for col in ("objective_minus_5pct", "first_order_minus_5pct", "objective_plus_5pct", "first_order_plus_5pct"):
+        table[col] = np.nan
+    if pb.data_parameters and resolve_top > 0:
+        _resolve_checks(pb, result, table, factor, objective, resolve_top, **ipopt)
     return SensitivityReport(scene.name, name, unit, objective, table, pd.DataFrame(qrows), residual, note)
+
+
+def _resolve_checks(pb, result: SceneResult, table: pd.DataFrame, factor: float, objective: float, top: int,
+                    **ipopt: Any) -> None:
+    """Re-solve the parametric scene with each of the ``top`` most influential data at ±:data:`RESOLVE_STEP` (from
+    the optimum, the datum restored after) and write the objective beside the first-order estimate."""
+    p = pb.problem
+    rows = table[(table["kind"] == "parameter") & table["active"]].head(top)
+    for i, r in rows.iterrows():
+        entry = pb.data_parameters[r["name"]]
+        base = entry["value"]
+        for sign, tag in ((-1.0, "minus"), (1.0, "plus")):
+            for name, value in result.solve.values.items():
+                if name in p.variable_names:
+                    p.set_initial(name, value)
+            p.set_parameter(r["name"], base * (1.0 + sign * RESOLVE_STEP))
+            try:
+                with warnings.catch_warnings():
+                    warnings.simplefilter("ignore", InitialGuessWarning)
+                    solved = p.solve(**ipopt)
+                table.loc[i, f"objective_{tag}_5pct"] = float(solved.objective) * factor
+            except GearoptError:                                 # a failed re-solve leaves NaN: said by the column
+                pass
+            table.loc[i, f"first_order_{tag}_5pct"] = objective + r["sensitivity"] * base * sign * RESOLVE_STEP
+        p.set_parameter(r["name"], base)
 
 
 def objective_meta(scene) -> tuple[str, str, float]:
