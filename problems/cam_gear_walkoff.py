@@ -425,8 +425,12 @@ def recommendation_stage(data: dict, codesign: dict, design_torques: pd.DataFram
     (:func:`gearopt.cases.timing_train.recommendation.timing_recommendation`); ``Recommendation.as_json()``."""
     from gearopt.cases.timing_train.recommendation import timing_recommendation
 
+    quick = all(s.cycles == 1 for (k, _, lash), s in dynamics["runs"].items() if lash)
     rec = timing_recommendation(system_from_data(data), codesign, contact_meshes=CONTACT_MESHES,
-                                design_torques=design_torques, sweep=dynamics["sweeps"]["spur"])
+                                design_torques=design_torques, sweep=dynamics["sweeps"]["spur"],
+                                dynamics_speeds_rpm=dynamics["speeds_rpm"],
+                                dynamics_run=dict(cycles=1 if quick else RECORDED_CYCLES, run_in_cycles=0 if quick
+                                                  else 1, rtol=LASH_RTOL))
     return json.loads(json.dumps(rec.as_json(), default=_json_default))
 
 

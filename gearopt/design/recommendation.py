@@ -49,6 +49,8 @@ class Recommendation:
     sheet: dict
     option: str = ""
     notes: list[str] = field(default_factory=list)
+    system: System | None = None                   # the system the design was judged with (its joints as sized)
+    dynamics_check: dict = field(default_factory=dict)
 
     @property
     def verdict(self) -> str:
@@ -70,7 +72,8 @@ class Recommendation:
                           "root_gear": tr.root_gear, "helix_angle_deg": float(tr.helix_angle_deg)},
                 "verdict": self.verdict, "gears": self.sheet["gears"], "flanks": self.sheet["flanks"],
                 "requirements": self.check.as_json(),
-                "candidates": self.candidates_table().to_dict(orient="records"), "notes": list(self.notes)}
+                "candidates": self.candidates_table().to_dict(orient="records"), "notes": list(self.notes),
+                **({"dynamics_check": self.dynamics_check} if self.dynamics_check else {})}
 
 
 def recommend(system: System, candidates: Sequence[TrainDesign], *, contact_meshes: Sequence[str] | None = None,
@@ -122,7 +125,8 @@ def recommend(system: System, candidates: Sequence[TrainDesign], *, contact_mesh
                f"PPTE ({_largest_ppte(chk):.3g} µm); {len(fixed)} fixed check(s) of the data fail for every "
                f"candidate alike")
     rec = Recommendation(design=best, check=chk, why=why, checks=checks,
-                         sheet=design_sheet(systems[best.name], best), option=(options or {}).get(best.name, ""))
+                         sheet=design_sheet(systems[best.name], best), option=(options or {}).get(best.name, ""),
+                         system=systems[best.name])
     rec.notes += [f"joint {j} sized: {text}" for j, text in sizing[best.name].items()]
     return rec
 

@@ -75,9 +75,13 @@ def design_sheet_markdown(recommendation: dict) -> list[str]:
         lines.append(f"| {name} | {g['teeth']} | {g['profile_shift']:+.4f} | {g['tip_diameter_mm']:.3f} | "
                      f"{lo:+.3f}/{hi:+.3f} | {joint} |")
     notes = recommendation.get("notes") or []
-    if notes:
+    joints = [n.removeprefix("joint ") for n in notes if n.startswith("joint ")]
+    if joints:
         lines += ["", "Joints the data marks free, sized for this design's demands (design load and the dynamic peaks "
-                      "over speed, weakest tolerance): " + "; ".join(n.removeprefix("joint ") for n in notes) + "."]
+                      "over speed, weakest tolerance): " + "; ".join(joints) + "."]
+    others = [n for n in notes if not n.startswith("joint ")]
+    if others:
+        lines += ["", "Notes: " + "; ".join(others) + "."]
     return lines + [""]
 
 
