@@ -38,6 +38,7 @@ from ..contact.microgeometry import Microgeometry
 from ..data import System
 from ..data.requirements import Requirements
 from ..errors import GearoptInputError, SolveError
+from ..validation import check_range
 from ..geometry.train import GearTrain
 from ..joints.catalogue import joint_capacity
 from ..joints.walk_off import joint_margins, walk_off
@@ -360,6 +361,13 @@ def rating_headroom(system: System, train: GearTrain, mesh: str, torque_Nm: floa
     ``max_torque_Nm`` (the largest torque at which it does, same train) and ``min_face_width_mm`` (the smallest
     common face width of both gears at ``torque_Nm``; None beyond 4 x the present width). Bisection on the exact
     rating (:func:`rating_table`) to 0.1 %."""
+    if key not in ("S_H", "S_F", "S_B"):
+        raise GearoptInputError(f"rating_headroom: key={key!r} must be 'S_H', 'S_F' or 'S_B'")
+    if mesh not in train.pairs:
+        raise GearoptInputError(f"rating_headroom: mesh={mesh!r} is not a mesh of the train ({sorted(train.pairs)})")
+    check_range("limit", limit, 0.0, None, low_inclusive=False)
+    check_range("torque_Nm", torque_Nm, 0.0, None, low_inclusive=False, unit="N m")
+
     def safety(tr: GearTrain, t: float) -> float:
         tab = rating_table(system, tr, {mesh: t}, root_speed_rpm, application_factor=application_factor, **options)
         return min(v for _, v in _safety(tab, key))

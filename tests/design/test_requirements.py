@@ -257,3 +257,26 @@ def test_a_free_joint_is_sized_to_its_requirement_and_judged_as_sized(minimal):
     assert rec.sheet["gears"]["wheel"]["joint"]["nut_torque_Nm"] == sized.joints["wheel"]["nut_torque_Nm"]
     assert any("joint wheel sized" in n for n in rec.notes)
     assert not rec.check.row("slip_margin", "all joints").fixed           # a free joint is a design variable
+
+
+def test_an_idler_train_is_judged_mesh_by_mesh_and_bad_calls_are_named():
+    """Any topology: a pinion driving a wheel and an idler (two meshes, one shared driving flank)."""
+    data = tomllib.loads(MINIMAL.read_text())
+    data["gears"]["idler"] = dict(data["gears"]["wheel"], teeth=20)
+    data["meshes"]["pinion-idler"] = dict(data["meshes"]["pinion-wheel"], gears=["pinion", "idler"],
+                                          centre_distance_mm=60.5, design_torque_Nm=40.0)
+    data["meshes"]["pinion-idler"].pop("torque_range_Nm", None)
+    system = system_from_data(data, source="idler.toml")
+    train = system.train("spur")
+    result = evaluate_requirements(system, TrainDesign(train, {"pinion-wheel": _relief(system, "pinion-wheel")}))
+    assert {r.target for r in result.rows if r.quantity == "ppte_um"} == {"pinion-wheel"}
+    rated = result.row("S_H", "all rated meshes").detail["torques_Nm"]
+    assert set(rated) == {"pinion-wheel", "pinion-idler"}
+    with pytest.raises(GearoptInputError, match="groups"):
+        evaluate_requirements(system, TrainDesign(train), groups=("contact", "weather"))
+    with pytest.raises(GearoptInputError, match="key='S_X'"):
+        rating_headroom(system, train, "pinion-wheel", 120.0, 1500.0, "S_X", 1.0, application_factor=1.0)
+    with pytest.raises(GearoptInputError, match="limit"):
+        rating_headroom(system, train, "pinion-wheel", 120.0, 1500.0, "S_H", -1.0, application_factor=1.0)
+    with pytest.raises(GearoptInputError, match="at least one candidate"):
+        recommend(system, [])
