@@ -139,13 +139,16 @@ def _segment_points(lo, hi, n):
 
 def scuffing_safety_factors(pair, torque_Nm, speed_rpm, *, driving_gear=1, lubricant, materials="20MnCr5",
                             flank_roughness_Ra_um=0.5, tip_relief_um=0.0, K_A=1.0, K_v=1.0, K_Bbeta=1.0,
-                            K_Balpha=1.0, mesh_stiffness=None, single_stiffness=None, accuracy_grade=6) -> dict:
+                            K_Balpha=1.0, mesh_stiffness=None, single_stiffness=None, accuracy_grade=6,
+                            flash_roughness_Ra_um=None) -> dict:
     """S_B (flash) and S_intS (integral) with the intermediate temperatures and factors (module docstring).
     ``speed_rpm`` and ``torque_Nm`` of gear ``driving_gear``; load factors as computed by
     :func:`~gearopt.rating.iso6336.rate_iso6336`; ``mesh_stiffness`` c_gamma and ``single_stiffness`` c'
     [N/(mm um)] for C_eff (default: ISO 6336-1 method B of solid blanks); ``accuracy_grade`` (the coarser of the
-    pair) for the load sharing factor and the tip-relief credit. Dual-typed in the pair, torque, speed and
-    factors."""
+    pair) for the load sharing factor and the tip-relief credit; ``flash_roughness_Ra_um`` the flank roughness
+    of the flash method's roughness factor X_R when it differs from the integral method's (default
+    ``flank_roughness_Ra_um``; :func:`~gearopt.rating.iso6336.rate_iso6336` ``flash_roughness``). Dual-typed in
+    the pair, torque, speed and factors."""
     if lubricant.fzg_test != "A/8.3/90":
         raise GearoptInputError(f"fzg_test={lubricant.fzg_test!r}: only the A/8.3/90 scuffing temperature is "
                                 f"implemented (ISO/TS 6336-20/-21)")
@@ -187,6 +190,9 @@ def scuffing_safety_factors(pair, torque_Nm, speed_rpm, *, driving_gear=1, lubri
     X_ab = (1.22 * nm.sin(awt) ** 0.25 * nm.cos(g["pressure_angle_deg"] * RAD_PER_DEG) ** 0.25
             * nm.cos(g["helix_angle_deg"] * RAD_PER_DEG) ** 0.25 / (nm.cos(awt) ** 0.5 * nm.cos(at) ** 0.5))
     X_R = 2.2 * (0.5 * (ra[0] + ra[1]) / rho_red_c) ** 0.25
+    ra_flash = ra if flash_roughness_Ra_um is None else (
+        flash_roughness_Ra_um if isinstance(flash_roughness_Ra_um, (tuple, list)) else (flash_roughness_Ra_um,) * 2)
+    X_R_flash = 2.2 * (0.5 * (ra_flash[0] + ra_flash[1]) / rho_red_c) ** 0.25
     X_L = BASE_OIL_FACTOR[lubricant.base_oil]
     X_S = 1.2 if lubricant.lubrication == "spray" else 1.0
     theta_oil = lubricant.oil_temperature_C
@@ -203,7 +209,7 @@ def scuffing_safety_factors(pair, torque_Nm, speed_rpm, *, driving_gear=1, lubri
     w_f = nm.fmax(w_bt, FRICTION_MIN_LOAD_N_PER_MM)
 
     # --- flash temperature method -------------------------------------------------------------------------
-    mu_m = 0.060 * (w_f / (v_sum * rho_red_c)) ** 0.2 * eta ** -0.05 * X_L * X_R
+    mu_m = 0.060 * (w_f / (v_sum * rho_red_c)) ** 0.2 * eta ** -0.05 * X_L * X_R_flash
     c_eff_flash = K_A * F_t / (b * nm.cos(at) * mesh_stiffness)
     span = gamma_e - gamma_a
     width = 0.2 * nm.sin(nm.fabs(beta_b) * RAD_PER_DEG)

@@ -26,6 +26,11 @@ from gearopt.rating import Lubricant, rate_iso6336
 from gearopt.rating.materials import material
 
 
+REPORT_ARGS: list = []
+REPORT_KWARGS: dict = {}
+"""The report case's arguments (filled by the fixture), for variants of it."""
+
+
 @pytest.fixture(scope="module")
 def report_case():
     base = material("20MnCr5")
@@ -37,14 +42,15 @@ def report_case():
     pair = go.GearPair.from_profile_shifts(teeth=(24, 95), profile_shifts=(0.48, 0.6691), module_mm=14.0,
                                            helix_angle_deg=10.0, face_width_mm=360.0)
     torque = 5000e3 / (1165.9 * math.pi / 30.0)
+    REPORT_ARGS[:] = [pair, torque, 1165.9]
+    REPORT_KWARGS.update(application_factor=1.25, materials=mat, lubricant=Lubricant(220.0, 19.0, 890.0, 80.0, 14),
+                         flank_roughness_Ra_um=0.6, flank_roughness_Rz_um=4.8, root_roughness_Rz_um=20.0,
+                         life_h=175200.0, deviations_um={"f_pb": (13.1, 15.9), "f_falpha": (18.0, 22.0)},
+                         solid_blanks=False, web_thickness_mm=90.0, rim_thickness_mm=70.0,
+                         bore_diameters_mm=(179.10, 1193.32), K_Hbeta=1.15)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # x1 < x2 stiffness validity note (the report's geometry)
-        r = rate_iso6336(pair, torque, 1165.9, application_factor=1.25, materials=mat,
-                         lubricant=Lubricant(220.0, 19.0, 890.0, 80.0, 14), flank_roughness_Ra_um=0.6,
-                         flank_roughness_Rz_um=4.8, root_roughness_Rz_um=20.0, life_h=175200.0,
-                         deviations_um={"f_pb": (13.1, 15.9), "f_falpha": (18.0, 22.0)}, solid_blanks=False,
-                         web_thickness_mm=90.0, rim_thickness_mm=70.0, bore_diameters_mm=(179.10, 1193.32),
-                         K_Hbeta=1.15)
+        r = rate_iso6336(*REPORT_ARGS, **REPORT_KWARGS)
     return r
 
 
@@ -119,8 +125,27 @@ def test_flash_temperature_scuffing_matches_the_report_up_to_the_friction_coeffi
     scale = 0.041 / sc["mu_m"]                                   # 0.041 printed to two digits: +-1.2 %
     assert sc["theta_fl_max_C"] * scale == pytest.approx(169.50 - 94.19, rel=0.025)
     assert sc["theta_flm_C"] * scale == pytest.approx(30.20, rel=0.025)
-    # hence S_B is higher than the report's 4.156 by the friction ratio's effect (unsafe side: docs/rating.md)
+    # hence, with its stated Ra, S_B is higher than the report's 4.156 by the friction ratio's effect (unsafe side:
+    # docs/rating.md); the report's flash method uses Ra = Rz/6 (next test)
     assert 4.156 < report_case.safety_factors["S_B"] < 4.156 * 1.10
+
+
+def test_flash_method_matches_the_report_with_its_rz_over_6_roughness(report_case):
+    """Issue 27: the 7.8 % S_B gap is the flash method's roughness. The report's flash friction coefficient and
+    temperatures follow from X_R with Ra = Rz/6 = 4.8/6 = 0.80 um (its integral method uses its stated Ra 0.60:
+    mu_mC 0.030, matched above); with flash_roughness="Rz/6" every flash quantity matches its printed digits."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        r = rate_iso6336(*REPORT_ARGS, **{**REPORT_KWARGS, "flash_roughness": "Rz/6"})
+    sc = r.scuffing
+    assert float(sc["mu_m"]) == pytest.approx(0.041, rel=0.013)      # report mym 0.041 (two digits: +-1.2 %)
+    assert float(sc["theta_fl_max_C"]) == pytest.approx(169.50 - 94.19, rel=0.005)  # 75.31 K at E
+    assert float(sc["theta_B_C"]) == pytest.approx(169.50, abs=0.5)              # highest contact temperature
+    assert float(sc["theta_flm_C"]) == pytest.approx(30.20, rel=0.02)             # mean flash temperature
+    assert float(r.safety_factors["S_B"]) == pytest.approx(4.156, rel=0.005)     # SB 4.156 (was 7.8 % above)
+    assert float(sc["mu_mC"]) == pytest.approx(float(report_case.scuffing["mu_mC"]), rel=1e-12)  # integral as is
+    with pytest.raises(go.GearoptInputError, match="flash_roughness"):
+        rate_iso6336(*REPORT_ARGS, **{**REPORT_KWARGS, "flash_roughness": "Rq"})
 
 
 def test_spur_planetary_sun_planet_mesh_matches_the_report():
