@@ -50,7 +50,7 @@ from gearopt.report import contact_headlines as headlines
 from gearopt.report import ltca_figures as figs
 from gearopt.report.failure_figures import plot_failure_creep_map
 from gearopt.report.figure_writer import background_figures, plot_later
-from gearopt.studies.background import side_process
+from gearopt.studies.background import children_die_with_this_process, side_process
 from gearopt.report import to_markdown, write_table
 from gearopt.report.joint_tables import blank_table, joint_table, web_table
 from gearopt.report.rating_tables import rating_table
@@ -979,6 +979,18 @@ SIDE_STAGES = {"failure_reproduction": side_failure, "codesign_nlp": side_codesi
 gets a process of its own in a full run, where it is the longest stage)."""
 
 
+def side_result(stage: str, run):
+    """The side stage's result; a side process that died is said in one line naming the stage (exit code 3 under
+    :func:`gearopt.cli.run_script`, distinct from a failed requirement's 1)."""
+    from concurrent.futures.process import BrokenProcessPool
+
+    try:
+        return run.result()
+    except BrokenProcessPool as exc:
+        raise RuntimeError(f"stage {stage}: its side process died ({exc}); run again, or with --serial to run the "
+                           f"stage in this process") from None
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="reduced settings (used by the tests)")
@@ -1001,7 +1013,9 @@ def main(argv: list[str] | None = None) -> int:
     # a full run: the co-design (minutes) in a process of its own; --quick: one side process (a second one made
     # it slower here, 12 s against 9.6 s: four processes on two cores)
     workers = 1 if args.quick else 2
-    with one_thread_per_process(args.quick), side_process(enabled=not args.serial, workers=workers) as side, \
+    # SIGTERM/SIGINT (a timeout, a scheduler, kill, Ctrl-C) end the job with every process of its tree
+    with children_die_with_this_process(), one_thread_per_process(args.quick), \
+            side_process(enabled=not args.serial, workers=workers) as side, \
             background_figures(dpi=QUICK_DPI if args.quick else None):
         side_runs = {stage: side.submit(fn, data, args.out, quick=args.quick) for stage, fn in SIDE_STAGES.items()}
         plotted: set = set()                     # side stages whose figures went to the figure writer
@@ -1061,7 +1075,7 @@ def main(argv: list[str] | None = None) -> int:
         timings["write_rating_joints"] = time.perf_counter() - t0
 
         t0 = time.perf_counter()
-        side_results = {stage: run.result() for stage, run in side_runs.items()}
+        side_results = {stage: side_result(stage, run) for stage, run in side_runs.items()}
         timings["side_process_wait"] = time.perf_counter() - t0
         plot_side_figures(side_runs, plotted)
         for r in side_results.values():

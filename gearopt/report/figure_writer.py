@@ -111,18 +111,25 @@ def background_figures(enabled: bool = True, *, dpi: int | None = None):
             _DPI = previous_dpi
         return
     _POOL = ProcessPoolExecutor(max_workers=1, mp_context=multiprocessing.get_context("spawn"))
+    failed = False
     try:
         yield
+    except BaseException:               # an error or a signal in the block: the figures are not waited for
+        failed = True
+        raise
     finally:
         _DPI = previous_dpi
         pool, pending = _POOL, list(_PENDING)
         _POOL = None
         _PENDING.clear()
-        try:
-            for future in pending:
-                future.result()
-        finally:
-            pool.shutdown(wait=True)
+        if failed:
+            pool.shutdown(wait=False, cancel_futures=True)
+        else:
+            try:
+                for future in pending:
+                    future.result()
+            finally:
+                pool.shutdown(wait=True)
 
 
 __all__ = ["save", "plot_later", "background_figures"]

@@ -27,7 +27,7 @@ from concurrent.futures import Future, ProcessPoolExecutor
 from pathlib import Path
 from typing import Any, Callable, Iterator
 
-__all__ = ["SideProcess", "side_process"]
+__all__ = ["SideProcess", "side_process", "terminate_descendants", "children_die_with_this_process"]
 
 
 class SideProcess:
@@ -70,8 +70,56 @@ def side_process(enabled: bool = True, *, workers: int = 1) -> Iterator[SideProc
                                initializer=_configure_logging)
     try:
         yield SideProcess(pool)
+    except BaseException:              # an error or a signal in the block: do not wait for the side's work
+        pool.shutdown(wait=False, cancel_futures=True)
+        raise
+    pool.shutdown(wait=True, cancel_futures=True)
+
+
+def terminate_descendants(grace_s: float = 3.0) -> int:
+    """Terminate every descendant process of this one (side processes, their workers, the figure writer): SIGTERM,
+    then SIGKILL for those still alive after ``grace_s`` seconds. Returns how many there were."""
+    import psutil
+
+    procs = psutil.Process().children(recursive=True)
+    for proc in procs:
+        with contextlib.suppress(psutil.NoSuchProcess):
+            proc.terminate()
+    _, alive = psutil.wait_procs(procs, timeout=grace_s)
+    for proc in alive:
+        with contextlib.suppress(psutil.NoSuchProcess):
+            proc.kill()
+    return len(procs)
+
+
+@contextlib.contextmanager
+def children_die_with_this_process() -> Iterator[None]:
+    """A block whose child processes do not outlive it: ``SIGTERM`` (a timeout, a scheduler, ``kill``) and
+    ``SIGINT`` terminate every descendant process (:func:`terminate_descendants`) and end the block with
+    ``SystemExit(143)`` / ``KeyboardInterrupt``; an error leaving the block does the same to the descendants. Signal
+    handlers are installed in the main thread only (elsewhere the block only cleans up after an error)."""
+    import signal
+    import threading
+
+    previous = {}
+
+    def stop(signum, frame):
+        terminate_descendants()
+        if signum == signal.SIGINT:
+            raise KeyboardInterrupt
+        raise SystemExit(128 + signum)
+
+    if threading.current_thread() is threading.main_thread():
+        for sig in (signal.SIGTERM, signal.SIGINT):
+            previous[sig] = signal.signal(sig, stop)
+    try:
+        yield
+    except BaseException:
+        terminate_descendants()
+        raise
     finally:
-        pool.shutdown(wait=True, cancel_futures=True)
+        for sig, handler in previous.items():
+            signal.signal(sig, handler)
 
 
 def _importable(fn: Callable) -> bool:
