@@ -77,7 +77,7 @@ from .scene_contact import ContactModels
 from .scene_inputs import JOINT_DATA, SceneInputs
 from .scene_models import TRAIN_TARGET, SceneModels
 from .scene_options import DEFAULT_LTCA_OPTIONS, LTCAOptions
-from .scene_refine import SceneRefinement
+from .scene_refine import SceneRefinement, exact_best_start
 from .scene_result import SceneResult
 from .scene_spec import DesignVariable, Limit, LoadCase, Objective
 from .scene_terms import quantity_kind
@@ -357,6 +357,15 @@ class BuiltScene:
             return SceneRefinement(self).solve(starts=starts, seed=seed, verbose=verbose, **ipopt)
         return self.solve_once(starts=starts, seed=seed, verbose=verbose, check=check, **ipopt)
 
+    def values_of(self, solved) -> dict[str, float]:
+        """The design variables of a solve (``"target.variable"`` -> value, clipped to their bounds)."""
+        values = {}
+        for name in self.variable_names:
+            entry = self.problem._variables[name]
+            v = float(np.asarray(solved.values[name]).ravel()[0])
+            values[name] = float(np.clip(v, entry.lower[0], entry.upper[0]))
+        return values
+
     def solve_once(self, *, starts: int = 1, seed: int = 0, verbose: bool = False, check: bool = True,
                    **ipopt) -> "SceneResult":
         """One solve of this NLP on its present position sets (no refinement); see :meth:`solve`."""
@@ -366,13 +375,11 @@ class BuiltScene:
             ms = self.problem.multistart(starts - 1, seed=seed, variables=names, include_initial=True,
                                          verbose=verbose, **ipopt)
             solved, starts_table = ms.best, ms.table
+            if check and self.ltca_meshes() and any(o.quantity == "ppte_um" for o in self.scene.objectives):
+                solved, starts_table = exact_best_start(self, ms)     # the exact model ranks the starts
         else:
             solved = self.problem.solve(verbose=verbose, **ipopt)
-        values = {}
-        for name in self.variable_names:
-            entry = self.problem._variables[name]
-            v = float(np.asarray(solved.values[name]).ravel()[0])
-            values[name] = float(np.clip(v, entry.lower[0], entry.upper[0]))
+        values = self.values_of(solved)
         table = self.transcription.quantity_table(solved)
         exact = self.exact_check(values, solved.value) if check else pd.DataFrame()
         return SceneResult(scene=self.scene.name, values=values, solve=solved, quantities=table, exact_check=exact,

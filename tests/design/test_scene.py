@@ -216,3 +216,24 @@ def test_a_ppte_limit_beside_the_ppte_objective_binds_the_light_load_case(train)
     te = model.evaluate(result.microgeometry[MESH], list(torques)).transmission_error_um
     assert np.all(np.ptp(te, axis=0) <= unmod * (1 + 1e-6))
     assert np.ptp(te, axis=0).max() >= q.max() - 1e-6   # the limit costs the worst case, it cannot help it
+
+
+def test_multistart_lets_the_exact_ltca_choose_so_more_starts_never_give_a_worse_design(train):
+    """Issue 28 (item 1): the starts are ranked by the exact LTCA (objective and limits), not by the smooth
+    model's objective: the exact largest PPTE of solve(starts=k) does not grow with k, and the starts table says
+    which start was chosen and why (its exact objective and exact limit violation)."""
+    scene = Scene("micro", train=train, load_cases=[LoadCase(f"T{t:g}", t) for t in (150.0, 300.0, 450.0)],
+                  variables=[DesignVariable(v, MESH) for v in RELIEF],
+                  objectives=[Objective("ppte_um", MESH, aggregate="max")],
+                  limits=[Limit("loaded_contact_ratio", MESH, lower=1.2)])
+    worst = []
+    for k in (1, 4, 8):
+        result = scene.build().solve(starts=k, refine=False)
+        worst.append(float(result.exact_check["ppte_um"].max()))
+        if k > 1:
+            t = result.starts
+            assert {"exact_objective", "exact_violation", "chosen"} <= set(t.columns) and t["chosen"].sum() == 1
+            ok = t[t["success"] & (t["exact_violation"] <= 1e-3)]
+            if len(ok):
+                assert t.loc[t["chosen"], "exact_objective"].iloc[0] == ok["exact_objective"].min()
+    assert worst[1] <= worst[0] + 1e-9 and worst[2] <= worst[1] + 1e-9

@@ -64,11 +64,15 @@ def test_ppte_trade_off_writes_front_sensitivity_and_robustness(ppte_run):
     assert (front["status"] == "ok").all()
     assert np.all(np.diff(front["loaded_contact_ratio[crank-cam]"]) > 0)
     assert "coinciding ends" in s["contact_stress_front"]
-    # the nominal optimum sits on the loaded-contact-ratio limit: the tolerances break it often; the robust design
-    # (limit held at the tolerance corners) never on the same samples, for a larger PPTE
-    assert s["nominal"]["worst_probability_broken"] > 0.2
+    # the robust design (limits held at the tolerance corners) breaks no limit on the samples, never more often than
+    # the nominal one; it costs PPTE when the nominal one breaks a limit, and nothing when the nominal design (the
+    # start the exact LTCA ranks best, issue 28) already keeps off the limits
     assert s["robust"]["worst_probability_broken"] == 0.0
-    assert s["robust"]["ppte_um"] > s["nominal"]["ppte_um"]
+    assert s["robust"]["worst_probability_broken"] <= s["nominal"]["worst_probability_broken"]
+    if s["nominal"]["worst_probability_broken"] > 0.0:
+        assert s["robust"]["ppte_um"] > s["nominal"]["ppte_um"]
+    else:
+        assert s["robust"]["ppte_um"] == pytest.approx(s["nominal"]["ppte_um"], rel=1e-6)
     mc = pd.read_csv(ppte_run / "monte_carlo_summary.csv")
     assert set(mc["design"]) == {"nominal", "robust"}
     # Sobol indices (64 Saltelli base samples, noisy for the non-smooth stresses): the contact ratio at the low torque
