@@ -32,7 +32,7 @@ without a dense grid everywhere:
    1.25 times the shortfall for the re-solve, and a solve that breaks one is not admissible;
 4. stop when all agree (PPTE and stresses; for a minimax PPTE objective -- the largest PPTE of several meshes or
    load cases -- the smooth and the exact objective agree, :func:`ppte_agrees`), after ``max_refinements`` re-solves, when no remedy applies, or when a re-solve fails or
-   overruns its wall-time budget (:data:`RESOLVE_BUDGET_FACTOR`; reported);
+   overruns its iteration budget (:data:`RESOLVE_BUDGET_FACTOR`; reported);
 5. return the *best verified* design. Every solve is re-evaluated by the exact LTCA, so each has an exact objective
    (its PPTE terms from the exact model); a solve is admissible when it meets every limit and its exact stresses,
    temperatures and (where PPTE is limited) PPTE agree with the smooth ones within the tolerance. The result is the
@@ -60,11 +60,12 @@ from ..errors import SolveError
 from .positions import extreme_fractions, new_fractions, peak_fractions
 from .scene_terms import quantity_kind
 
-RESOLVE_BUDGET_FACTOR, RESOLVE_BUDGET_MIN_S = 8.0, 10.0
-"""Wall-time budget of a re-solve: this many times the first solve's Ipopt time, at least the minimum [s]. A warm
-re-solve on more positions (and, for a helical mesh, more face slices) normally takes 1-4 first-solve times; one
-that runs much longer is usually in Ipopt's restoration phase heading for "infeasible" (seen on the timing train's
-co-design: a minute where the first solve took 5 s), and the refinement keeps its best admissible design instead."""
+RESOLVE_BUDGET_FACTOR, RESOLVE_BUDGET_MIN_ITERATIONS = 8, 50
+"""Iteration budget of a re-solve: this many times the first solve's Ipopt iterations, at least the minimum. A warm
+re-solve on more positions (and, for a helical mesh, more face slices) normally needs fewer iterations than the
+first solve; one that runs much longer is usually in Ipopt's restoration phase heading for "infeasible" (seen on the
+timing train's co-design), and the refinement keeps its best admissible design instead. Counted in iterations, not
+seconds (issue 28): the result does not depend on how busy the machine is."""
 
 REUSED_MODELS = ("data:", "dynamics:", "simulation:")
 """Models a re-solve takes over from the previous build (they do not depend on the positions)."""
@@ -278,9 +279,9 @@ class SceneRefinement:
         for it in range(max_refinements + 1):
             t0 = time.perf_counter()
             options = dict(ipopt)
-            if it > 0:          # a re-solve that has not converged in a few first-solve times will not pay (step 4)
-                budget = max(RESOLVE_BUDGET_MIN_S, RESOLVE_BUDGET_FACTOR * rows[0]["solve_time_s"])
-                options["max_wall_time"] = min(float(ipopt.get("max_wall_time", budget)), budget)
+            if it > 0:     # a re-solve that has not converged in a few first-solve runs will not pay (step 4)
+                budget = max(RESOLVE_BUDGET_MIN_ITERATIONS, RESOLVE_BUDGET_FACTOR * rows[0]["ipopt_iterations"])
+                options["max_iter"] = int(min(int(ipopt.get("max_iter", budget)), budget))
             try:
                 result = current.solve_once(starts=starts if it == 0 else 1, seed=seed, verbose=verbose, check=True,
                                             **options)
