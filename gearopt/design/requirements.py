@@ -372,19 +372,8 @@ def rating_headroom(system: System, train: GearTrain, mesh: str, torque_Nm: floa
         tab = rating_table(system, tr, {mesh: t}, root_speed_rpm, application_factor=application_factor, **options)
         return min(v for _, v in _safety(tab, key))
 
-    def bisect(f: Callable[[float], float], lo: float, hi: float) -> float:
-        for _ in range(40):                              # f decreasing in the argument when torque, increasing
-            mid = 0.5 * (lo + hi)                          # in it when face width: the caller orders lo/hi
-            if f(mid) >= limit:
-                lo = mid
-            else:
-                hi = mid
-            if abs(hi - lo) <= 1e-3 * abs(hi):
-                break
-        return lo
-
-    t_max = bisect(lambda t: safety(train, t), 0.0, float(torque_Nm)) if safety(train, torque_Nm) < limit \
-        else float(torque_Nm)
+    t_max = (_boundary(lambda t: safety(train, t) >= limit, 0.0, float(torque_Nm))
+             if safety(train, torque_Nm) < limit else float(torque_Nm))
     b0 = min(train.gears[g].face_width_mm for g in train.pairs[mesh].names)
 
     def widened(b: float) -> GearTrain:
@@ -392,19 +381,20 @@ def rating_headroom(system: System, train: GearTrain, mesh: str, torque_Nm: floa
                  for n, g in train.gears.items()}
         return dataclasses.replace(train, gears=gears)
 
-    b_min = None
-    if safety(widened(4.0 * b0), torque_Nm) >= limit:
-        lo, hi = b0, 4.0 * b0                              # safety grows with face width: find the smallest passing
-        for _ in range(40):
-            mid = 0.5 * (lo + hi)
-            if safety(widened(mid), torque_Nm) >= limit:
-                hi = mid
-            else:
-                lo = mid
-            if hi - lo <= 1e-3 * hi:
-                break
-        b_min = hi
+    passes = lambda b: safety(widened(b), torque_Nm) >= limit          # noqa: E731
+    b_min = _boundary(passes, 4.0 * b0, b0) if passes(4.0 * b0) else None
     return {"max_torque_Nm": t_max, "min_face_width_mm": b_min, "face_width_mm": b0}
+
+
+def _boundary(passes: Callable[[float], bool], good: float, bad: float, rtol: float = 1e-3) -> float:
+    """Bisection between an argument that passes and one that fails; the passing end once the two lie within
+    ``rtol`` of the larger."""
+    for _ in range(40):
+        mid = 0.5 * (good + bad)
+        good, bad = (mid, bad) if passes(mid) else (good, mid)
+        if abs(good - bad) <= rtol * max(abs(good), abs(bad)):
+            break
+    return good
 
 
 def _rating_rows(system: System, design: TrainDesign, req: Requirements, torques: Mapping[str, float],
