@@ -23,6 +23,8 @@ import importlib.util
 import inspect
 import logging
 import multiprocessing
+import os
+import sys
 from concurrent.futures import Future, ProcessPoolExecutor
 from pathlib import Path
 from typing import Any, Callable, Iterator
@@ -95,19 +97,22 @@ def terminate_descendants(grace_s: float = 3.0) -> int:
 @contextlib.contextmanager
 def children_die_with_this_process() -> Iterator[None]:
     """A block whose child processes do not outlive it: ``SIGTERM`` (a timeout, a scheduler, ``kill``) and
-    ``SIGINT`` terminate every descendant process (:func:`terminate_descendants`) and end the block with
-    ``SystemExit(143)`` / ``KeyboardInterrupt``; an error leaving the block does the same to the descendants. Signal
-    handlers are installed in the main thread only (elsewhere the block only cleans up after an error)."""
+    ``SIGINT`` terminate every descendant process (:func:`terminate_descendants`) and end this process at once with
+    exit code 128 + the signal (143, 130) and a one-line message; an error leaving the block terminates the
+    descendants too. Signal handlers are installed in the main thread only (elsewhere the block only cleans up after
+    an error)."""
     import signal
     import threading
 
     previous = {}
 
     def stop(signum, frame):
-        terminate_descendants()
-        if signum == signal.SIGINT:
-            raise KeyboardInterrupt
-        raise SystemExit(128 + signum)
+        # exit at once: an exception raised here could be caught on its way (inside a solver callback, by a
+        # multistart that goes on after a failed start) and the job would run on
+        count = terminate_descendants()
+        sys.stderr.write(f"stopped by {signal.Signals(signum).name}: this process and its {count} child process(es)\n")
+        sys.stderr.flush()
+        os._exit(128 + signum)
 
     if threading.current_thread() is threading.main_thread():
         for sig in (signal.SIGTERM, signal.SIGINT):
