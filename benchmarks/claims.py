@@ -216,12 +216,43 @@ def codesign(d) -> str:
             f"the optimum: {errors}. Time to a verified 2 %: {runs}.")
 
 
+def optimum_quality(d) -> str:
+    st, m = d["settings"], d["machine"]
+    rows, over = [], []
+    for p in d["problems"]:
+        s = p["summary"]
+        scope = "" if s["exact_scope"] == "in scope" else ", NLP alone"
+        known = s.get("gap_to_best_known_percent")
+        known = (f"; {known:+.2g} % to the best known, {s['best_known_source'].replace('_', ' ')}"
+                 if known is not None and known != s["gap_percent"] else "")
+        feasible = "" if s["gearopt_feasible"] else ", gearopt's design infeasible"
+        more = "".join(f"; starts={g['starts']}: {g['objective_um']:.4g} um, gap {g['gap_percent']:+.2g} %, "
+                       f"{g['cpu_s']:.2g} CPU-s" for g in s["gearopt_by_starts"][1:])
+        rows.append(f"{p['name'].replace('_', ' ')} ({p['kind']}{scope}): gearopt {s['gearopt_objective_um']:.4g} um "
+                    f"in {s['gearopt_cpu_s']:.2g} CPU-s ({s['gearopt_ltca_calls']} exact LTCA calls, "
+                    f"{s['gearopt_ipopt_iterations']} Ipopt iterations), global search "
+                    f"{s['global_best_objective_um']:.4g} um in {s['global_cpu_s_per_seed']:.2g} CPU-s per seed "
+                    f"({s['global_evaluations_per_seed']:.0f} evaluations): gap {s['gap_percent']:+.2g} % "
+                    f"({s['gap_percent_fine_check']:+.2g} % at {st['fine_check_factor']}x the positions{known}), "
+                    f"{_x(s['time_ratio_global_per_seed_over_gearopt'])} gearopt's CPU time{feasible}{more}")
+        if max(s["gap_percent"], s.get("gap_to_best_known_percent") or s["gap_percent"]) > 1.0:
+            over.append(p["name"].replace("_", " "))
+    seeds = "/".join(str(k) for k in st["seeds"])
+    return (f"`optimum_quality.json` (load average {m['load_average_1_5_15_min']['start'][0]:.1f} on {m['cpus']} "
+            f"cores; gearopt `scene.build().solve()` against differential evolution (population "
+            f"{st['de_popsize_per_variable']} x variables, {st['de_maxiter']} generations, seeds {seeds}) + "
+            f"Nelder-Mead ({st['polish_evaluations_per_variable']} evaluations per variable) on the exact LTCA at "
+            f"{st['check_positions']} positions, both judged by one evaluator, every limit met exactly): "
+            + "; ".join(rows) + ". Gap above 1 %: " + (", ".join(over) if over else "none") + ".")
+
+
 def render(results: Path = RESULTS) -> str:
     blocks = []
     for name, fun in (("geometry", geometry), ("ltca", ltca), ("microgeometry_nlp", microgeometry_nlp),
                       ("microgeometry_three_torques", microgeometry_three_torques),
                       ("stability", stability), ("dynamics_speed", dynamics_speed),
-                      ("studies", studies), ("robustness", robustness), ("codesign", codesign)):
+                      ("studies", studies), ("robustness", robustness), ("codesign", codesign),
+                      ("optimum_quality", optimum_quality)):
         d = _load(results, name)
         text = fun(d) if d is not None else f"`{name}.json`: not run yet."
         blocks.append(textwrap.fill(text, width=118, initial_indent="- ", subsequent_indent="  ",

@@ -18,7 +18,7 @@ from gearopt.design.joint_sizing import (JointDemand, JointSizing, PressFitSpec,
 from gearopt.design.blank_sizing import BlankSizing, BlankSpec, WebDemand, size_blank, web_demand_from_loads
 from gearopt.design.scene import BuiltScene, DesignVariable, Limit, LoadCase, Objective, Scene, SceneResult
 from gearopt.design.scene_options import (ContactModelOptions, ContactTemperatureOptions, ExactCheckOptions,
-                                          LTCAOptions, RefinementOptions)
+                                          LTCAOptions, RefinementOptions, SearchOptions)
 from gearopt.design.train_design import loaded_flanks, rank_tooth_counts
 from gearopt.design.requirements import (DynamicPeaks, RequirementRow, RequirementsCheck, TrainDesign,
                                          evaluate_requirements, rating_headroom)
@@ -30,5 +30,5 @@ __all__ = ["MicrogeometryDesign", "min_tip_relief_design",
            "TaperFitSpec", "size_joint", "size_press_fit", "size_taper_fit", "suggest_fit", "BlankSizing",
            "BlankSpec", "WebDemand", "size_blank", "web_demand_from_loads", "BuiltScene", "SceneResult",
            "LTCAOptions", "ContactModelOptions", "ContactTemperatureOptions", "ExactCheckOptions", "RefinementOptions",
-           "loaded_flanks", "rank_tooth_counts", "DynamicPeaks", "RequirementRow", "RequirementsCheck",
+           "SearchOptions", "loaded_flanks", "rank_tooth_counts", "DynamicPeaks", "RequirementRow", "RequirementsCheck",
            "rating_headroom", "Recommendation", "design_sheet"]

@@ -79,6 +79,7 @@ from .scene_models import TRAIN_TARGET, SceneModels
 from .scene_options import DEFAULT_LTCA_OPTIONS, LTCAOptions
 from .scene_refine import SceneRefinement, exact_best_start
 from .scene_result import SceneResult
+from .scene_search import exact_screen, screened_starts, search_scope
 from .scene_spec import DesignVariable, Limit, LoadCase, Objective
 from .scene_terms import quantity_kind
 from .scene_transcription import SceneTranscription
@@ -343,9 +344,14 @@ class BuiltScene:
         """Solve the scene's NLP (Ipopt). Raises a :class:`~gearopt.errors.SolveError` subclass naming the violated
         constraints on failure.
 
-        ``starts`` > 1: the declared start plus ``starts - 1`` Latin-hypercube points of the design variables inside
-        their bounds (:func:`gearopt.nlp.multistart.multistart`, ``seed``); the best optimum is returned and
-        ``SceneResult.starts`` tables every start with the success rate. ``check``: re-evaluate the optimum of every
+        Starts: where the exact search applies (:func:`gearopt.design.scene_search.search_scope`: PPTE objectives,
+        limits on exact-LTCA quantities, few bounded variables), the ``starts`` best designs of an exact screen
+        (scrambled Sobol, ``seed``; ``SceneResult.screen``; not for a build warm-started with ``initial``, whose
+        start the caller chose) and the optimum is polished on the exact model
+        (``SceneResult.refinement.attrs["polish"]``); otherwise ``starts`` > 1 solves from the declared start plus
+        ``starts - 1`` Latin-hypercube points of the design variables inside their bounds
+        (:func:`gearopt.nlp.multistart.multistart`, ``seed``). Either way the exact LTCA ranks the optima of a
+        scene with a PPTE objective and ``SceneResult.starts`` tables every start with the success rate. ``check``: re-evaluate the optimum of every
         mesh with LTCA quantities by the exact LTCA at ``check_positions`` (``SceneResult.exact_check``: exact and
         smooth values side by side). ``refine`` (default: whenever a PPTE objective or limit is declared and
         ``check``): the semi-infinite refinement of :class:`gearopt.design.scene_refine.SceneRefinement` -- add the exact
@@ -367,11 +373,20 @@ class BuiltScene:
         return values
 
     def solve_once(self, *, starts: int = 1, seed: int = 0, verbose: bool = False, check: bool = True,
-                   **ipopt) -> "SceneResult":
-        """One solve of this NLP on its present position sets (no refinement); see :meth:`solve`."""
-        starts_table = None
-        if starts > 1:
-            names = self.variable_names
+                   screened: bool = True, **ipopt) -> "SceneResult":
+        """One solve of this NLP on its present position sets (no refinement); see :meth:`solve`. ``screened``
+        (default): where the exact screen applies and the build is not warm-started, the starts are its best
+        designs; ``False`` (a warm re-solve): the declared start."""
+        starts_table, screen = None, None
+        names = self.variable_names
+        warm = bool(set(names) & set(self.initial_overrides))     # the caller chose the start
+        if screened and not warm and check and self.options.search.screen_samples and search_scope(self) is None:
+            screen = exact_screen(self, seed=seed)       # the global phase: the exact model picks the starts
+            points = screened_starts(screen, names, starts)
+            ms = self.problem.multistart(len(points), variables=names, points=points, origin="exact screen",
+                                         verbose=verbose, **ipopt)
+            solved, starts_table = exact_best_start(self, ms)
+        elif starts > 1:
             ms = self.problem.multistart(starts - 1, seed=seed, variables=names, include_initial=True,
                                          verbose=verbose, **ipopt)
             solved, starts_table = ms.best, ms.table
@@ -384,7 +399,7 @@ class BuiltScene:
         exact = self.exact_check(values, solved.value) if check else pd.DataFrame()
         return SceneResult(scene=self.scene.name, values=values, solve=solved, quantities=table, exact_check=exact,
                            microgeometry={m: self.microgeometry_at(values, m) for m in self.ltca_meshes()},
-                           built=self.build_table, starts=starts_table, source=self,
+                           built=self.build_table, starts=starts_table, screen=screen, source=self,
                            positions={m: np.asarray(self.positions_of(m)) for m in self.ltca_meshes()})
 
 

@@ -8,6 +8,8 @@
 - :class:`ExactCheckOptions` (``check``): the positions of the exact-LTCA check of an optimum
   (benchmarks/results/ltca.json);
 - :class:`RefinementOptions` (``refinement``): the semi-infinite PPTE refinement (:mod:`gearopt.design.scene_refine`);
+- :class:`SearchOptions` (``search``): the exact screen that picks the NLP's starts and the exact polish of its
+  optimum (:mod:`gearopt.design.scene_search`);
 - ``root_rotation`` on :class:`LTCAOptions` itself: the crank's sense of rotation seen from the front (walk-off).
 
 Users give the options flat, as before: ``Scene(ltca_options={"positions": 24, "max_refinements": 0})`` and the
@@ -169,8 +171,34 @@ class RefinementOptions:
         _count(self, "refine_neighbours", 0, 1000)
 
 
+@dataclass(frozen=True)
+class SearchOptions:
+    """The exact model's global phase and polish around the NLP (:mod:`gearopt.design.scene_search`).
+
+    Attributes:
+        screen_samples: scrambled-Sobol designs of the exact screen that picks the Ipopt starts (0: no screen; else a
+            power of two, 2..65536).
+        screen_max_variables: most design variables a scene may have for the screen and the polish (>= 1).
+        polish_evaluations_per_variable: exact evaluations per design variable of the Nelder-Mead polish of the
+            optimum (0: no polish).
+    """
+
+    screen_samples: int = 64
+    screen_max_variables: int = 8
+    polish_evaluations_per_variable: int = 25
+
+    def __post_init__(self) -> None:
+        _count(self, "screen_samples", 0, 65536)
+        n = self.screen_samples
+        if n and (n < 2 or n & (n - 1)):
+            raise GearoptInputError(f"screen_samples={n} is not a power of two (a Sobol sample is balanced at 2^m "
+                                    f"points): use 0 (no screen) or 2, 4, ..., 65536")
+        _count(self, "screen_max_variables", 1, 1000)
+        _count(self, "polish_evaluations_per_variable", 0, 100000)
+
+
 _GROUPS = {"model": ContactModelOptions, "temperature": ContactTemperatureOptions, "check": ExactCheckOptions,
-           "refinement": RefinementOptions}
+           "refinement": RefinementOptions, "search": SearchOptions}
 _TOP_LEVEL = ("root_rotation",)
 OPTION_GROUP: Mapping[str, str | None] = MappingProxyType({
     **{f.name: group for group, cls in _GROUPS.items() for f in dataclasses.fields(cls)},
@@ -187,6 +215,7 @@ class LTCAOptions:
         temperature: :class:`ContactTemperatureOptions`.
         check: :class:`ExactCheckOptions`.
         refinement: :class:`RefinementOptions`.
+        search: :class:`SearchOptions`.
         root_rotation: the crank's (the train root's) sense of rotation seen from the front, ``"cw"`` or ``"ccw"``
             (walk-off).
         limit_backoff: set by the refinement, not a user option: ``(limit label, amount)`` pairs by which a re-solve
@@ -197,6 +226,7 @@ class LTCAOptions:
     temperature: ContactTemperatureOptions = ContactTemperatureOptions()
     check: ExactCheckOptions = ExactCheckOptions()
     refinement: RefinementOptions = RefinementOptions()
+    search: SearchOptions = SearchOptions()
     root_rotation: str = "cw"
     limit_backoff: tuple[tuple[str, float], ...] = ()
 
@@ -264,5 +294,5 @@ DEFAULT_LTCA_OPTIONS: Mapping[str, Any] = MappingProxyType(LTCAOptions().flat())
 with ``ltca_options``): see :class:`LTCAOptions` and its records for what each sets."""
 
 __all__ = ["LTCAOptions", "ContactModelOptions", "ContactTemperatureOptions", "ExactCheckOptions",
-           "RefinementOptions", "DEFAULT_LTCA_OPTIONS", "OPTION_GROUP", "APPROACHES", "STIFFNESS_KINDS",
+           "RefinementOptions", "SearchOptions", "DEFAULT_LTCA_OPTIONS", "OPTION_GROUP", "APPROACHES", "STIFFNESS_KINDS",
            "ROOT_ROTATIONS"]

@@ -42,7 +42,12 @@ without a dense grid everywhere:
    preferred (its NLP quantities can then be read at face value). For a warm-started scene
    (e.g. from the sequential answer) the start competes too when it is admissible, so the result is never worse
    than it. ``refinement.attrs["chosen"]`` says which design was returned, ``attrs["verified_objective"]`` its exact
-   objective and ``attrs["verified"]`` whether its smooth PPTE agreed with the exact one within the tolerance.
+   objective and ``attrs["verified"]`` whether its smooth PPTE agreed with the exact one within the tolerance;
+6. where the scene is in the exact search's scope (:func:`~gearopt.design.scene_search.search_scope`), polish that
+   design on the exact model (:func:`~gearopt.design.scene_search.exact_polish`; ``attrs["polish"]``): the first
+   solve's starts came from the exact screen, and the polish takes the smooth model's last offset out of the
+   optimum. ``attrs["verified"]`` then says whether the smooth model agrees with the exact one at the polished
+   design (its ``quantities`` are the smooth model's there; its ``exact_check`` holds the exact values).
 
 Every solve is a row of ``SceneResult.refinement`` (positions, slices, smoothing, smooth objective, exact
 objective, errors, admissibility, times).
@@ -58,6 +63,7 @@ import pandas as pd
 
 from ..errors import SolveError
 from .positions import extreme_fractions, new_fractions, peak_fractions
+from .scene_search import EXACT_RANK_TOLERANCE, exact_limit_violation, exact_polish, rank_key, search_scope
 from .scene_terms import quantity_kind
 
 RESOLVE_BUDGET_FACTOR, RESOLVE_BUDGET_MIN_ITERATIONS = 8, 50
@@ -142,31 +148,6 @@ def _verified_objective(built, quantities, exact, column: str = "ppte_um") -> fl
     return max(terms) if built.scene.objective_aggregate == "max" else sum(terms)
 
 
-EXACT_RANK_TOLERANCE = 1e-3
-"""Relative violation of an exact limit below which a multistart candidate counts as meeting it."""
-
-_EXACT_LIMIT_COLUMNS = ("ppte_um", "max_contact_stress_MPa", "max_root_stress_MPa", "max_contact_temperature_C",
-                        "loaded_contact_ratio")
-
-
-def exact_limit_violation(built, exact: pd.DataFrame) -> float:
-    """Sum over the scene's limits on LTCA quantities of the exact check's relative violations (0: every exact
-    limit met)."""
-    total = 0.0
-    if not len(exact):
-        return total
-    for lim in built.scene.limits:
-        if lim.quantity not in _EXACT_LIMIT_COLUMNS or lim.quantity not in exact.columns:
-            continue
-        rows = exact[exact["mesh"] == lim.target]
-        if lim.load_cases is not None:
-            rows = rows[rows["load_case"].isin(lim.load_cases)]
-        vals = rows[lim.quantity].to_numpy(float)
-        if lim.upper is not None:
-            total += float(np.clip((vals - lim.upper) / max(abs(lim.upper), 1e-12), 0.0, None).sum())
-        if lim.lower is not None:
-            total += float(np.clip((lim.lower - vals) / max(abs(lim.lower), 1e-12), 0.0, None).sum())
-    return total
 
 
 def exact_best_start(built, ms):
@@ -187,7 +168,7 @@ def exact_best_start(built, ms):
         objective = _verified_objective(built, built.transcription.quantity_table(solved), exact)
         violation = exact_limit_violation(built, exact)
         table.loc[table.index[i], ["exact_objective", "exact_violation"]] = [objective, violation]
-        key = (violation > EXACT_RANK_TOLERANCE, violation if violation > EXACT_RANK_TOLERANCE else 0.0, objective)
+        key = rank_key(objective, violation)
         if best_key is None or key < best_key:
             best, best_key = i, key
     table["chosen"] = [i == best for i in range(len(table))]
@@ -274,7 +255,7 @@ class SceneRefinement:
                 verified = ppte_agrees(built, q0, ex0, tol, abs_tol)
                 candidates.append((_verified_objective(built, q0, ex0), not verified, "start", (start, q0, ex0)))
         max_refinements = refinement.max_refinements
-        rows, current, status = [], built, "max_refinements reached"
+        rows, current, status, first_screen = [], built, "max_refinements reached", None
         t_start = time.perf_counter()
         for it in range(max_refinements + 1):
             t0 = time.perf_counter()
@@ -284,12 +265,14 @@ class SceneRefinement:
                 options["max_iter"] = int(min(int(ipopt.get("max_iter", budget)), budget))
             try:
                 result = current.solve_once(starts=starts if it == 0 else 1, seed=seed, verbose=verbose, check=True,
-                                            **options)
+                                            screened=it == 0, **options)
             except SolveError as exc:
                 if it == 0:
                     raise
                 status = f"re-solve {it} failed ({type(exc).__name__}: {exc.status}); kept the best verified design"
                 break
+            if it == 0:
+                first_screen = result.screen
             ex = result.exact_check
             err = float(ex["ppte_um_error"].max()) if len(ex) else 0.0
             stress_err = _stress_errors(ex)
@@ -365,11 +348,35 @@ class SceneRefinement:
                 chosen = "start (no verified solve improved on it)"
             else:
                 result = best
+        polish = None
+        if candidates and search_scope(built) is None and built.options.search.polish_evaluations_per_variable:
+            result, polish = _polished(result)
+            if bool(polish["accepted"].iloc[0]):
+                objective = float(polish["polished_objective"].iloc[0])
+                chosen += " + exact polish"
+                verified = ppte_agrees(result.source, result.quantities, result.exact_check, tol, abs_tol)
+        if first_screen is not None:        # the re-solves are warm (not screened): the screen is the first solve's
+            result = dataclasses.replace(result, screen=first_screen)
         table = pd.DataFrame(rows)
         table.attrs.update(status=status, tolerance=tol, total_time_s=time.perf_counter() - t_start, chosen=chosen,
-                           verified=verified, verified_objective=objective if candidates else float("nan"))
+                           verified=verified, verified_objective=objective if candidates else float("nan"),
+                           polish=polish)
         result.refinement = table
         return result
+
+
+def _polished(result):
+    """``(result, summary)``: ``result`` at its exact polish (:func:`~gearopt.design.scene_search.exact_polish`),
+    its quantities (smooth) and exact check re-evaluated there by the build that solved it, when the polish is
+    accepted."""
+    source = result.source
+    values, summary = exact_polish(source, result.values)
+    if not bool(summary["accepted"].iloc[0]):
+        return result, summary
+    return dataclasses.replace(
+        result, values=values, quantities=source.quantities_at(values),
+        exact_check=source.exact_check(values, source.evaluator_at(values)),
+        microgeometry={m: source.microgeometry_at(values, m) for m in source.ltca_meshes()}), summary
 
 
 

@@ -21,7 +21,9 @@ class SceneResult:
     epigraph bound), ``exact_check`` (exact LTCA of the optimum), ``microgeometry`` per LTCA mesh, ``solve``
     (:class:`ProblemResult`: constraint and variable tables, multipliers), ``built`` (the build table) and
     ``starts`` (the multi-start table, when ``solve(starts=n)``), ``refinement`` (one row per solve of the
-    semi-infinite refinement: positions, worst smooth-vs-exact PPTE error, Ipopt iterations and times) and
+    semi-infinite refinement: positions, worst smooth-vs-exact PPTE error, Ipopt iterations and times; its
+    ``attrs["polish"]`` the exact polish), ``screen`` (the exact screen that picked the starts, ranked:
+    :mod:`gearopt.design.scene_search`) and
     ``positions`` (per LTCA mesh, the final mesh positions as fractions of a base pitch), ``source`` (the
     :class:`BuiltScene` solved; the studies of :mod:`gearopt.studies` start from it)."""
 
@@ -34,6 +36,7 @@ class SceneResult:
     built: pd.DataFrame
     starts: pd.DataFrame | None = None
     refinement: pd.DataFrame | None = None
+    screen: pd.DataFrame | None = None
     positions: dict[str, np.ndarray] = field(default_factory=dict)
     source: Any = field(default=None, repr=False, compare=False)
 

@@ -47,8 +47,8 @@ class MultiStartResult:
         best: the successful result with the best objective (lowest for a minimisation, highest for a
             maximisation).
         best_start: row index in :attr:`table` of ``best``.
-        table: one row per start: ``start`` (index), ``origin`` (``"initial"`` or ``"latin_hypercube"``), one
-            ``<element>_init`` column per randomised element (variable units), ``status`` (Ipopt status, or
+        table: one row per start: ``start`` (index), ``origin`` (``"initial"``, ``"latin_hypercube"`` or the
+            label of given ``points``), one ``<element>_init`` column per randomised element (variable units), ``status`` (Ipopt status, or
             ``"bad_initial_guess"``), ``success``, ``error`` (typed error class name, ``""`` on success),
             ``objective`` (objective units; the last iterate's for a failed solve, NaN if it never started),
             ``iterations``, ``solve_time_s`` (Ipopt), ``wall_time_s`` (the whole ``solve()`` call).
@@ -95,7 +95,7 @@ def latin_hypercube(n: int, dims: int, rng: np.random.Generator) -> np.ndarray:
 
 def multistart(problem: Problem, n: int, *, seed: int | None = 0, variables: Sequence[str] | None = None,
                span: float | Mapping[str, float] | None = None, include_initial: bool = False,
-               **solve_options: Any) -> MultiStartResult:
+               points: np.ndarray | None = None, origin: str = "given", **solve_options: Any) -> MultiStartResult:
     """Solve ``problem`` from ``n`` Latin-hypercube starting points (plus, optionally, its declared guess).
 
     Args:
@@ -106,6 +106,9 @@ def multistart(problem: Problem, n: int, *, seed: int | None = 0, variables: Seq
         span: for elements without two finite bounds: sample in ``init +- span * scale`` (a number for all, or a
             dict by variable name); default None keeps their declared guess.
         include_initial: also solve from the declared initial guess (first row, origin ``"initial"``).
+        points: the starting points themselves instead of Latin-hypercube ones: shape ``(n, dimensions)``, one
+            column per sampled element in :attr:`MultiStartResult.dimensions` order (variable units; e.g. the best
+            designs of an exact screen), each row inside the bounds; their ``origin`` labels the table rows.
         solve_options: passed to :meth:`Problem.solve` at every start (``max_iter=...``, ``verbose`` ...);
             ``warm_start`` is not allowed (every start is a cold start by design).
 
@@ -146,12 +149,15 @@ def multistart(problem: Problem, n: int, *, seed: int | None = 0, variables: Seq
         raise GearoptInputError(f"multistart on problem '{problem.name}': none of the variables {chosen} has two "
                                 f"finite bounds; give span= to sample around their initial guesses")
 
-    rng = np.random.default_rng(seed)
     low = np.array([d[2] for d in dims])
     high = np.array([d[3] for d in dims])
-    points = low + latin_hypercube(int(n), len(dims), rng) * (high - low)
+    if points is None:
+        points = low + latin_hypercube(int(n), len(dims), np.random.default_rng(seed)) * (high - low)
+        origins = ["latin_hypercube"] * int(n)
+    else:
+        points = _given_points(points, int(n), labels, low, high)
+        origins = [origin] * int(n)
     declared = {name: v.init.copy() for name, v in entries.items()}
-    origins = ["latin_hypercube"] * int(n)
     if include_initial:
         first = np.array([declared[name][i] for name, i, _, _ in dims])
         points = np.vstack([first, points])
@@ -191,6 +197,21 @@ def multistart(problem: Problem, n: int, *, seed: int | None = 0, variables: Seq
     best_k = min(ok, key=lambda k: problem._sense * results[k].objective)
     return MultiStartResult(problem=problem.name, best=results[best_k], best_start=best_k, table=table,
                             dimensions=labels, starts=points, results=results, errors=errors)
+
+
+def _given_points(points, n: int, labels: list[str], low: np.ndarray, high: np.ndarray) -> np.ndarray:
+    """``points`` checked: ``n`` finite rows of one value per sampled element, inside the bounds."""
+    arr = np.asarray(points, dtype=float)
+    if arr.ndim != 2 or arr.shape != (n, len(labels)):
+        raise GearoptInputError(f"points has shape {arr.shape}: must be (n={n}, {len(labels)}) for the elements "
+                                f"{labels}")
+    outside = ~np.isfinite(arr) | (arr < low - 1e-12 * np.maximum(1.0, abs(low)))\
+        | (arr > high + 1e-12 * np.maximum(1.0, abs(high)))
+    if outside.any():
+        row, col = (int(i) for i in np.argwhere(outside)[0])
+        raise GearoptInputError(f"points[{row}] {labels[col]}={float(arr[row, col])!r} is outside its bounds "
+                                f"[{low[col]:.6g}, {high[col]:.6g}]")
+    return np.clip(arr, low, high)
 
 
 def _spans(span: float | Mapping[str, float] | None, chosen: list[str]) -> dict[str, float | None]:

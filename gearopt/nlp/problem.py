@@ -206,7 +206,7 @@ class Problem(Declarations, Evaluation):
     def multistart(self, n: int, *, seed: int = 0, **options: Any) -> MultiStartResult:
         """Solve from ``n`` Latin-hypercube starting points inside the variable bounds; see
         :func:`gearopt.nlp.multistart.multistart` (``variables``, ``span``, ``include_initial``, solve
-        options). The declared initial guesses are restored afterwards."""
+        options; ``points`` for given starts). The declared initial guesses are restored afterwards."""
         return multistart(self, n, seed=seed, **options)
 
     # ------------------------------------------------------------------ internals: solving

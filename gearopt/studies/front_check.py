@@ -49,7 +49,7 @@ def verify_front(front: ParetoFront, scene: Scene, executor: Any = "serial", *,
     refinement's tolerance), ``refinements``, ``exact_objective`` (for a single PPTE objective: the exact LTCA's PPTE
     of the verified design, aggregated like the objective, in um; else the verified objective of the NLP),
     ``smooth_objective`` (the NLP's value of it at the verified design), ``verified:<quantity column>`` (the front's
-    quantity at the verified design), and ``verified:<variable>`` per design variable.
+    quantity at the verified design: the exact LTCA's where it evaluates it), and ``verified:<variable>`` per design variable.
     """
     if not isinstance(front, ParetoFront):
         raise GearoptInputError(f"front={front!r} must be a ParetoFront (gearopt.studies.pareto_front)")
@@ -86,8 +86,11 @@ def verify_point(task: tuple) -> dict[str, Any]:
         rec = failure_record(exc)
         return {"verification": rec["status"], "error": rec["error"], "verified": False}
     ref = result.refinement
-    q = result.quantities
-    rows = q[(q["quantity"] == quantity) & (q["target"] == target)]["value"].to_numpy(float)
+    q, ex = result.quantities, result.exact_check
+    if quantity in ex.columns:      # the exact LTCA's value where it has one (the design may be polished on it)
+        rows = ex.loc[ex["mesh"] == target, quantity].to_numpy(float)
+    else:
+        rows = q[(q["quantity"] == quantity) & (q["target"] == target)]["value"].to_numpy(float)
     out = {"verification": OK, "error": "",
            "verified": bool(ref.attrs.get("verified", False)) if ref is not None else False,
            "refinements": result.refinements,

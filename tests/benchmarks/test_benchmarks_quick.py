@@ -126,12 +126,30 @@ def check_codesign(result, out):
     assert (out / "codesign.json").exists() and (out / "codesign.png").exists()
 
 
+def check_optimum_quality(result, out):
+    problem = result["problems"][0]
+    gearopt, search, s = problem["gearopt"][0], problem["global_search"][0], problem["summary"]
+    # the benchmark's evaluator is independent of the scene yet is its exact check: same microgeometry, same PPTE
+    assert gearopt["evaluator_check"]["same_microgeometry"]
+    assert gearopt["evaluator_check"]["max_abs_ppte_difference_um"] < 1e-9
+    assert gearopt["judged"]["feasible"] and search["judged"]["feasible"]      # both meet every exact limit
+    # the global search keeps its stated budget, and its trace only improves
+    st, n = result["settings"], len(problem["variables"])
+    assert 0 < search["de_evaluations"] <= st["de_popsize_per_variable"] * n * (st["de_maxiter"] + 1)
+    assert search["polish_evaluations"] <= st["polish_evaluations_per_variable"] * n
+    best = [t[2] for t in search["trace"]]
+    assert best == sorted(best, reverse=True) and best[-1] == search["objective"]
+    # quick mode: gearopt's design beats a global search on a tiny budget (80 exact evaluations)
+    assert s["gap_percent"] <= 0.0 and s["gearopt_ltca_calls"] > 0
+    assert (out / "optimum_quality.json").exists() and (out / "optimum_quality.png").exists()
+
+
 CHECKS = {"bench_geometry": check_geometry, "bench_ltca": check_ltca,
           "bench_microgeometry_nlp": check_microgeometry_nlp,
           "bench_microgeometry_three_torques": check_microgeometry_three_torques, "bench_stability": check_stability,
           "bench_dynamics": check_dynamics, "bench_dynamics_speed": check_dynamics_speed,
           "bench_studies": check_studies, "bench_robustness": check_robustness,
-          "bench_codesign": check_codesign}
+          "bench_codesign": check_codesign, "bench_optimum_quality": check_optimum_quality}
 
 
 @pytest.mark.parametrize("name", SCRIPTS)

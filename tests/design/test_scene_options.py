@@ -9,7 +9,7 @@ import pytest
 
 import gearopt as go
 from gearopt.design import (ContactModelOptions, ContactTemperatureOptions, ExactCheckOptions, LTCAOptions,
-                            RefinementOptions)
+                            RefinementOptions, SearchOptions)
 from gearopt.design.scene import DEFAULT_LTCA_OPTIONS, BuiltScene, DesignVariable, Objective, Scene
 from gearopt.design.scene_file import scene_from_data
 from gearopt.design.scene_options import OPTION_GROUP
@@ -26,11 +26,16 @@ FORMER_DEFAULTS = {
     "refine_neighbours": 3, "approach": "nested"}
 """``DEFAULT_LTCA_OPTIONS`` as the dict it was before the records."""
 
+SEARCH_DEFAULTS = {"screen_samples": 64, "screen_max_variables": 8, "polish_evaluations_per_variable": 25}
+"""The options added since (issue 28: the exact screen and polish, :class:`SearchOptions`)."""
+
+DEFAULTS = {**FORMER_DEFAULTS, **SEARCH_DEFAULTS}
+
 
 def test_defaults_equal_the_former_dict():
-    assert LTCAOptions().flat() == FORMER_DEFAULTS
-    assert dict(DEFAULT_LTCA_OPTIONS) == FORMER_DEFAULTS
-    for name, value in FORMER_DEFAULTS.items():      # same types too (ints stay ints)
+    assert LTCAOptions().flat() == DEFAULTS
+    assert dict(DEFAULT_LTCA_OPTIONS) == DEFAULTS
+    for name, value in DEFAULTS.items():      # same types too (ints stay ints)
         assert type(DEFAULT_LTCA_OPTIONS[name]) is type(value), name
     with pytest.raises(TypeError):
         DEFAULT_LTCA_OPTIONS["positions"] = 24      # read-only
@@ -43,7 +48,8 @@ def test_flat_keys_map_onto_the_records_by_concern():
     assert isinstance(o.check, ExactCheckOptions) and o.check.check_positions == 1280
     assert isinstance(o.refinement, RefinementOptions) and o.refinement.max_refinements == 6
     assert o.root_rotation == "cw" and o.limit_backoff == ()
-    assert set(OPTION_GROUP) == set(FORMER_DEFAULTS)
+    assert isinstance(o.search, SearchOptions) and o.search.screen_samples == 64
+    assert set(OPTION_GROUP) == set(DEFAULTS)
     for name, group in OPTION_GROUP.items():
         assert hasattr(o if group is None else getattr(o, group), name)
 
@@ -55,7 +61,7 @@ def test_a_flat_mapping_round_trips():
     assert o.model.positions == 24 and o.refinement.max_refinements == 0 and o.model.helical_slices == 7
     assert o.temperature.bulk_temperature_C == 90.0 and o.model.approach == "lifted" and o.root_rotation == "ccw"
     assert o.check.check_positions == 640 and o.model.stiffness == 15.0
-    assert o.flat() == {**FORMER_DEFAULTS, **flat}
+    assert o.flat() == {**DEFAULTS, **flat}
     assert LTCAOptions.from_mapping(o.flat()) == o
     assert LTCAOptions.from_mapping({}) == LTCAOptions() == LTCAOptions.from_mapping(None)
     # integral floats are counts; numbers are stored as float
@@ -93,6 +99,10 @@ def test_replace_takes_flat_overrides_and_keeps_the_rest():
     ("refine_tolerance", -0.1, ["refine_tolerance=-0.1", "> 0"]),
     ("max_refinements", -1, ["max_refinements=-1", ">= 0"]),
     ("min_smoothing_um", float("nan"), ["min_smoothing_um", "NaN"]),
+    ("screen_samples", 48, ["screen_samples=48", "power of two"]),
+    ("screen_samples", -2, ["screen_samples=-2", ">= 0"]),
+    ("screen_max_variables", 0, ["screen_max_variables=0", ">= 1"]),
+    ("polish_evaluations_per_variable", 2.5, ["polish_evaluations_per_variable=2.5", "integer"]),
 ])
 def test_bad_values_raise_naming_the_option_value_and_limit(key, value, words):
     with pytest.raises(GearoptInputError) as info:

@@ -9,6 +9,7 @@ import pandas as pd
 import pytest
 
 from gearopt.contact.ltca import ltca
+from gearopt.design import LTCAOptions
 from gearopt.errors import GearoptInputError
 from gearopt.studies import pareto_front
 from gearopt.studies.front_check import verify_front
@@ -36,9 +37,11 @@ def test_every_point_is_re_solved_in_order_and_keeps_its_front_value(front, chec
     assert check["point"].tolist() == front.table["point"].tolist()
     assert (check["verification"] == "ok").all() and check["verified"].any()
     q = front.table[front.quantity_column].to_numpy()
-    # the front makes the smallest loaded contact ratio large: the re-solve holds it at least at the point's value
-    # (within the limit's slack of 1e-6 and Ipopt's tolerance)
-    assert np.all(check[f"verified:{front.quantity_column}"].to_numpy() >= q - 1e-5 * np.maximum(q, 0.1))
+    # the front makes the smallest loaded contact ratio large: the re-solve holds the exact LTCA's value at the
+    # point's value within the refinement's tolerance on a lower limit (refine_stress_tolerance, 1 %: the exact
+    # check accepts a lower limit broken by less; scene_refine.exact_lower_limit_shortfalls)
+    tolerance = LTCAOptions().refinement.refine_stress_tolerance
+    assert np.all(check[f"verified:{front.quantity_column}"].to_numpy() >= q * (1 - tolerance))
 
 
 def test_exact_objective_is_the_exact_ltca_of_the_re_solved_design(scene, check):
