@@ -63,7 +63,7 @@ import pandas as pd
 
 from ..errors import SolveError
 from .positions import extreme_fractions, new_fractions, peak_fractions
-from .scene_search import EXACT_RANK_TOLERANCE, exact_limit_violation, exact_polish, rank_key, search_scope
+from .scene_search import exact_limit_violation, exact_polish, rank_key, search_scope
 from .scene_terms import quantity_kind
 
 RESOLVE_BUDGET_FACTOR, RESOLVE_BUDGET_MIN_ITERATIONS = 8, 50
@@ -153,7 +153,7 @@ def _verified_objective(built, quantities, exact, column: str = "ppte_um") -> fl
 def exact_best_start(built, ms):
     """The multistart candidate the exact model prefers (issue 28: the exact model has the last word): each
     successful start's optimum checked by the exact LTCA; the best one meeting every exact limit (within
-    :data:`EXACT_RANK_TOLERANCE`), else the least violating, by the exact objective
+    :data:`~gearopt.design.scene_search.EXACT_RANK_TOLERANCE`), else the least violating, by the exact objective
     (:func:`_verified_objective`). Returns ``(result, table)`` with the table's ``exact_objective``,
     ``exact_violation`` and ``chosen`` columns."""
     table = ms.table.copy()

@@ -34,7 +34,7 @@ polish evaluations, about 2 CPU-s against 0.7 CPU-s for the NLP.
 
 from __future__ import annotations
 
-from typing import Any, Mapping
+from typing import Mapping
 
 import numpy as np
 import pandas as pd
