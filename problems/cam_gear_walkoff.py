@@ -418,11 +418,13 @@ def contact_stage(data: dict, trains: dict, quick: bool = False, on_study=None) 
     return studies
 
 
-def recommendation_stage(data: dict, codesign: dict, design_torques: pd.DataFrame, dynamics: dict) -> dict:
+def recommendation_stage(data: dict, codesign: dict, design_torques: pd.DataFrame, dynamics: dict,
+                         calibrated_inputs: dict | None = None) -> dict:
     """The one answer: every design of the co-design study judged on every requirement of the data's
     ``[requirements]`` with the exact models (contact of the three contact meshes over their ranges, ISO 6336 at
     the design torques and at the dynamic peaks, joints at the design load and over speed), the best chosen
-    (:func:`gearopt.cases.timing_train.recommendation.timing_recommendation`); ``Recommendation.as_json()``."""
+    (:func:`gearopt.cases.timing_train.recommendation.timing_recommendation`; with ``calibrated_inputs`` from the
+    failure reproduction's calibration its joint and dynamic rows judged again on them); ``Recommendation.as_json()``."""
     from gearopt.cases.timing_train.recommendation import timing_recommendation
 
     quick = all(s.cycles == 1 for (k, _, lash), s in dynamics["runs"].items() if lash)
@@ -430,7 +432,8 @@ def recommendation_stage(data: dict, codesign: dict, design_torques: pd.DataFram
                                 design_torques=design_torques, sweep=dynamics["sweeps"]["spur"],
                                 dynamics_speeds_rpm=dynamics["speeds_rpm"],
                                 dynamics_run=dict(cycles=1 if quick else RECORDED_CYCLES, run_in_cycles=0 if quick
-                                                  else 1, rtol=LASH_RTOL))
+                                                  else 1, rtol=LASH_RTOL),
+                                calibrated_inputs=calibrated_inputs)
     return json.loads(json.dumps(rec.as_json(), default=_json_default))
 
 
@@ -597,30 +600,31 @@ def write_failure(out: Path, failure: dict, figures: list | None = None) -> tupl
     write_table(table, out, "failure_reproduction_summary")
     cam = failure["summary"]["helical"]["cam"]
     spur = failure["summary"]["spur"]["cam"]
+    p_cam = cam.get("walk_off_probability_uncalibrated", cam["walk_off_probability"])  # on the data's estimates
     below = ", ".join(f"{k.replace('x_weakest_fit', '')} x the weakest fit: utilisation {v['max_slip_utilisation']:.2f}, "
                       f"creep {v['max_axial_creep_um_per_cycle']:.3g} um/cycle at {v['at_speed_rpm']:g} rpm, "
                       f"{a['distance_mm']:g} mm in {_minutes(v['minutes_to_walk_distance'])}"
                       for k, v in cam["below_tolerance"].items())
-    if cam["walk_off_probability"] > 0:
+    if p_cam > 0:
         verdict = (f"The helical cam gear walks off in the model: it slips at the weakest fits (peak combined slip "
                    f"utilisation {cam['max_slip_utilisation']:.2f}) and ratchets off its seat up to "
                    f"{cam['max_axial_creep_um_per_cycle']:.3g} um per engine cycle; walk-off probability "
-                   f"{cam['walk_off_probability']:.3%} ({round(cam['walk_off_probability'] * a['samples'])} of "
-                   f"{a['samples']} samples) in {a['period_months']:g} months (field "
-                   f"{a['field_rate']:.3%}: a sanity check, not a target), driven by "
+                   f"{p_cam:.3%} ({round(p_cam * a['samples'])} of "
+                   f"{a['samples']} samples) in {a['period_months']:g} months on the data's estimates (field "
+                   f"{a['field_rate']:.3%}; calibrated below), driven by "
                    f"{', '.join(list(cam['drivers'])[:3])}.")
     elif cam["max_axial_creep_um_per_cycle"] > 0:
         verdict = (f"Within the fit tolerances the helical cam gear only just reaches slip: at the weakest fit its "
                    f"peak combined slip utilisation is {cam['max_slip_utilisation']:.2f} and it creeps at most "
                    f"{cam['max_axial_creep_um_per_cycle']:.3g} um per cycle (at {cam['at_speed_rpm']:g} rpm; "
                    f"{a['distance_mm']:g} mm in {_minutes(cam['minutes_to_walk_distance'])}) -- too slow to walk {a['distance_mm']:g} mm in the assumed overspeed exposure "
-                   f"(probability {cam['walk_off_probability']:.3%}; field {a['field_rate']:.3%}). At the nominal fit "
+                   f"(probability {p_cam:.3%} on the data's estimates; field {a['field_rate']:.3%}). At the nominal fit "
                    f"its utilisation is {cam['max_slip_utilisation_nominal_fit']:.2f}.")
     else:
         verdict = (f"With these data the helical cam gear does not walk off anywhere in the envelope: peak combined "
                    f"slip utilisation {cam['max_slip_utilisation']:.2f} at the weakest fit "
                    f"({cam['max_slip_utilisation_nominal_fit']:.2f} at the nominal fit), no ratchet (probability "
-                   f"{cam['walk_off_probability']:.3%}; field {a['field_rate']:.3%}).")
+                   f"{p_cam:.3%} on the data's estimates; field {a['field_rate']:.3%}).")
     helical_cam = envelope[(envelope["train"] == "helical") & (envelope["joint"] == "cam")
                            & ~envelope["fit_case"].str.endswith("x_weakest")]
     worst = helical_cam.loc[helical_cam["axial_creep_um_per_cycle"].idxmax()]
@@ -661,10 +665,48 @@ def write_failure(out: Path, failure: dict, figures: list | None = None) -> tupl
              "### Cam joint map: peak slip utilisation / axial creep [um per cycle]", "",
              "Columns: fit cases (and 0.5, 0.75 x the weakest fit's capacity, below the tolerance range); the "
              "envelope CSV has every capacity level and the crank joint.", "", to_markdown(cam_map), ""]
+    lines += calibration_lines(failure.get("calibration"), failure["summary"])
     result = {train: {joint: {k: v for k, v in r.items() if k != "drivers"} | {"drivers": r["drivers"]}
                       for joint, r in joints.items()} for train, joints in failure["summary"].items()}
     result["assumptions"] = a
+    if failure.get("calibration") is not None:
+        result["calibration"] = failure["calibration"]
     return lines, json.loads(json.dumps(result, default=float).replace("NaN", "null"))
+
+
+def calibration_lines(cal: dict | None, summary: dict) -> list[str]:
+    """Report section of the failure model's calibration against the field record
+    (``gearopt.studies.calibration``): the evidence, what it rules out, each input's prior and calibrated range,
+    and the walk-off probabilities on the calibrated inputs."""
+    if cal is None:
+        return []
+    field = "; ".join(f"{e['joint']} {e['failures']} of {e['fleet_size']} in {e['period_months']:g} months "
+                      f"({e['source']})" for e in cal["field"])
+    rows = [{"input": k, "unit": v["unit"], "prior": f"{v['prior'][0]:.3g}..{v['prior'][1]:.3g}",
+             "nominal": v["nominal"], "posterior_median": v["posterior"]["median"],
+             "posterior_5_95": f"{v['posterior']['q05']:.3g}..{v['posterior']['q95']:.3g}",
+             "consistent_range": f"{v['consistent_range'][0]:.3g}..{v['consistent_range'][1]:.3g}"}
+            for k, v in cal["inputs"].items()]
+    rows += [{"input": f"{j}.mounting: P({' / '.join(v['prior'])})", "unit": "-",
+              "prior": " / ".join(f"{p:.2g}" for p in v["prior"].values()), "nominal": "as_modelled",
+              "posterior_median": max(v["posterior"], key=v["posterior"].get),
+              "posterior_5_95": " / ".join(f"{p:.2g}" for p in v["posterior"].values()),
+              "consistent_range": ", ".join(v["consistent"])} for j, v in cal["mounting"].items()]
+    probs = [{"train": t, "joint": j, "walk_off_probability_calibrated": r["walk_off_probability"],
+              "interval_90": "{:.3g}..{:.3g}".format(*r["walk_off_probability_interval_90"]),
+              "walk_off_probability_uncalibrated": r["walk_off_probability_uncalibrated"]}
+             for t, joints in summary.items() for j, r in joints.items() if "walk_off_probability_interval_90" in r]
+    rules = cal["rules_out"] or ["nothing: every input's whole prior range stays consistent"]
+    return ["### Calibrated to the field record", "",
+            f"Evidence: {field}. Method: {cal['method']}; {cal['prior_samples']} prior samples, effective sample size "
+            f"{cal['effective_samples']:.0f}"
+            + (" (quick mode: one speed and damper state, a smoke run, not a result)" if cal.get("quick") else "")
+            + ". Key clearance: " + cal["not_calibrated"]["key_clearance_um"] + ". Mountings: as_modelled (the "
+            "press fit, shoulder on the data's side), flipped (shoulder on the other side), retained (an axial "
+            "retainer holds the gear).", "",
+            "**What the field rules out:** " + "; ".join(rules) + ".", "", to_markdown(pd.DataFrame(rows)), "",
+            "Walk-off probabilities on the calibrated inputs (posterior predictive; the uncalibrated Monte Carlo "
+            "beside):", "", to_markdown(pd.DataFrame(probs)), ""]
 
 
 CREEP_MAP = Path("figures") / "failure_reproduction_creep_map.png"
@@ -705,7 +747,8 @@ def _crank_sentence(summary: dict) -> str:
             f"back and forth on its seat against its own inertia (net creep of either sign, up to "
             f"{h['max_axial_creep_um_per_cycle']:.3g} um/cycle), and at the nominal fit the torque-driven slip "
             f"ratchets it off at up to {h['max_axial_creep_um_per_cycle_nominal_fit']:.3g} um/cycle (walk-off "
-            f"probability {h['walk_off_probability']:.0%}) -- which the field never showed. The crank joint's data "
+            f"probability {h.get('walk_off_probability_uncalibrated', h['walk_off_probability']):.0%} on the data's "
+            f"estimates) -- which the field never showed. The crank joint's data "
             f"(H7/r6 fit, friction 0.12, no axial retention) are therefore not credible: the real crank gear is most "
             f"likely held axially by the damper hub clamped on the crank nose, or has a heavier fit. Data that would "
             f"settle it: the crank gear's fit and its axial retention.")
@@ -1082,8 +1125,9 @@ def main(argv: list[str] | None = None) -> int:
             timings.update(r["timings"])
 
         t0 = time.perf_counter()
+        calibration = side_results["failure_reproduction"]["section"][1].get("calibration") or {}
         recommendation = recommendation_stage(data, side_results["codesign_nlp"]["section"][1], design_torques,
-                                              dynamics)
+                                              dynamics, calibration.get("calibrated_inputs"))
         timings["recommendation"] = time.perf_counter() - t0
 
         t0 = time.perf_counter()

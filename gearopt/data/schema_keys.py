@@ -30,6 +30,7 @@ SECTION_USES = {
     "excitation": "the torsional dynamics of a train without an engine",
     "engine": "the torsional dynamics of an engine's train",
     "dynamics": "mesh damping of the torsional dynamics",
+    "field_record": "the failure model's fleet evidence and duty assumptions (walk-off calibration)",
     "requirements": "the limits the verdict judges and the design NLPs carry (optional: defaults)",
 }
 """What each optional section is for (the message of a missing one names it)."""
@@ -40,11 +41,11 @@ UNIT_SUFFIXES = {
     "_N_per_m": "N/m", "_kg_m3": "kg/m^3", "_W_mK": "W/(m K)", "_J_kgK": "J/(kg K)", "_per_K": "1/K",
     "_bar_abs": "bar (absolute)", "_Rz_um": "um (Rz)", "_kgm2": "kg m^2", "_mm2": "mm^2", "_percent": "%",
     "_MPa": "MPa", "_HRC": "HRC", "_rpm": "rpm", "_deg": "deg", "_bar": "bar", "_kW": "kW", "_kJ": "kJ",
-    "_Hz": "Hz", "_Nm": "N m", "_mm": "mm", "_um": "um", "_kg": "kg", "_HV": "HV", "_C": "degC", "_N": "N",
+    "_Hz": "Hz", "_Nm": "N m", "_h": "h", "_mm": "mm", "_um": "um", "_kg": "kg", "_HV": "HV", "_C": "degC", "_N": "N",
     "_L": "L", "_K": "K",
 }
 #: Units whose quantities cannot be negative (lengths and micrometres only outside allowances and deviations).
-NON_NEGATIVE_UNITS = {"kg m^2", "kg", "kg/m^3", "Hz", "rpm", "mm^2", "L", "W/(m K)", "J/(kg K)", "N/m", "N m/rad",
+NON_NEGATIVE_UNITS = {"h", "kg m^2", "kg", "kg/m^3", "Hz", "rpm", "mm^2", "L", "W/(m K)", "J/(kg K)", "N/m", "N m/rad",
                       "N m s/rad", "kW", "HRC", "HV", "bar", "bar (absolute)", "mm", "um", "um (Rz)", "MPa", "N",
                       "kJ", "N/(mm s^0.5 K)", "1/K"}
 SIGNED_WORDS = ("allowance", "deviation", "change", "offset", "torque_min", "start_of_combustion")
@@ -114,6 +115,35 @@ RULES: dict[str, Rule] = {
     "meshes.*.sum_profile_shift": Rule("sum of profile shifts x1 + x2 (check value)", -6.0, 6.0),
     "meshes.*.standard_centre_distance_change_percent": Rule("a / a_d - 1 (check value)", -50.0, 50.0),
     "meshes.*.speed_ratio_error_percent": Rule("speed-ratio error against the target (check value)", -100.0, 100.0),
+    "joints.*.axial_retention": Rule("how the gear is held axially besides its fit: 'none' (fit and key only), "
+                                     "'retained' (a retainer plate, a clamped hub) or 'unknown' (the walk-off "
+                                     "calibration weighs both)", choices=("none", "retained", "unknown"),
+                                     required=False),
+    "joints.*.field_failures": Rule("failures of this joint (walk-offs) observed in the fleet of [field_record] within "
+                                    "its period", 0, None, kind="int", required=False),
+    "field_record.fleet_size": Rule("units (engines) in the fleet of the field record", 1, None, kind="int"),
+    "field_record.period_months": Rule("period of the field record (the exposure hours are per period)", 0.0, 1200.0,
+                                       low_inclusive=False),
+    "field_record.walk_off_distance_mm": Rule("axial travel at which a walked gear has failed", 0.0, 1000.0,
+                                              low_inclusive=False),
+    "field_record.damper_degraded_probability": Rule("share of units with a degraded damper in the period", 0.0, 1.0),
+    "field_record.damper_seized_probability": Rule("share of units with a seized damper in the period", 0.0, 1.0),
+    "field_record.rated_hours_median_h": Rule("median hours per unit at the rated speed in the period",
+                                           0.0, 1e6),
+    "field_record.rated_hours_sigma": Rule("log-normal spread (sigma of ln hours) at the rated speed",
+                                        0.0, 10.0),
+    "field_record.high_idle_hours_median_h": Rule("median hours per unit at the high idle speed in the period",
+                                           0.0, 1e6),
+    "field_record.high_idle_hours_sigma": Rule("log-normal spread (sigma of ln hours) at the high idle speed",
+                                        0.0, 10.0),
+    "field_record.overspeed_test_hours_median_h": Rule("median hours per unit at the overspeed test speed in the period",
+                                           0.0, 1e6),
+    "field_record.overspeed_test_hours_sigma": Rule("log-normal spread (sigma of ln hours) at the overspeed test speed",
+                                        0.0, 10.0),
+    "field_record.motoring_overspeed_hours_median_h": Rule("median hours per unit at the motoring overspeed speed in the period",
+                                           0.0, 1e6),
+    "field_record.motoring_overspeed_hours_sigma": Rule("log-normal spread (sigma of ln hours) at the motoring overspeed speed",
+                                        0.0, 10.0),
     "service.backlash_range_mm": Rule("service backlash range (min, max)", 0.0, 10.0, kind="list[float]", length=2),
     "materials.*.E_MPa": Rule("Young's modulus", 1e3, 1e6),
     "materials.*.poisson_ratio": Rule("Poisson's ratio", 0.0, 0.5, low_inclusive=False, high_inclusive=False),

@@ -51,6 +51,7 @@ class Recommendation:
     notes: list[str] = field(default_factory=list)
     system: System | None = None                   # the system the design was judged with (its joints as sized)
     dynamics_check: dict = field(default_factory=dict)
+    calibrated: pd.DataFrame | None = None       # the requirements judged again on field-calibrated inputs
 
     @property
     def verdict(self) -> str:
@@ -73,7 +74,9 @@ class Recommendation:
                 "verdict": self.verdict, "gears": self.sheet["gears"], "flanks": self.sheet["flanks"],
                 "requirements": self.check.as_json(),
                 "candidates": self.candidates_table().to_dict(orient="records"), "notes": list(self.notes),
-                **({"dynamics_check": self.dynamics_check} if self.dynamics_check else {})}
+                **({"dynamics_check": self.dynamics_check} if self.dynamics_check else {}),
+                **({"on_calibrated_inputs": self.calibrated.to_dict(orient="records")}
+                   if self.calibrated is not None else {})}
 
 
 def recommend(system: System, candidates: Sequence[TrainDesign], *, contact_meshes: Sequence[str] | None = None,

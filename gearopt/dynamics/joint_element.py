@@ -32,7 +32,9 @@ class FrictionJoint:
     node's inertia when the gear is its own node); ``key_clearance_um`` c per side (arc at the fit radius; None = no
     key); ``key_stiffness_N_per_m``; ``shoulder_stiffness_N_per_m``; ``slip_speed_m_s`` V (the
     regularisation: slip speed at 100 % overstress); ``thrust_scale`` multiplies the thrust (1; e.g.
-    the ratio of tan(beta) of a lower helix angle, an approximation that keeps the dynamics of the present train);
+    the ratio of tan(beta) of a lower helix angle, an approximation that keeps the dynamics of the present train;
+    negative: the shaft shoulder on the other side of the gear, so that the thrust that pushed the gear off the nose
+    now presses it onto the shoulder and vice versa);
     ``gear_mass_kg`` m of the gear in its axial motion; ``interface_stiffness_N_per_m`` k_c the axial (tangential)
     stiffness of the fit interface before it slips and ``interface_damping_ratio`` zeta_c of the gear's mass on it
     (module docstring, "Axial inertia").
@@ -68,7 +70,7 @@ class FrictionJoint:
                     low_inclusive=False, unit="N/m")
         check_range(f"slip_speed_m_s of {self.name!r}", self.slip_speed_m_s, 0.0, None,
                     low_inclusive=False, unit="m/s")
-        check_range(f"thrust_scale of {self.name!r}", self.thrust_scale, 0.0, None, unit="-")
+        check_range(f"thrust_scale of {self.name!r}", self.thrust_scale, None, None, unit="-")
         check_range(f"gear_mass_kg of {self.name!r}", self.gear_mass_kg, 0.0, None, low_inclusive=False, unit="kg")
         check_range(f"interface_stiffness_N_per_m of {self.name!r}", self.interface_stiffness_N_per_m, 0.0, None,
                     low_inclusive=False, unit="N/m")

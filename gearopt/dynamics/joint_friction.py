@@ -328,6 +328,8 @@ class JointSimulator:
                 check_range(k, v, 0.0, None, low_inclusive=False, unit="N")
             elif k.endswith(".slip_speed_m_s"):
                 check_range(k, v, 0.0, None, low_inclusive=False, unit="m/s")
+            elif k.endswith(".thrust_scale"):
+                check_range(k, v)                      # negative: the shoulder on the other side of the gear
             else:
                 check_range(k, v, 0.0, None)
         return np.concatenate([self.network.parameter_vector(speed_rpm, net_over),

@@ -7,9 +7,14 @@
 - :func:`monte_carlo`, :func:`sobol_indices`: distributions, probabilities of broken limits and Sobol indices over
   the tolerances (:class:`Tolerance`); :func:`robust_design`: the scene's limits held at the tolerance corners;
 - :func:`scene_study`: the three above for one scene, with a report section;
+- :func:`calibrate_walk_off`: the walk-off failure model's estimated inputs calibrated against a fleet's failure
+  counts (:class:`FieldEvidence`; :func:`field_record` reads them from a data file), with what the field rules out
+  and the walk-off probabilities on the calibrated inputs;
 - every batch runs on :mod:`gearopt.executor` (serial, local processes or a Dask cluster).
 """
 
+from .calibration import (Calibration, FieldEvidence, UncertainInput, WalkOffModel, calibrate_walk_off, field_record,
+                          recheck_on_calibrated_inputs)
 from .contact_study import DESIGNS, MeshContactStudy, mesh_contact_study
 from .front_check import verify_front
 from .monte_carlo import MonteCarloResult, monte_carlo, sobol_indices
@@ -20,7 +25,8 @@ from .scene_study import SceneStudy, relief_scene_from_data, scene_study
 from .sensitivity import SensitivityReport, sensitivity_report
 from .tolerances import Tolerance, default_tolerances
 
-__all__ = ["mesh_contact_study", "MeshContactStudy", "DESIGNS", "pareto_front", "ParetoFront", "verify_front",
+__all__ = ["calibrate_walk_off", "Calibration", "FieldEvidence", "UncertainInput", "WalkOffModel", "field_record",
+           "recheck_on_calibrated_inputs", "mesh_contact_study", "MeshContactStudy", "DESIGNS", "pareto_front", "ParetoFront", "verify_front",
            "sensitivity_report", "SensitivityReport", "kkt_sensitivity",
            "KKTSensitivity", "robust_design", "monte_carlo", "sobol_indices", "MonteCarloResult", "Tolerance",
            "default_tolerances", "scene_study", "SceneStudy", "relief_scene_from_data"]

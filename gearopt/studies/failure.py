@@ -13,8 +13,9 @@ conservative, as creep towards the shoulder at one speed is not credited against
 A sample walks off when the distance reaches ``distance_mm``.
 
 The evaluation is vectorised (no model runs): the model runs are the envelope's, which take a ``map``-like
-executor. A field rate is a sanity check of the result, never a target: no input here is fitted to it (the
-timing-train case, :mod:`gearopt.cases.timing_train.failure`, compares with the source study's field record).
+executor. No input here is fitted to a field rate: :mod:`gearopt.studies.calibration` calibrates the estimated
+inputs of the same model against observed failure counts (the timing-train case,
+:mod:`gearopt.cases.timing_train.failure`, against the source study's field record).
 """
 
 from __future__ import annotations

@@ -343,6 +343,33 @@ def test_failure_reproduction_per_train_and_joint(run):
     assert "Failure reproduction" in (run / "report.md").read_text()
 
 
+def test_failure_model_calibrated_to_the_field_record(run):
+    # acceptance interface of issue 30 (structure; the values of the full run are in the README's claims): each
+    # calibrated input with its prior and the range the field leaves, the evidence used, and the probabilities on
+    # the calibrated inputs -- the spur train's zero whatever the inputs
+    fr = json.loads((run / "result.json").read_text())["failure_reproduction"]
+    cal = fr["calibration"]
+    assert {e["joint"]: e["failures"] for e in cal["field"]} == {"cam": 213, "crank": 0}
+    for name, entry in cal["inputs"].items():
+        lo, hi = entry["prior"]
+        assert lo < hi
+        for q in ("q05", "median", "q95"):
+            assert lo <= entry["posterior"][q] <= hi, name
+        c_lo, c_hi = entry["consistent_range"]
+        assert lo <= c_lo <= c_hi <= hi, name
+    assert abs(sum(cal["mounting"]["crank"]["posterior"].values()) - 1.0) < 1e-9
+    for joint in ("cam", "crank"):
+        assert fr["spur"][joint]["walk_off_probability"] == 0.0
+        lo, hi = fr["helical"][joint]["walk_off_probability_interval_90"]
+        assert lo <= fr["helical"][joint]["walk_off_probability"] <= hi or lo == hi
+        assert "walk_off_probability_uncalibrated" in fr["helical"][joint]
+    rows = json.loads((run / "result.json").read_text())["recommendation"]["on_calibrated_inputs"]
+    assert {r["status"] for r in rows} <= {"PASS", "not affected", "FAIL remains", "new FAIL",
+                                           "FAIL was an artefact of the estimates",
+                                           "FAIL remains (not affected by the calibrated inputs)"}
+    assert "Calibrated to the field record" in (run / "report.md").read_text()
+
+
 def test_trade_off_section_of_the_crank_cam_tip_relief(run):
     # stage 7 (gearopt.studies.scene_study): front, sensitivities and robustness of the optimised design
     t = json.loads((run / "result.json").read_text())["trade_off"]

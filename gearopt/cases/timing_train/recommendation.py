@@ -107,11 +107,15 @@ def helical_dynamic_peaks(system: System, design: TrainDesign, spur: DynamicPeak
 def timing_recommendation(system: System, codesign: Mapping[str, Any], *, contact_meshes: Sequence[str],
                           design_torques: pd.DataFrame | None = None, sweep: pd.DataFrame | None = None,
                           ltca_options: Mapping[str, Any] | None = None, dynamics_speeds_rpm=None,
-                          dynamics_run: Mapping[str, Any] | None = None) -> Recommendation:
+                          dynamics_run: Mapping[str, Any] | None = None,
+                          calibrated_inputs: Mapping[str, Any] | None = None) -> Recommendation:
     """The recommended design of the timing train among the co-design study's designs (module docstring). With
     ``dynamics_speeds_rpm`` the recommended design's dynamic peaks are checked to be its own
     (:func:`dynamics_check`, ``dynamics_run`` the simulation settings) and, when its train differs from the one
-    simulated by more than :data:`DYNAMICS_AGREEMENT`, it is judged again with its own peaks."""
+    simulated by more than :data:`DYNAMICS_AGREEMENT`, it is judged again with its own peaks. With
+    ``calibrated_inputs`` (the failure model's calibration to the field record,
+    :func:`gearopt.studies.calibration.calibrate_walk_off`) its joint and dynamic rows are judged again on them
+    (``rec.calibrated``, :func:`gearopt.studies.calibration.recheck_on_calibrated_inputs`)."""
     designs, options = codesign_candidates(system, codesign)
     spur = None
     if design_torques is not None and sweep is not None:
@@ -125,6 +129,7 @@ def timing_recommendation(system: System, codesign: Mapping[str, Any], *, contac
 
     rec = recommend(system, designs, contact_meshes=contact_meshes, dynamic=dynamic, options=options,
                     ltca_options=ltca_options)
+    judged_with = dynamic
     if dynamics_speeds_rpm is not None and spur is not None:
         judged = dynamic(rec.design, rec.system)
         check = dynamics_check(system, rec.design, judged, dynamics_speeds_rpm, **dict(dynamics_run or {}))
@@ -135,9 +140,23 @@ def timing_recommendation(system: System, codesign: Mapping[str, Any], *, contac
             rec.check = rec.checks[rec.design.name] = evaluate_requirements(
                 rec.system, rec.design, contact_meshes=contact_meshes, dynamic=again, ltca_options=ltca_options)
             check["note"] += "; judged again with its own peaks"
+            judged_with = _own_peaks(again)
         rec.dynamics_check = check
         rec.notes.append(f"dynamics: {check['note']}")
+    if calibrated_inputs:
+        from ...studies.calibration import recheck_on_calibrated_inputs
+        rec.calibrated = recheck_on_calibrated_inputs(rec.system or system, rec.design, rec.check,
+                                                      dict(calibrated_inputs), dynamic=judged_with,
+                                                      contact_meshes=contact_meshes)
     return rec
+
+
+def _own_peaks(peaks):
+    """The dynamic peaks of a design judged with its own peaks, as a function of (design, system): the joint
+    margins recomputed for the system's capacities."""
+    def of(design: TrainDesign, sized: System):
+        return with_capacities(peaks, sized, list(sized.joints))
+    return of
 
 
 DYNAMICS_AGREEMENT = 0.02

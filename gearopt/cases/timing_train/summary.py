@@ -111,6 +111,7 @@ def summary_markdown(summary: dict, recommendation: dict) -> str:
         lines.append(f"| {r['requirement']} | {worst} | {eng(r['value'])} | {r['sense']} {eng(r['limit'])} | "
                      f"{_unit(r['unit'])} | {verdict} | {r.get('what_it_would_take', '') if r['verdict'] == 'FAIL' else ''} |")
     lines.append("")
+    lines += calibrated_verdict_lines(recommendation.get("on_calibrated_inputs"))
     cands = recommendation.get("candidates") or []
     if cands:
         lines += ["Candidates judged: " + "; ".join(
@@ -122,6 +123,24 @@ def summary_markdown(summary: dict, recommendation: dict) -> str:
         lines += ["Key figures: " + " · ".join(f"[{f.rsplit('/', 1)[-1].removesuffix('.png')}]({f})"
                                               for f in summary["figures"]), ""]
     return "\n".join(lines)
+
+
+def calibrated_verdict_lines(rows: list[dict] | None) -> list[str]:
+    """One paragraph on the requirements judged again on the inputs calibrated to the field record: which FAILs
+    remain, which were artefacts of the estimates, which are new."""
+    if not rows:
+        return []
+    groups: dict[str, list[str]] = {}
+    for r in rows:
+        text = r["requirement"] if r["status"] in ("PASS", "not affected") else (
+            f"{r['requirement']} ({r['worst_case_calibrated']}: {eng(r['value_calibrated'])}, was "
+            f"{eng(r['value_estimates'])})")
+        groups.setdefault(r["status"], []).append(text)
+    order = ("FAIL remains", "FAIL remains (not affected by the calibrated inputs)",
+             "FAIL was an artefact of the estimates", "new FAIL")
+    parts = [f"{k}: {'; '.join(groups[k])}" for k in order if k in groups]
+    return ["**On the inputs calibrated to the field record** (joint fits and friction; failure reproduction "
+            "below): " + (". ".join(parts) if parts else "every requirement passes as before") + ".", ""]
 
 
 def headlines_markdown(entry: dict) -> list[str]:
