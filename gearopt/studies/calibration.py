@@ -597,7 +597,14 @@ class Calibration:
             span = (math.log(max(hi, 1e-300) / max(lo, 1e-300)) / math.log(u.high / u.low)) if u.scale == "log" \
                 else (hi - lo) / (u.high - u.low)
             if span <= 0.8:
-                out.append(f"{u.name} outside {lo:.3g}..{hi:.3g} {u.unit} (prior {u.low:g}..{u.high:g})")
+                text = f"{u.name} outside {lo:.3g}..{hi:.3g} {u.unit} (prior {u.low:g}..{u.high:g})"
+                joint = u.name.split(".")[0]
+                if u.name.endswith(".interference_shift_um") and joint in self.grid:
+                    c_lo, c_hi = self.capacity_summary()[joint]["consistent_range"]
+                    speed = min(self.model.bands.values())
+                    text += (f": a median {joint} fit capacity outside {c_lo:.3g}..{c_hi:.3g} N at {speed:g} rpm "
+                             f"(the data's fit: {self.model.median_capacity_N(joint, {}):.3g} N)")
+                out.append(text)
         return out
 
     def to_json(self) -> dict:
