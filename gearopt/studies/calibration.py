@@ -330,15 +330,16 @@ class WalkOffModel:
 
 
 def damper_weights(theta: dict, states=DAMPER_STATE_NAMES) -> dict:
-    """Probabilities of the damper states under ``theta`` (renormalised over ``states``)."""
+    """Probabilities of the damper states under ``theta`` (renormalised over ``states``; an envelope whose states are
+    none of :data:`DAMPER_STATE_NAMES` -- a train without a damper -- weighs its states equally)."""
     p = {"degraded": float(theta.get("damper_degraded_probability", 0.05)),
          "seized": float(theta.get("damper_seized_probability", 0.01))}
     p["nominal"] = 1.0 - p["degraded"] - p["seized"]
     if p["nominal"] < 0.0:
         raise GearoptInputError(f"damper_degraded_probability + damper_seized_probability = "
                                 f"{p['degraded'] + p['seized']:g} must be <= 1")
-    total = sum(p[s] for s in states)
-    return {s: p[s] / total if total > 0 else 1.0 / len(states) for s in states}
+    total = sum(p.get(s, 0.0) for s in states)
+    return {s: p.get(s, 0.0) / total if total > 0 else 1.0 / len(states) for s in states}
 
 
 def _conditional_walk_off(rates, medians, sigmas, z, distance):

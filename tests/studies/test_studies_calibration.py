@@ -141,3 +141,38 @@ def test_bad_input_is_named():
         model.probability("cam", {}, "flipped")
     with pytest.raises(GearoptInputError, match="high of 'x'"):
         UncertainInput("x", 1.0, 0.5, 0.7)
+
+
+def test_any_train_its_own_joint_bands_and_names(tmp_path):
+    """Any train: the packaged minimal pair (no engine) with its joint renamed, the user's own speed bands and
+    exposure, creep maps from the user's own source: the calibration runs on the user's names only and a larger
+    failure count asks for a weaker fit."""
+    import re
+    from gearopt.data import default_data_path, load_system
+    text = (default_data_path().parent / "minimal_train.toml").read_text(encoding="utf-8")
+    path = tmp_path / "renamed.toml"
+    path.write_text(re.sub(r"\bpinion\b", "sun_gear", text), encoding="utf-8")
+    system = load_system(path)
+    bands = {"running": 1500.0, "overspeed": 1800.0}
+    rows = []
+    for band, speed in bands.items():
+        cases = fit_cases(system, "sun_gear", speed)
+        weak, nominal = cases["weakest"], cases["nominal"]
+        for i, c in enumerate(np.geomspace(0.25 * weak, cases["strongest"], 8)):
+            creep = (0.02 if band == "overspeed" else 0.0) * max(0.0, 1.0 - np.log(c / weak) / np.log(nominal / weak))
+            rows.append({"joint": "sun_gear", "speed_rpm": speed, "damper_state": "none", "capacity_N": c,
+                         "axial_creep_um_per_cycle": creep})
+    model = WalkOffModel(pd.DataFrame(rows), system, ["sun_gear"], speed_bands_rpm=bands,
+                         exposure_hours={"running": (2000.0, 0.5), "overspeed": (5.0, 1.0)}, samples=500)
+    inputs = [UncertainInput("sun_gear.interference_shift_um", -20.0, 20.0, 0.0, "um"),
+              UncertainInput("overspeed_exposure_scale", 0.3, 3.0, 1.0, scale="log")]
+    medians = []
+    for failures in (5, 500):
+        cal = calibrate_walk_off(model, [FieldEvidence("sun_gear", failures, 100_000, 12.0)], inputs,
+                                 prior_samples=64, mountings={"sun_gear": ("as_modelled",)})
+        out = cal.to_json()
+        assert set(out["inputs"]) == {"sun_gear.interference_shift_um", "overspeed_exposure_scale"}
+        assert "pinion" not in str(out)
+        medians.append(out["inputs"]["sun_gear.interference_shift_um"]["posterior"]["median"])
+        assert 0.3 < out["predicted"]["sun_gear"]["walk_off_probability"] / (failures / 100_000) < 3.0
+    assert medians[1] < medians[0]
