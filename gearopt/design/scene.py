@@ -288,10 +288,12 @@ class BuiltScene:
         """The mesh positions of the mesh's smooth LTCA, as fractions of a base pitch."""
         return self.contact.positions_of(mesh)
 
-    def exact_check(self, values: Mapping[str, float], evaluate: Callable | None = None) -> pd.DataFrame:
+    def exact_check(self, values: Mapping[str, float], evaluate: Callable | None = None, *,
+                    train=None) -> pd.DataFrame:
         """Exact LTCA of every LTCA mesh at a design, beside the smooth model's values when ``evaluate``
-        (:meth:`ContactModels.exact_check`)."""
-        return self.contact.exact_check(values, evaluate)
+        (:meth:`ContactModels.exact_check`); ``train``: another numeric train's pairs instead of the scene's (e.g.
+        another root profile shift: :func:`gearopt.design.scene_presolve.scan_train_variable`)."""
+        return self.contact.exact_check(values, evaluate, train=train)
 
     # -- the NLP and its quantities (hooks of gearopt.studies) -------------------------------------------------
 

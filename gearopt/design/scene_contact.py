@@ -405,7 +405,7 @@ class ContactModels:
 
     # -- exact check ---------------------------------------------------------------------------------------------
 
-    def exact_check(self, values: Mapping[str, float], evaluate=None) -> pd.DataFrame:
+    def exact_check(self, values: Mapping[str, float], evaluate=None, *, train=None) -> pd.DataFrame:
         """Exact LTCA (``check_positions``, the default slices) of every LTCA mesh at the optimum, per load case,
         beside the smooth model's values at the same design (``smooth_*``) and their relative differences
         (``*_error``, relative to the exact value). ``worst_fractions`` lists the mesh positions (fractions of a
@@ -415,7 +415,8 @@ class ContactModels:
         rows = []
         for mesh in self.ltca_meshes():
             mods = self.microgeometry_at(values, mesh)
-            pair, model = self.graph.numeric_pair(mesh, values), self.ltca_model(mesh)
+            pair = self.graph.numeric_pair(mesh, values) if train is None else train.pairs[mesh]
+            model = self.ltca_model(mesh)
             slices = default_slices(pair, mods)
             positions = max(self.options.check.check_positions, self._model_positions(model)) if slices == 1 \
                 else default_positions(slices)

@@ -57,12 +57,12 @@ POLISH_STEP = 0.05
 """First simplex of the polish: this fraction of each variable's bound range from the start."""
 
 
-def exact_limit_violation(built, exact: pd.DataFrame) -> float:
-    """Sum over the scene's limits on LTCA quantities of the exact check's relative violations (0: every exact
-    limit met)."""
-    total = 0.0
+def exact_limit_violations(built, exact: pd.DataFrame) -> dict[str, float]:
+    """``{"<quantity> <target>": relative violation}`` of each of the scene's limits on LTCA quantities in the exact
+    check (summed over its load cases; 0 where it is met)."""
+    out: dict[str, float] = {}
     if not len(exact):
-        return total
+        return out
     for lim in built.scene.limits:
         if lim.quantity not in EXACT_LIMIT_COLUMNS or lim.quantity not in exact.columns:
             continue
@@ -70,11 +70,20 @@ def exact_limit_violation(built, exact: pd.DataFrame) -> float:
         if lim.load_cases is not None:
             rows = rows[rows["load_case"].isin(lim.load_cases)]
         vals = rows[lim.quantity].to_numpy(float)
+        total = 0.0
         if lim.upper is not None:
             total += float(np.clip((vals - lim.upper) / max(abs(lim.upper), 1e-12), 0.0, None).sum())
         if lim.lower is not None:
             total += float(np.clip((lim.lower - vals) / max(abs(lim.lower), 1e-12), 0.0, None).sum())
-    return total
+        key = f"{lim.quantity} {lim.target}"
+        out[key] = out.get(key, 0.0) + total
+    return out
+
+
+def exact_limit_violation(built, exact: pd.DataFrame) -> float:
+    """Sum over the scene's limits on LTCA quantities of the exact check's relative violations (0: every exact
+    limit met)."""
+    return float(sum(exact_limit_violations(built, exact).values()))
 
 
 def rank_key(objective: float, violation: float) -> tuple[bool, float, float]:

@@ -244,3 +244,26 @@ def test_codesign_study_names_a_bad_contact_stress_allowance(allowance):
 
     with pytest.raises(GearoptInputError, match="contact_stress_allowance"):
         codesign_study(options=("spur",), quick=True, contact_stress_allowance=allowance)
+
+
+def test_codesign_study_pins_a_root_shift_the_limits_hold_and_says_why():
+    """Issue 29 item 1 on the quick spur study: the presolve's exact scan of the root profile shift (flanks held at
+    the sequential design) finds the limits met only next to the data's shift, so the co-design solves the flanks
+    alone there, reports the shift as pinned with the limits that close it, and its design keeps the shift."""
+    from gearopt.cases.timing_train import codesign_study
+
+    study = codesign_study(options=("spur",), quick=True)
+    opt = study.options["spur"]
+    pin = opt.pinned["root_profile_shift"]
+    lo, hi = pin.interval
+    assert lo <= pin.value <= hi and hi - lo <= 0.12
+    assert all(pin.binding) and "pinned" in pin.reason
+    scan = pin.scan.set_index("value")
+    v0 = scan.loc[pin.value, "violation"]         # the quick sequential design is unrefined: judged against itself
+    for end in (lo, hi):
+        assert scan.loc[end, "geometry"] or scan.loc[end, "violation"] > max(v0, 1e-3)
+    assert "train.root_profile_shift" not in opt.codesign.values
+    assert any("pinned" in line for line in study.report_lines())
+    assert study.to_json()["options"]["spur"]["pinned"]["root_profile_shift"]["interval"] == [lo, hi]
+    with pytest.raises(GearoptInputError, match="pin_width"):
+        codesign_study(options=("spur",), quick=True, pin_width=-1.0)

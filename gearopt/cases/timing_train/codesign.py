@@ -27,7 +27,7 @@ from __future__ import annotations
 import dataclasses
 import time
 from dataclasses import dataclass, field
-from typing import Callable, Sequence
+from typing import Sequence
 
 import numpy as np
 import pandas as pd
@@ -40,8 +40,12 @@ from ...joints import joint_capacity
 from ...joints.walk_off import walk_off
 from ...validation import check_range
 from ...design.scene import DEFAULT_LTCA_OPTIONS, Scene, SceneResult
+from ...design.scene_presolve import pinned_interval, scan_train_variable
 from ...design.scene_spec import DesignVariable, Limit, LoadCase, Objective
 from ...design.train_design import loaded_flanks
+
+PIN_SCAN_POINTS = 25
+"""Values of the root profile shift the presolve scans over its bounds (0.025 apart on the default 0..0.6)."""
 
 CODESIGN_IPOPT = {"hessian_approximation": "limited-memory"}
 """Ipopt options of the co-design solves: a quasi-Newton (L-BFGS) Hessian. The exact Hessian of the macro-symbolic
@@ -65,6 +69,7 @@ class CodesignOption:
     sequential_macro: dict
     time_s: dict = field(default_factory=dict)
     failures: dict = field(default_factory=dict)   # design -> the typed solve error's message
+    pinned: dict = field(default_factory=dict)     # train variable -> PinnedVariable (held at its start value)
 
 
 @dataclass
@@ -119,6 +124,9 @@ class CodesignStudy:
             lines.append(f"| {r['option']} | {r['design']} | {r['root_profile_shift']:.4f} | "
                          f"{r['helix_angle_deg']:.3f} | {r['max_ppte_um']:.3f} | {r['min_axial_margin']:.3g} | "
                          f"{r['refinements']:.0f} | {'yes' if r['verified'] else 'no'} | {r['time_s']:.1f} |")
+        for name, opt in self.options.items():
+            for pin in opt.pinned.values():
+                lines += ["", f"Presolve, {name} option: {pin.reason}; its co-design solved the flanks alone there."]
         lines += ["", "Tip relief per gear flank (one tooth form per flank, shared by every mesh that loads it):", ""]
         study = self.to_json()["options"]
         for name, opt in self.options.items():
@@ -138,7 +146,9 @@ class CodesignStudy:
                                if opt.sequential is not None else {"failed": opt.failures["sequential"]}),
                 "codesign": (design_entry(opt.codesign, self.flanks, opt.sequential_macro) if opt.codesign is not None
                              else {"failed": opt.failures["codesign"]}),
-                "time_s": opt.time_s}
+                "time_s": opt.time_s,
+                "pinned": {k: {kk: vv for kk, vv in v.as_json().items() if kk != "scan"}
+                           for k, v in opt.pinned.items()}}
         return out
 
 
@@ -271,15 +281,21 @@ def codesign_study(data: dict | None = None, *, options: Sequence[str] = ("spur"
                    root_shift_bounds: tuple[float, float] = (0.0, 0.6), min_axial_margin: float = 1.5,
                    quick: bool = False, ltca_options: dict | None = None,
                    contact_stress_allowance: float = CONTACT_STRESS_ALLOWANCE,
-                   sequential_options: dict | None = None, codesign_ipopt: dict | None = None) -> CodesignStudy:
+                   sequential_options: dict | None = None, codesign_ipopt: dict | None = None,
+                   pin_width: float = 0.12) -> CodesignStudy:
     """Run the study of the module docstring on ``data`` (default: the packaged default data). ``quick``: one load
     case (the design torque), 16 positions, 5 face slices for a helical option and no refinement (a smoke run for
     tests: every optimum is still checked by the exact LTCA, but not refined to the 2 % agreement).
     ``contact_stress_allowance``: the LTCA contact stress of each mesh may exceed the unmodified mesh's exact
     maximum by this fraction (:data:`CONTACT_STRESS_ALLOWANCE`). ``sequential_options``: ``ltca_options``
     overrides of the sequential design's scene only (fixed macro geometry; default :data:`SEQUENTIAL_OPTIONS`).
-    ``codesign_ipopt``: Ipopt options of the co-design solves (default :data:`CODESIGN_IPOPT`)."""
+    ``codesign_ipopt``: Ipopt options of the co-design solves (default :data:`CODESIGN_IPOPT`). ``pin_width``: a
+    presolve scans the root profile shift over its bounds (:data:`PIN_SCAN_POINTS` values and the start, the
+    sequential flanks held, :func:`gearopt.design.scene_presolve.scan_train_variable`); when the exact limits leave it an interval
+    no wider than this, it is pinned at its start value and the co-design solves without it (``option.pinned``
+    says why; 0 turns the presolve off)."""
     check_range("contact_stress_allowance", contact_stress_allowance, 0.0, 0.5)
+    check_range("pin_width", pin_width, 0.0, None)
     data = data or load_default_data()
     v = values(data)
     loads, limits = v["design_loads"], v["design_limits"]
@@ -340,7 +356,8 @@ def codesign_study(data: dict | None = None, *, options: Sequence[str] = ("spur"
                           ltca_options=seq_opts, data=data, objective_aggregate="max")
         failures = {}
         try:
-            sequential = seq_scene.build().solve()
+            seq_built = seq_scene.build()
+            sequential = seq_built.solve()
         except SolveError as exc:
             sequential, failures["sequential"] = None, str(exc)
         t_seq = time.perf_counter() - t0
@@ -348,20 +365,29 @@ def codesign_study(data: dict | None = None, *, options: Sequence[str] = ("spur"
                                      upper=root_shift_bounds[1])]
         if helical:
             train_vars.append(DesignVariable("helix_angle_deg", "train", lower=0.0, upper=max_helix_angle_deg))
-        co_scene = Scene(f"{option} co-design", train=fixed, load_cases=load_cases, variables=train_vars + flank_vars,
-                         objectives=objective, limits=ltca_limits + ppte_limits + geometry + margins, ltca_options=opts,
-                         data=data,
-                         objective_aggregate="max")
-        start = {**(sequential.values if sequential else {}), "train.root_profile_shift": macro["root_profile_shift"],
-                 "train.helix_angle_deg": macro["helix_angle_deg"]}
         t0 = time.perf_counter()
+        pinned = {}
+        if sequential is not None and pin_width > 0.0:
+            grid = np.union1d(np.linspace(*root_shift_bounds, PIN_SCAN_POINTS), [macro["root_profile_shift"]])
+            scan = scan_train_variable(seq_built, sequential.values, "root_profile_shift", grid,
+                                       geometry_limits=GEOMETRY_LIMITS)
+            pin = pinned_interval(scan, "root_profile_shift", macro["root_profile_shift"], pin_width)
+            if pin is not None:
+                pinned["root_profile_shift"] = pin
+        train_vars = [v for v in train_vars if v.name not in pinned]
+        co_scene = Scene(f"{option} co-design", train=fixed, load_cases=load_cases, variables=train_vars + flank_vars,
+                         objectives=objective,
+                         limits=ltca_limits + ppte_limits + (geometry if train_vars else []) + margins,
+                         ltca_options=opts, data=data, objective_aggregate="max")
+        start = {**(sequential.values if sequential else {}),
+                 **{f"train.{v.name}": macro[v.name] for v in train_vars}}
         try:
             codesign = co_scene.build(positions=sequential.positions if sequential else None, initial=start).solve(
                 **(CODESIGN_IPOPT if codesign_ipopt is None else codesign_ipopt))
         except SolveError as exc:
             codesign, failures["codesign"] = None, str(exc)
         out[option] = CodesignOption(option, sequential, codesign, macro,
-                                     {"sequential": t_seq, "codesign": time.perf_counter() - t0}, failures)
+                                     {"sequential": t_seq, "codesign": time.perf_counter() - t0}, failures, pinned)
     settings = {"load_cases": {c.name: dict(c.torque_Nm) for c in cases}, "speed_rpm": speed,
                 "overspeed_rpm": overspeed, "overspeed_torques_Nm": over_torques, "min_axial_margin": min_axial_margin,
                 "max_helix_angle_deg": max_helix_angle_deg, "root_shift_bounds": list(root_shift_bounds),
