@@ -151,6 +151,9 @@ class RefinementOptions:
         max_helical_slices: most face slices it may raise a helical mesh to (>= 1).
         min_smoothing_um: smallest contact smoothing it may halve down to [um] (> 0).
         refine_neighbours: grid neighbours added on either side of each exact worst position (>= 0).
+        stop_without_progress: end the re-solves as soon as one neither lowers the best exact objective (by more
+            than ``refine_tolerance``) nor gives the first design that meets every limit (the design returned is
+            then the best so far, :mod:`gearopt.design.scene_refine` step 5).
     """
 
     refine_tolerance: float = 0.02
@@ -160,8 +163,11 @@ class RefinementOptions:
     max_helical_slices: int = 41
     min_smoothing_um: float = 0.005
     refine_neighbours: int = 3
+    stop_without_progress: bool = True
 
     def __post_init__(self) -> None:
+        if not isinstance(self.stop_without_progress, bool):
+            raise GearoptInputError(f"stop_without_progress={self.stop_without_progress!r} must be True or False")
         _real(self, "refine_tolerance", 0.0, None, low_inclusive=False)
         _real(self, "refine_abs_tolerance_um", 0.0, None, unit="um")
         _real(self, "refine_stress_tolerance", 0.0, None)

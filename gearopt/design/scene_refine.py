@@ -32,7 +32,10 @@ without a dense grid everywhere:
    1.25 times the shortfall for the re-solve, and a solve that breaks one is not admissible;
 4. stop when all agree (PPTE and stresses; for a minimax PPTE objective -- the largest PPTE of several meshes or
    load cases -- the smooth and the exact objective agree, :func:`ppte_agrees`), after ``max_refinements`` re-solves, when no remedy applies, or when a re-solve fails or
-   overruns its iteration budget (:data:`RESOLVE_BUDGET_FACTOR`; reported);
+   overruns its iteration budget (:data:`RESOLVE_BUDGET_FACTOR`; reported); with ``stop_without_progress`` (the
+   default) also as soon as a re-solve neither lowers the best exact objective so far by more than
+   ``refine_tolerance`` nor gives the first admissible design: an agreement that does not improve the design is
+   not worth another solve (every value shown is the exact model's anyway);
 5. return the *best verified* design. Every solve is re-evaluated by the exact LTCA, so each has an exact objective
    (its PPTE terms from the exact model); a solve is admissible when it meets every limit and its exact stresses,
    temperatures and (where PPTE is limited) PPTE agree with the smooth ones within the tolerance. The result is the
@@ -286,6 +289,7 @@ class SceneRefinement:
             sampling_err = (ex["smooth_dense_ppte_um"] - ex["smooth_ppte_um"]).abs() / exact if len(ex) else None
             admissible = _admissible(current, result.quantities, ex, tol)
             exact_objective = _verified_objective(current, result.quantities, ex)
+            prior_best = min((c[0] for c in candidates), default=None)
             if admissible:
                 candidates.append((exact_objective, not agrees, f"solve {it}", result))
             rows.append({"iteration": it, "positions": int(sum(len(p) for p in result.positions.values())),
@@ -306,6 +310,11 @@ class SceneRefinement:
                 status = "converged"
                 break
             if it == max_refinements:
+                break
+            if it > 0 and refinement.stop_without_progress and prior_best is not None and not (
+                    admissible and exact_objective < prior_best - tol * max(abs(prior_best), 1e-12)):
+                status = (f"stopped: re-solve {it} did not lower the best exact objective by more than "
+                          f"{100 * tol:g} % (stop_without_progress)")
                 break
             sets, added, stress_sliced = {}, 0, False
             for mesh, fractions in result.positions.items():

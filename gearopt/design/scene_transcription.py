@@ -17,7 +17,7 @@ import numpy as np
 import pandas as pd
 
 from .. import numerics as nm
-from ..errors import GearoptInputError, InfeasibleProblemError, ViolatedConstraint
+from ..errors import GearoptInputError, GeometryError, InfeasibleProblemError, ViolatedConstraint
 from ..joints.walk_off import joint_margins
 from ..nlp.result import ProblemResult
 from .scene_contact import ContactModels
@@ -335,6 +335,12 @@ class SceneTranscription:
             margins = self.elements(kind, lim.target, None, lim.options)
             for name, expr in margins.items():
                 label = f"{lim.target}.{name}"
+                if not nm.is_symbolic(expr):       # a margin no design variable moves: checked here, not carried
+                    value = nm.to_float(expr)
+                    if value < 0.0:
+                        raise GeometryError(f"limit {label} = {value:.6g} < 0 at the scene's fixed geometry (no "
+                                            f"design variable of the scene moves it)")
+                    continue
                 self._record(label, name, lim.target, None, kind, expr, 0.0, None, "limit")
                 self.problem.subject_to(label, expr, lower=0.0, unit="mm" if name.endswith("_mm") else "")
             return

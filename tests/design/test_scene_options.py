@@ -26,8 +26,10 @@ FORMER_DEFAULTS = {
     "refine_neighbours": 3, "approach": "nested"}
 """``DEFAULT_LTCA_OPTIONS`` as the dict it was before the records."""
 
-SEARCH_DEFAULTS = {"screen_samples": 64, "screen_max_variables": 8, "polish_evaluations_per_variable": 25}
-"""The options added since (issue 28: the exact screen and polish, :class:`SearchOptions`)."""
+SEARCH_DEFAULTS = {"screen_samples": 64, "screen_max_variables": 8, "polish_evaluations_per_variable": 25,
+                   "stop_without_progress": True}
+"""The options added since (issue 28: the exact screen and polish, :class:`SearchOptions`; issue 29: the
+refinement's stop without progress)."""
 
 DEFAULTS = {**FORMER_DEFAULTS, **SEARCH_DEFAULTS}
 
