@@ -105,6 +105,7 @@ def optimise_microgeometry(pair: GearPair, torque_Nm: float | Sequence[float], *
                            speed_rpm: float | None = None, bulk_temperature_C: float = 100.0,
                            friction_coefficient: float = 0.06, model: LTCAModel | None = None, verbose: bool = False,
                            refine: bool = True, refine_tolerance: float = 0.02, max_refinements: int = 6,
+                           stop_without_progress: bool = True,
                            **ipopt) -> MicrogeometryDesign:
     """Minimise the PPTE of ``pair`` over tip relief (amounts and starts, both gears) and profile crown.
 
@@ -142,6 +143,9 @@ def optimise_microgeometry(pair: GearPair, torque_Nm: float | Sequence[float], *
             (:func:`exact_limit_violations`) is tightened by 1.25 times the excess for the next solve. The design
             returned is the verified solve (PPTE agreement and every exact limit met) with the lowest exact PPTE,
             else one meeting the exact limits (``design.refinement.attrs``: ``status``, ``chosen``, ``verified``).
+        stop_without_progress: end the re-solves as soon as one neither lowers the best exact objective meeting
+            the exact limits by more than ``refine_tolerance`` nor gives the first such design (an agreement that
+            does not improve the design is not worth another solve).
         ipopt: extra Ipopt options (``max_iter`` ...).
     Raises a :class:`~gearopt.errors.SolveError` subclass naming the violated constraints if Ipopt fails.
     """
@@ -209,7 +213,8 @@ def optimise_microgeometry(pair: GearPair, torque_Nm: float | Sequence[float], *
 
         numbers, solved, current, refinement = _refine(
             spec, numbers, solved, current, rebuild, check_opts, refine_tolerance, max_refinements,
-            lambda sp, guess: _solve_from(sp, guess, relief_smoothing_deg, polish, relief_shape, verbose, ipopt))
+            lambda sp, guess: _solve_from(sp, guess, relief_smoothing_deg, polish, relief_shape, verbose, ipopt),
+            stop_without_progress=stop_without_progress)
     exact = {"unmodified": {t: ltca(pair, t, **check_opts) for t in torques},
              "min_tip_relief": {t: ltca(pair, t, microgeometry=minimum, **check_opts) for t in torques},
              "optimised": {t: ltca(pair, t, microgeometry=current, **check_opts) for t in torques}}
@@ -223,7 +228,8 @@ def optimise_microgeometry(pair: GearPair, torque_Nm: float | Sequence[float], *
     return design
 
 
-def _refine(spec, numbers, solved, current, rebuild, check_opts, tolerance, max_refinements, solve_from):
+def _refine(spec, numbers, solved, current, rebuild, check_opts, tolerance, max_refinements, solve_from,
+            stop_without_progress: bool = True):
     """Exchange-method refinement of the NLP's mesh positions (as :mod:`gearopt.design.scene_refine` does for a scene)."""
     pair, torques, rows, solves = spec["pair"], spec["torques"], [], []
     check_positions = int(check_opts["positions"])
@@ -242,6 +248,7 @@ def _refine(spec, numbers, solved, current, rebuild, check_opts, tolerance, max_
                               for i, r in enumerate(exact))
         violations = exact_limit_violations(spec, exact)
         exact_ppte = [r.ppte_um for r in exact]
+        prior_best = min((c[2] for c in solves if c[1]), default=None)   # best exact objective meeting the limits
         solves.append((max(errors) <= tolerance and not violations, not violations,
                        max(exact_ppte) if spec["aggregate"] == "max" else float(np.mean(exact_ppte)), it,
                        (numbers, solved, current)))
@@ -251,6 +258,10 @@ def _refine(spec, numbers, solved, current, rebuild, check_opts, tolerance, max_
                      "objective_um": float(solved.objective), "ipopt_iterations": int(solved.iterations)})
         if (max(errors) <= tolerance and not violations) or it == max_refinements:
             break
+        if it > 0 and stop_without_progress and prior_best is not None and not (
+                not violations and solves[-1][2] < prior_best - tolerance * max(abs(prior_best), 1e-12)):
+            return _best_solve(rows, solves, f"stopped: re-solve {it} did not lower the best exact objective by "
+                                             f"more than {100 * tolerance:g} % (stop_without_progress)")
         backoff = dict(spec.get("backoff", {}))
         for name, amount in violations.items():     # the smooth model missed the exact value by this much
             backoff[name] = backoff.get(name, 0.0) + 1.25 * amount
