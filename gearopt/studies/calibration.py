@@ -612,7 +612,8 @@ class Calibration:
                     continue
                 _, within = _within_segments(self._evidence.get(joint), x, own)
                 t = (np.arange(SUBPOINTS) + 0.5) / SUBPOINTS
-                values.append(np.exp(_log_linear(x, p, t)).ravel())
+                v = np.exp(_log_linear(x, p, t)).ravel()
+                values.append(np.where(v < 1e-250, 0.0, v))      # the floor of log(0): a probability of 0
                 weights.append((share[i] * (masses / masses.sum())[:, None] * within).ravel())
         if not values:
             return {"walk_off_probability": 0.0, "interval_90": [0.0, 0.0]}

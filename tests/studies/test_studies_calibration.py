@@ -207,3 +207,16 @@ def test_predict_agrees_with_the_closed_form_within_each_segment():
     got = cal.predict("cam")["walk_off_probability"]
     assert abs(got / closed - 1.0) < 0.02, (got, closed)
     assert abs(closed / (k / n) - 1.0) < 0.5          # and both near the observed rate the likelihood centres on
+
+
+def test_a_train_without_creep_predicts_exactly_zero():
+    """A creep map of zeros (a spur train: no thrust) gives a posterior predictive probability of exactly 0, not
+    the floor of a logarithm."""
+    env = synthetic_envelope({"cam": 0.05})
+    model = WalkOffModel(env, SYSTEM, ["cam"], exposure_hours=RECORD.exposure_hours, samples=200)
+    inputs = [UncertainInput("cam.interference_shift_um", -20.0, 60.0, 0.0, "um")]
+    cal = calibrate_walk_off(model, [FieldEvidence("cam", 40, 100_000, 24.0)], inputs, prior_samples=8,
+                             pivot_points=9, mountings={"cam": ("as_modelled",)})
+    spur = WalkOffModel(env.assign(axial_creep_um_per_cycle=0.0), SYSTEM, ["cam"],
+                        exposure_hours=RECORD.exposure_hours, samples=200)
+    assert cal.predict("cam", model=spur) == {"walk_off_probability": 0.0, "interval_90": [0.0, 0.0]}
