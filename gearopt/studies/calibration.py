@@ -6,7 +6,7 @@ The model is the Monte Carlo of :mod:`gearopt.studies.failure` on an envelope's 
 friction coefficient, DIN 7190 smoothing), a damper state and hours in each speed band; the gear walks off when the
 creep of its fit at each band's speed, times the band's cycles, adds up to the walk-off distance. The population
 inputs the source data only estimate ([E]) become uncertain inputs ``theta`` (:class:`UncertainInput`): per joint
-an interference shift of the whole fit and the side of the gear its shaft shoulder is on, and for the fleet the
+an interference shift of the whole fit, the spread of the fits about it and how the gear is held (its mounting), and for the fleet the
 friction coefficient's mean, the smoothing factor's mean, the damper states' probabilities, the hours at overspeed
 and at running speeds and the walk-off distance.
 
@@ -154,7 +154,12 @@ def default_uncertain_inputs(joints, record: FieldRecord | None = None) -> list[
     nominal = record.nominal_theta() if record is not None else {}
     out = [UncertainInput(f"{j}.interference_shift_um", -20.0, 60.0, 0.0, "um", source=(
         "[E] the fit's real interference against the ISO 286 band of the data: fretting wear and a softer seat "
-        "lower it, a tighter production fit (up to about two ISO 286 fit classes, e.g. r6 -> u6) raises it")) for j in joints]
+        "lower it, a tighter production fit (up to about two ISO 286 fit classes, e.g. r6 -> u6) raises it"))
+        for j in joints]
+    out += [UncertainInput(f"{j}.interference_spread_scale", 0.5, 2.0, 1.0, "-", "log", source=(
+        "[E] the spread of the fits in production against the data's normal law (the ISO 286 band = +-3 sigma, "
+        "truncated there): a capable process is narrower, one that fills the band or wears widens it"))
+        for j in joints]
     return out + [
         UncertainInput("friction_coefficient_mean", 0.06, 0.20, 0.12, "-", source=(
             "[V]/[E] DIN 7190-1 adhesion coefficients steel-steel 0.12 (oiled) to 0.20 (degreased); oiled pressed "
@@ -265,7 +270,8 @@ class WalkOffModel:
         slope, loss, mu0 = lines[band]
         shift = float(theta.get(f"{joint}.interference_shift_um", 0.0)) if shifts_um is None else \
             np.asarray(shifts_um, dtype=float)[:, None]
-        delta = mean + sigma * self.z_fit[joint] + shift
+        spread = float(theta.get(f"{joint}.interference_spread_scale", 1.0))
+        delta = mean + spread * sigma * self.z_fit[joint] + shift
         mu = float(theta.get("friction_coefficient_mean", 0.12)) * (1.0 + self.u_mu[joint] / 3.0)
         smoothing = np.maximum(float(theta.get("smoothing_factor_mean", 0.6)) + 0.2 * self.u_smooth[joint], 0.0) * rz
         eff = np.maximum(delta - smoothing - loss, 0.0)
