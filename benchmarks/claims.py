@@ -246,13 +246,75 @@ def optimum_quality(d) -> str:
             + "; ".join(rows) + ". Gap above 1 %: " + (", ".join(over) if over else "none") + ".")
 
 
+def _pct(v: float) -> str:
+    return f"{100 * v:.2g} %"
+
+
+def _span(values, fmt) -> str:
+    lo, hi = min(values), max(values)
+    return fmt(lo) if fmt(lo) == fmt(hi) else f"{fmt(lo)} to {fmt(hi)}"
+
+
+def calibration(d) -> str:
+    st, s, m = d["settings"], d["summary"], d["machine"]
+    ref, dflt, base = s["reference"], s["default"], s["baseline_equal_cpu"]
+    r = st["reference"]
+    seeds = s["seed_spread"].get("P{prior_samples}_G{pivot_points}_M{samples}".format(**st["default"]))
+    spread = (f" (seeds {'/'.join(str(k) for k in seeds['seeds'])}: cam probability "
+              f"{_span(seeds['cam_probability_rel_error'], _pct)} off, medians within "
+              f"{_span(seeds['median_error_max'], _pct)})" if seeds else "")
+    within = []
+    for tol, w in s["cheapest_within"].items():
+        within.append(f"within {_pct(float(tol))}: " + (
+            f"P={w['prior_samples']}, G={w['pivot_points']}, M={w['samples']} in {w['cpu_s']:.2g} CPU-s"
+            if w else "no setting of the sweep"))
+    more = "".join(f"; at {b['budget_factor_of_default']:g}x the time ({b['prior_samples_evaluated']} samples) "
+                   f"effective sample size {b['effective_samples']:.3g}, cam probability "
+                   f"{_pct(b['cam_probability_rel_error'])} off, medians within {_pct(b['median_error_max'])}"
+                   for b in s["baseline_larger_budget"])
+    pc = s["pivot_check"]
+    g = st["pivot_check"]["pivot_points"]
+    pred = ", ".join(f"{100 * pc['predict_rel_error_by_pivot_points'][str(k)]:+.2g} % at G={k}" for k in g[:-1])
+    inner = max(abs(pc["within_segment_rel_error_by_pivot_points"][str(k)]) for k in g[:-1])
+    ref_bias = ref["cam_walk_off_probability"] / ref["cam_within_segment"] - 1.0
+    crank = ("every setting and the baseline give the same" if max(
+        [dflt["crank_retained_abs_error"], *base["crank_retained_abs_error"]]) < 1e-9 else
+        f"the default is off by {dflt['crank_retained_abs_error']:.2g}, the baseline by "
+        f"{_span(base['crank_retained_abs_error'], lambda v: f'{v:.2g}')}")
+    return (f"`calibration.json` (load average {m['load_average_1_5_15_min']['start'][0]:.1f} on {m['cpus']} cores; "
+            f"the envelope, {st['envelope_rows']} creep-map rows in {st['envelope_cpu_s']:.0f} CPU-s, computed once "
+            f"and not timed; reference P={r['prior_samples']}, G={r['pivot_points']}, M={r['samples']} in "
+            f"{ref['cpu_s']:.0f} CPU-s): reference posterior predictive cam walk-off probability "
+            f"{ref['cam_walk_off_probability']:.3g} ({100 * ref_bias:+.2g} % above its likelihood-weighted "
+            f"within-segment value {ref['cam_within_segment']:.3g}; field rate {d['field']['cam_field_rate']:.3g}), "
+            f"crank P(retained) {ref['crank_retained_probability']:.6g} ({crank}). The default of "
+            f"failure_reproduction (P={dflt['prior_samples']}, G={dflt['pivot_points']}, M={dflt['samples']}): "
+            f"{dflt['cpu_s']:.2g} CPU-s ({_x(ref['cpu_s'] / dflt['cpu_s'])} less than the reference), cam probability "
+            f"{_pct(dflt['cam_probability_rel_error'])} off the reference "
+            f"({_pct(dflt['cam_probability_rel_error_to_converged'])} off its within-segment value), posterior "
+            f"medians within {_pct(dflt['median_error_max'])} of their prior width (worst "
+            f"{dflt['median_error_worst_input']}; the two grid shifts {_pct(dflt['median_error_max_shifts'])}, the "
+            f"sampled inputs {_pct(dflt['median_error_max_sampled_inputs'])}){spread}. Cheapest setting with the "
+            f"cam probability and every median {'; '.join(within)}. Plain importance sampling without the "
+            f"marginalisation of the shifts and mountings, at the default's CPU time: "
+            f"{_span(base['prior_samples_evaluated'], lambda v: f'{v:.0f}')} samples, effective sample size "
+            f"{_span(base['effective_samples'], lambda v: f'{v:.2g}')} (the calibration's "
+            f"{base['calibration_effective_samples']:.3g} of {dflt['prior_samples']}), medians within "
+            f"{_span(base['median_error_max'], _pct)}, cam probability "
+            f"{_span(base['cam_probability_rel_error'], _pct)} "
+            f"off the reference ({_span(base['cam_probability_rel_error_to_converged'], _pct)} off its within-segment "
+            f"value: no grid){more}. Pivot check (P={st['pivot_check']['prior_samples']}, "
+            f"M={st['pivot_check']['samples']}): `Calibration.predict` (the posterior resolved at 64 points within "
+            f"each grid segment) is {pred} against the likelihood-weighted within-segment mean at G={g[-1]}, which moves "
+            f"by at most {_pct(inner)} from G={g[0]} up.")
+
 def render(results: Path = RESULTS) -> str:
     blocks = []
     for name, fun in (("geometry", geometry), ("ltca", ltca), ("microgeometry_nlp", microgeometry_nlp),
                       ("microgeometry_three_torques", microgeometry_three_torques),
                       ("stability", stability), ("dynamics_speed", dynamics_speed),
                       ("studies", studies), ("robustness", robustness), ("codesign", codesign),
-                      ("optimum_quality", optimum_quality)):
+                      ("optimum_quality", optimum_quality), ("calibration", calibration)):
         d = _load(results, name)
         text = fun(d) if d is not None else f"`{name}.json`: not run yet."
         blocks.append(textwrap.fill(text, width=118, initial_indent="- ", subsequent_indent="  ",

@@ -3,6 +3,7 @@ headline comparisons keep the sign the README and ``results/*.json`` state (neve
 asserted here beyond "slower"/"faster" by wide margins, measured in the same run)."""
 
 import importlib.util
+import math
 import sys
 from pathlib import Path
 
@@ -144,12 +145,31 @@ def check_optimum_quality(result, out):
     assert (out / "optimum_quality.json").exists() and (out / "optimum_quality.png").exists()
 
 
+def check_calibration(result, out):
+    rows, ref = result["sweep"], result["reference"]
+    assert sum(r["default"] for r in rows) == 1                          # failure_reproduction's default, marked
+    assert all(r["cpu_s"] > 0 and math.isfinite(r["median_error_max"]) for r in rows)
+    assert 0 < ref["cam_walk_off_probability"] < 1 and 0 <= ref["crank_retained_probability"] <= 1
+    # README: at equal CPU time the plain importance sampling (shifts and mountings sampled, not marginalised) is
+    # worth fewer effective samples than the calibration; the budget is the default calibration's CPU time
+    default = next(r for r in rows if r["default"])
+    base = result["baseline"][0]
+    assert base["budget_factor_of_default"] == 1.0 and base["prior_samples_evaluated"] > default["prior_samples"]
+    assert base["effective_samples"] < default["effective_samples"]
+    # the pivot check (no timing): predict (the posterior resolved within each grid segment) agrees at every G with
+    # the likelihood-weighted within-segment mean in closed form (an independent formula: incomplete gamma ratios)
+    for r in result["pivot_check"]:
+        assert abs(r["predict"] / r["within_segment_mean"] - 1.0) < 0.05, r
+    assert (out / "calibration.json").exists() and (out / "calibration.png").exists()
+
+
 CHECKS = {"bench_geometry": check_geometry, "bench_ltca": check_ltca,
           "bench_microgeometry_nlp": check_microgeometry_nlp,
           "bench_microgeometry_three_torques": check_microgeometry_three_torques, "bench_stability": check_stability,
           "bench_dynamics": check_dynamics, "bench_dynamics_speed": check_dynamics_speed,
           "bench_studies": check_studies, "bench_robustness": check_robustness,
-          "bench_codesign": check_codesign, "bench_optimum_quality": check_optimum_quality}
+          "bench_codesign": check_codesign, "bench_optimum_quality": check_optimum_quality,
+          "bench_calibration": check_calibration}
 
 
 @pytest.mark.parametrize("name", SCRIPTS)
