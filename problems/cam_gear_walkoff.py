@@ -406,7 +406,8 @@ def contact_stage(data: dict, trains: dict, quick: bool = False, on_study=None) 
                    bulk_temperature_C=lub["oil_temperature_C"], friction_coefficient=lub["mean_friction_coefficient"],
                    max_root_stress_MPa=limits["max_root_stress_MPa"],
                    max_flash_temperature_C=required.max_contact_temperature_C,
-                   min_loaded_contact_ratio=required.min_loaded_contact_ratio)
+                   min_loaded_contact_ratio=required.min_loaded_contact_ratio,
+                   stop_without_progress=True)     # evidence beside the recommended design: 94 -> 21.5 CPU-s
     if quick:
         options.update(positions=80, nlp_positions=20, harris_points=4, helical_slices=5, starts=1, max_refinements=1)
     studies = {}

@@ -32,10 +32,10 @@ without a dense grid everywhere:
    1.25 times the shortfall for the re-solve, and a solve that breaks one is not admissible;
 4. stop when all agree (PPTE and stresses; for a minimax PPTE objective -- the largest PPTE of several meshes or
    load cases -- the smooth and the exact objective agree, :func:`ppte_agrees`), after ``max_refinements`` re-solves, when no remedy applies, or when a re-solve fails or
-   overruns its iteration budget (:data:`RESOLVE_BUDGET_FACTOR`; reported); with ``stop_without_progress`` (the
-   default) also as soon as a re-solve neither lowers the best exact objective so far by more than
-   ``refine_tolerance`` nor gives the first admissible design: an agreement that does not improve the design is
-   not worth another solve (every value shown is the exact model's anyway);
+   overruns its iteration budget (:data:`RESOLVE_BUDGET_FACTOR`; reported); with ``stop_without_progress`` (off
+   by default) also as soon as a re-solve neither lowers the best exact objective so far by more than
+   ``refine_tolerance`` nor gives the first admissible design (faster; a design that a later re-solve would have
+   repaired and lowered is then missed);
 5. return the *best verified* design. Every solve is re-evaluated by the exact LTCA, so each has an exact objective
    (its PPTE terms from the exact model); a solve is admissible when it meets every limit and its exact stresses,
    temperatures and (where PPTE is limited) PPTE agree with the smooth ones within the tolerance. The result is the

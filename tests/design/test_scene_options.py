@@ -27,7 +27,7 @@ FORMER_DEFAULTS = {
 """``DEFAULT_LTCA_OPTIONS`` as the dict it was before the records."""
 
 SEARCH_DEFAULTS = {"screen_samples": 64, "screen_max_variables": 8, "polish_evaluations_per_variable": 25,
-                   "stop_without_progress": True}
+                   "stop_without_progress": False}
 """The options added since (issue 28: the exact screen and polish, :class:`SearchOptions`; issue 29: the
 refinement's stop without progress)."""
 
