@@ -197,7 +197,7 @@ class WalkOffModel:
 
     def __init__(self, envelope: pd.DataFrame, system: System, joints, *, exposure_hours: dict, samples: int = 4000,
                  seed: int = 0, speed_bands_rpm: dict | None = None):
-        from .failure import CREEP_NOISE_UM
+        from .failure import CREEP_NOISE_UM, capacity_line
         check_range("samples", samples, 16, None)
         system = system_of(system, "WalkOffModel")
         self.system = system
@@ -232,7 +232,7 @@ class WalkOffModel:
             rec = joint_record(system, j, "WalkOffModel").entries
             lo, hi = float(rec["diametral_interference_min_um"]), float(rec["diametral_interference_max_um"])
             rz = float(rec["shaft_roughness_Rz_um"]) + float(rec["hub_roughness_Rz_um"])
-            lines = {b: _capacity_line(system, j, speed) for b, speed in bands.items()}
+            lines = {b: capacity_line(system, j, speed) for b, speed in bands.items()}
             self.fits[j] = (0.5 * (lo + hi), (hi - lo) / 6.0, rz, lines)
         for (label, speed, state), g in envelope.groupby(["joint", "speed_rpm", "damper_state"]):
             g = g.sort_values("capacity_N")
@@ -367,17 +367,6 @@ def _conditional_walk_off(rates, medians, sigmas, z, distance):
         zc = (np.log(remaining[live] / r_star[live]) - np.log(medians[b])) / np.maximum(sigmas[b], 1e-12)
         out[live] = 0.5 * special.erfc(zc / math.sqrt(2.0))
     return out.reshape(shape[1:])
-
-
-def _capacity_line(system: System, joint: str, speed_rpm: float) -> tuple[float, float, float]:
-    """(slope N/um at mu0, centrifugal loss um, mu0) of the joint's capacity: linear in interference above the
-    loss (as :func:`gearopt.studies.failure.sampled_capacity_N`)."""
-    from ..dynamics.walk_off_envelope import fit_capacity_N
-    mu0 = 0.5
-    c_hi = fit_capacity_N(system, joint, interference_um=200.0, friction_coefficient=mu0, speed_rpm=speed_rpm)
-    c_lo = fit_capacity_N(system, joint, interference_um=100.0, friction_coefficient=mu0, speed_rpm=speed_rpm)
-    slope = (c_hi - c_lo) / 100.0
-    return slope, 200.0 - c_hi / slope, mu0
 
 
 def _poisson_log_likelihood(k: int, lam):

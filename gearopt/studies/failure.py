@@ -106,19 +106,25 @@ def sample_inputs(system: System, joint: str, samples: int, seed: int = 0, *, sp
     return out
 
 
-def sampled_capacity_N(system: System, joint: str, speed_rpm: float, interference_um, smoothing_loss_um,
-                       friction_coefficient) -> np.ndarray:
-    """Vectorised fit capacity [N] of the Monte Carlo samples: linear in mu and in the effective interference above
-    the centrifugal loss (the elastic Lame solution of :func:`~gearopt.dynamics.walk_off_envelope.fit_capacity_N`,
-    fitted through two of its evaluations at ``speed_rpm``; tested against it). ``system``: as
-    :func:`sample_inputs`."""
+def capacity_line(system: System, joint: str, speed_rpm: float) -> tuple[float, float, float]:
+    """``(slope [N/um at mu0], centrifugal loss [um], mu0)`` of ``joint``'s fit capacity at ``speed_rpm``: linear in
+    mu and in the effective interference above the centrifugal loss (the elastic Lame solution of
+    :func:`~gearopt.dynamics.walk_off_envelope.fit_capacity_N`, fitted through two of its evaluations; tested
+    against it). ``system``: as :func:`sample_inputs`."""
     from ..dynamics.walk_off_envelope import fit_capacity_N
-    system = system_of(system, "sampled_capacity_N")
     mu0 = 0.5
     c_hi = fit_capacity_N(system, joint, interference_um=200.0, friction_coefficient=mu0, speed_rpm=speed_rpm)
     c_lo = fit_capacity_N(system, joint, interference_um=100.0, friction_coefficient=mu0, speed_rpm=speed_rpm)
     slope = (c_hi - c_lo) / 100.0
-    loss = 200.0 - c_hi / slope
+    return slope, 200.0 - c_hi / slope, mu0
+
+
+def sampled_capacity_N(system: System, joint: str, speed_rpm: float, interference_um, smoothing_loss_um,
+                       friction_coefficient) -> np.ndarray:
+    """Vectorised fit capacity [N] of the Monte Carlo samples (:func:`capacity_line`). ``system``: as
+    :func:`sample_inputs`."""
+    system = system_of(system, "sampled_capacity_N")
+    slope, loss, mu0 = capacity_line(system, joint, speed_rpm)
     eff = np.maximum(np.asarray(interference_um, dtype=float) - np.asarray(smoothing_loss_um, dtype=float) - loss,
                      0.0)
     return np.maximum(slope * eff * np.asarray(friction_coefficient, dtype=float) / mu0, 1e-3)
@@ -211,4 +217,4 @@ def creep_summary(rows: pd.DataFrame, distance_mm: float) -> dict:
 #: helix angle over the present one, dynamics of the present train kept: an approximation) and a shift of the
 #: cam fit's interference range.
 __all__ = ["DAMPER_STATE_PROBABILITIES", "EXPOSURE_HOURS", "WALK_OFF_DISTANCE_MM", "WARRANTY_MONTHS",
-           "sample_inputs", "sampled_capacity_N", "walk_off_probability", "creep_summary"]
+           "sample_inputs", "capacity_line", "sampled_capacity_N", "walk_off_probability", "creep_summary"]
