@@ -77,6 +77,11 @@ class ContactModelOptions:
             (a mesh at fixed macro geometry: each position's approach an NLP variable held by an equality
             constraint; cheaper iterations, same optima, but from the same start it may reach another local
             optimum, so it is opt-in).
+        spring_limit_screen: rows by exchange for a limit on a per-spring quantity (contact and root stress,
+            contact temperature at every spring of an LTCA; :meth:`gearopt.nlp.problem.Problem.subject_to`
+            ``screen``): a spring whose value lies more than this fraction of the limit below it at the start of a
+            solve is held back from Ipopt until a solve breaks it or comes within the fraction (a squared contact
+            stress: the fraction of the squared limit). ``None``: every spring a row (0 < fraction <= 1).
     """
 
     positions: int = 40
@@ -87,9 +92,12 @@ class ContactModelOptions:
     helical_slices: int = 11
     engagement_width_mm: float = DEFAULT_ENGAGEMENT_WIDTH_MM
     approach: str = "nested"
+    spring_limit_screen: float | None = 0.2
 
     def __post_init__(self) -> None:
         _count(self, "positions", 2, 100000)
+        if self.spring_limit_screen is not None:
+            _real(self, "spring_limit_screen", 0.0, 1.0, low_inclusive=False)
         _real(self, "smoothing_um", 0.0, None, unit="um", low_inclusive=False)
         if isinstance(self.stiffness, str):
             check_choice("stiffness", self.stiffness, STIFFNESS_KINDS)

@@ -122,7 +122,8 @@ class Declarations:
         entry.init = as_elements(value, entry.size, owner=f"variable '{name}'", what="init", unit=entry.unit)
 
     def subject_to(self, name: str, expr: Any, *, lower: ArrayLike | None = None, upper: ArrayLike | None = None,
-                   scale: ArrayLike = 1.0, unit: str = "", source: str | None = None) -> None:
+                   scale: ArrayLike = 1.0, unit: str = "", source: str | None = None,
+                   screen: ArrayLike | None = None) -> None:
         """Impose ``lower <= expr <= upper`` elementwise (an equality where ``lower == upper``).
 
         Args:
@@ -134,6 +135,14 @@ class Declarations:
             unit: unit label for reports.
             source: ``file:line`` shown in reports and failures; default: the caller's line outside
                 ``gearopt.design``.
+            screen: rows by exchange for a long vector of inequalities of which few can bind (the contact
+                stress at every spring of an LTCA): an element whose margin to its bound exceeds ``screen``
+                (constraint units; scalar or per element, >= 0) at the start of a solve is held back from Ipopt.
+                After each solve the held-back elements are evaluated; any the optimum breaks joins Ipopt's rows,
+                with every element then within ``screen`` of its bound, and the problem is re-solved warm
+                (:data:`~gearopt.nlp.problem.MAX_EXCHANGES` rounds, then every element). The optimum meets the
+                whole constraint; Ipopt's linear algebra and the Jacobian see only the passed rows. Results
+                report every element (a held-back one with a zero multiplier).
 
         Raises:
             GearoptInputError: duplicate name, no bound, inverted bounds, ``scale <= 0``, a constant expression or
@@ -154,19 +163,21 @@ class Declarations:
             check_ordered(lo, hi, owner=owner, unit=unit)
             sc = as_elements(scale, size, owner=owner, what="scale", unit=unit)
             check_positive(sc, owner=owner, what="scale")
+            held = None
+            if screen is not None:
+                held = as_elements(screen, size, owner=owner, what="screen", unit=unit)
+                if np.any(held < 0.0):
+                    raise GearoptInputError(f"{owner}: screen={float(held.min())!r} {unit} is below its limit 0")
             flat = ca.vec(mx)
             if self._record_if_constant(name, flat, lo, hi, unit, source, owner):
                 return
-            ref = np.where(np.isfinite(lo), lo, hi)
-            scaled = (flat - ca.DM(ref)) / ca.DM(sc)
-            lb = np.where(np.isfinite(lo), 0.0, -np.inf)
-            ub = np.where(np.isfinite(hi), (hi - ref) / sc, np.inf)
-            try:
-                self._opti.subject_to(self._opti.bounded(ca.DM(lb), scaled, ca.DM(ub)))
-            except RuntimeError as exc:
-                raise GearoptInputError(f"{owner}: CasADi rejected the expression: {last_line(exc)}") from exc
             entry = ConstraintEntry(name, flat, size, mx.shape != (1, 1), lo, hi, sc, unit, source,
-                                    self._take_rows(size))
+                                    np.zeros(0, dtype=int), np.zeros(0, dtype=int), held)
+            if held is None:
+                try:
+                    self._pass_elements(entry, np.arange(size))
+                except RuntimeError as exc:
+                    raise GearoptInputError(f"{owner}: CasADi rejected the expression: {last_line(exc)}") from exc
             self._constraints[name] = entry
             self._touch()
 
@@ -208,9 +219,11 @@ class Declarations:
         params = [p.symbol for p in self._parameters.values()]
         if params and ca.depends_on(flat, ca.vertcat(*params)):
             return False
-        jac = ca.jacobian(flat, x)
-        if ca.depends_on(jac, x):
+        # structural tests first: a symbolic Jacobian of a large model (every spring of an LTCA) cost seconds per
+        # constraint, and only an affine row can have a constant, possibly zero, gradient
+        if any(ca.which_depends(flat, x, 2, True)):
             return False
+        jac = ca.jacobian(flat, x)
         jac_value, value = (np.array(v, dtype=float).reshape(-1)
                             for v in ca.Function("constant_probe", [x], [jac, flat])(ca.DM.zeros(x.numel())))
         if np.any(jac_value != 0.0):
@@ -232,10 +245,42 @@ class Declarations:
         self._version += 1
         self._solver_dirty = True
 
-    def _take_rows(self, size: int) -> slice:
-        rows = slice(self._ng, self._ng + size)
+    def _take_rows(self, size: int) -> np.ndarray:
+        rows = np.arange(self._ng, self._ng + size)
         self._ng += size
         return rows
+
+    def _pass_elements(self, entry: ConstraintEntry, elements: np.ndarray) -> None:
+        """Hand more elements of a screened constraint to Ipopt (rows appended to Opti's constraint vector)."""
+        new = np.setdiff1d(np.asarray(elements, dtype=int), entry.passed)
+        if not new.size:
+            return
+        idx = new.tolist()
+        scaled = (entry.expr[idx] - ca.DM(entry.ref[new])) / ca.DM(entry.scale[new])
+        lb = np.where(np.isfinite(entry.lower[new]), 0.0, -np.inf)
+        ub = np.where(np.isfinite(entry.upper[new]), (entry.upper[new] - entry.ref[new]) / entry.scale[new], np.inf)
+        self._opti.subject_to(self._opti.bounded(ca.DM(lb), scaled, ca.DM(ub)))
+        entry.rows = np.concatenate([entry.rows, self._take_rows(new.size)])
+        entry.passed = np.concatenate([entry.passed, new])
+        self._solver_dirty = True     # the probe (every element of every constraint) stays valid
+
+    def _screened_elements(self, g: np.ndarray, *, broken_only: bool) -> dict[str, np.ndarray]:
+        """Held-back elements of the screened constraints at constraint values ``g`` (every element stacked):
+        those within their ``screen`` of a bound (or beyond it), or with ``broken_only`` those that break a bound
+        by more than the activity tolerance (in scaled units). Constraint name -> element indices."""
+        out, offset = {}, 0
+        for c in self._constraints.values():
+            values = g[offset:offset + c.size]
+            offset += c.size
+            if c.screen is None:
+                continue
+            margin = np.minimum(values - c.lower, c.upper - values)
+            held = np.ones(c.size, dtype=bool)
+            held[c.passed] = False
+            hit = margin < -self._active_tol * c.scale if broken_only else margin <= c.screen
+            if np.any(hit & held):
+                out[c.name] = np.flatnonzero(hit & held)
+        return out
 
     def _check_new_name(self, name: str, kind: str) -> None:
         check_name(name, kind)

@@ -45,7 +45,7 @@ class VariableEntry:
     scale: np.ndarray
     unit: str
     source: str
-    bound_rows: slice | None
+    bound_rows: np.ndarray | None
     """Rows of Opti's constraint vector holding the bound ``lower/scale <= symbol <= upper/scale`` (None if free)."""
 
 
@@ -76,7 +76,13 @@ class ConstraintEntry:
     scale: np.ndarray
     unit: str
     source: str
-    rows: slice
+    rows: np.ndarray
+    """Rows of Opti's constraint vector, one per element of :attr:`passed` (in that order)."""
+    passed: np.ndarray
+    """Indices of the elements handed to Ipopt: all, unless the constraint is screened."""
+    screen: np.ndarray | None = None
+    """Screened constraint (rows by exchange): an element whose margin to its bound exceeds this (constraint
+    units, per element) at a start is held back from Ipopt until a solve breaks it or comes within it."""
 
     @property
     def ref(self) -> np.ndarray:

@@ -130,12 +130,12 @@ class Evaluation:
         data: dict[int, tuple[float, float, float, float]] = {}
         for v in self._variables.values():
             if v.bound_rows is not None:
-                for i, row in enumerate(range(v.bound_rows.start, v.bound_rows.stop)):
-                    data[row] = (start[v.name][i], 1.0, v.lower[i] / v.scale[i], v.upper[i] / v.scale[i])
+                for i, row in enumerate(v.bound_rows):
+                    data[int(row)] = (start[v.name][i], 1.0, v.lower[i] / v.scale[i], v.upper[i] / v.scale[i])
         offset = 0
         for c in self._constraints.values():
-            for i, row in enumerate(range(c.rows.start, c.rows.stop)):
-                data[row] = (g[offset + i], dg[offset + i], c.lower[i], c.upper[i])
+            for i, row in zip(c.passed, c.rows):
+                data[int(row)] = (g[offset + i], dg[offset + i], c.lower[i], c.upper[i])
             offset += c.size
         simple_rows = [row for row, flag in enumerate(is_simple) if flag]
         rows = [SimpleRow(int(j), *data[row]) for row, j in zip(simple_rows, targets)]

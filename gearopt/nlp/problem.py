@@ -23,6 +23,7 @@ Example::
 from __future__ import annotations
 
 import time
+import dataclasses
 from typing import Any
 
 import casadi as ca
@@ -38,6 +39,11 @@ from gearopt.nlp.multistart import MultiStartResult, multistart
 from gearopt.nlp.result import ProblemResult
 from gearopt.nlp.solver_options import DEFAULT_CASADI_OPTIONS, DEFAULT_IPOPT_OPTIONS, solver_options
 from gearopt.errors import GearoptInputError, NumericalSolveError
+
+
+MAX_EXCHANGES = 4
+"""Exchange rounds of a screened constraint (:meth:`Problem.subject_to` ``screen``) before a solve hands every
+element of the constraints still broken to Ipopt: the exchange then ends in at most one more solve."""
 
 
 class Problem(Declarations, Evaluation):
@@ -161,15 +167,45 @@ class Problem(Declarations, Evaluation):
                              float(ipopt.get("bound_frac", IPOPT_BOUND_FRAC)))
         report.warn_if_outside_bounds()
         report.raise_if_bad()
-        self._configure_solver(plugin)
+        self._pass_screened(self._evaluate(start)[0], broken_only=False)
         lam0 = self._start_multipliers(warm_start)
+        build_s = self._pending_build_s + (time.perf_counter() - t_check)
+        self._pending_build_s = 0.0
+        iterations, solve_s, exchanges, first_start = 0, 0.0, 0, start
+        while True:
+            stats, x_scaled, lam, error, wall_s = self._run_ipopt(plugin, start, lam0)
+            iterations += self._iterations(stats)
+            solve_s += float(stats.get("t_wall_total", wall_s))
+            build_s += max(wall_s - float(stats.get("t_wall_total", wall_s)), 0.0)
+            result = self._result(stats, x_scaled, lam, first_start, solve_s, build_s)
+            if not result.success or not self._screened():
+                break
+            g = self._evaluate(x_scaled)[0]
+            if not self._screened_elements(g, broken_only=True):
+                break
+            # rows by exchange: the optimum broke held-back elements; pass them (and all now near a bound), re-solve
+            exchanges += 1
+            every = exchanges > MAX_EXCHANGES
+            self._pass_screened(g, broken_only=False, every=every)
+            start, lam0 = x_scaled, np.concatenate([lam, np.zeros(self._ng - lam.size)])
+        result = dataclasses.replace(result, iterations=iterations, exchanges=exchanges)
+        if not result.success:
+            failure = failures.solve_error(result)
+            if elastic_on_failure:
+                failure = attach_elastic(self, failure, warm_start=warm_start, verbose=verbose,
+                                         casadi_options=casadi_options, **ipopt_options)
+            raise failure from error
+        self._previous_x, self._previous_lam = x_scaled, lam
+        return result
+
+    def _run_ipopt(self, plugin: dict[str, Any], start: dict[str, np.ndarray], lam0: np.ndarray):
+        """One Ipopt run from ``start`` (scaled) with constraint multipliers ``lam0``: ``(stats, x_scaled, lam,
+        error, wall_s)``."""
+        self._configure_solver(plugin)
         for name, v in self._variables.items():
             self._opti.set_initial(v.symbol, start[name])
         if self._ng:
             self._opti.set_initial(self._opti.lam_g, lam0)
-        build_s = self._pending_build_s + (time.perf_counter() - t_check)
-        self._pending_build_s = 0.0
-
         t_solve = time.perf_counter()
         try:
             self._opti.solve()
@@ -185,17 +221,19 @@ class Problem(Declarations, Evaluation):
         if self._solver_dirty:
             self._solver_builds += 1
             self._solver_dirty = False
-        solve_s = float(stats.get("t_wall_total", wall_s))
         x_scaled, lam = self._last_iterate(stats, start, lam0)
-        result = self._result(stats, x_scaled, lam, start, solve_s, build_s + max(wall_s - solve_s, 0.0))
-        if not result.success:
-            failure = failures.solve_error(result)
-            if elastic_on_failure:
-                failure = attach_elastic(self, failure, warm_start=warm_start, verbose=verbose,
-                                         casadi_options=casadi_options, **ipopt_options)
-            raise failure from error
-        self._previous_x, self._previous_lam = x_scaled, lam
-        return result
+        return stats, x_scaled, lam, error, wall_s
+
+    def _screened(self) -> bool:
+        return any(c.screen is not None and c.passed.size < c.size for c in self._constraints.values())
+
+    def _pass_screened(self, g: np.ndarray, *, broken_only: bool, every: bool = False) -> None:
+        """Pass the held-back elements of screened constraints that are near a bound at ``g`` (or all of those
+        constraints' elements with ``every``) to Ipopt."""
+        chosen = self._screened_elements(g, broken_only=broken_only)
+        for name, elements in chosen.items():
+            entry = self._constraints[name]
+            self._pass_elements(entry, np.arange(entry.size) if every else elements)
 
     def solve_elastic(self, **options: Any) -> ElasticResult:
         """Least weighted relaxation of the constraints that makes the problem feasible, by name and in units
@@ -235,9 +273,15 @@ class Problem(Declarations, Evaluation):
 
     def _start_multipliers(self, warm_start: bool) -> np.ndarray:
         lam = self._previous_lam
-        if warm_start and lam is not None and lam.size == self._ng:
-            return lam
+        if warm_start and lam is not None and lam.size <= self._ng:   # rows passed since: zero multipliers
+            return np.concatenate([lam, np.zeros(self._ng - lam.size)])
         return np.zeros(self._ng)
+
+    @staticmethod
+    def _iterations(stats: dict[str, Any]) -> int:
+        if str(stats["return_status"]) in failures.NOT_STARTED_STATUSES:
+            return 0
+        return max(int(stats.get("iter_count", 0)), 0)
 
     def _configure_solver(self, plugin_options: dict[str, Any]) -> None:
         key = repr(sorted(plugin_options.items()))

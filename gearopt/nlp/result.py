@@ -47,6 +47,8 @@ class ProblemResult:
         variables: one row per variable element: name, base, value, init (start guess of this solve), lower,
             upper, at_bound, multiplier (of the variable bounds), scale, unit, source.
         active_tol: tolerance in scaled units used for ``active`` and ``at_bound``.
+        exchanges: re-solves of the exchange of screened constraints (:meth:`~gearopt.nlp.problem.Problem.subject_to`
+            ``screen``); ``iterations`` and ``solve_time_s`` count every run.
     """
 
     problem: str
@@ -62,6 +64,7 @@ class ProblemResult:
     constraints: pd.DataFrame = field(repr=False)
     variables: pd.DataFrame = field(repr=False)
     active_tol: float = 1e-6
+    exchanges: int = 0
     _evaluate: Callable[[Any], np.ndarray] | None = field(default=None, repr=False, compare=False)
 
     def value(self, expr: Any) -> Number:
@@ -127,7 +130,8 @@ def constraint_table(constraints: list[ConstraintEntry], g: np.ndarray, lam_g: n
     for c in constraints:
         values = g[offset:offset + c.size]
         offset += c.size
-        lam = lam_g[c.rows]
+        lam = np.zeros(c.size)
+        lam[c.passed] = lam_g[c.rows]
         margin = np.minimum(values - c.lower, c.upper - values)
         for i, label in enumerate(c.element_names()):
             rows.append({

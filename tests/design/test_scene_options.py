@@ -27,9 +27,9 @@ FORMER_DEFAULTS = {
 """``DEFAULT_LTCA_OPTIONS`` as the dict it was before the records."""
 
 SEARCH_DEFAULTS = {"screen_samples": 64, "screen_max_variables": 8, "polish_evaluations_per_variable": 25,
-                   "stop_without_progress": False}
+                   "stop_without_progress": False, "spring_limit_screen": 0.2}
 """The options added since (issue 28: the exact screen and polish, :class:`SearchOptions`; issue 29: the
-refinement's stop without progress)."""
+refinement's stop without progress, the per-spring limits by exchange)."""
 
 DEFAULTS = {**FORMER_DEFAULTS, **SEARCH_DEFAULTS}
 
@@ -94,6 +94,8 @@ def test_replace_takes_flat_overrides_and_keeps_the_rest():
     ("relief_smoothing_deg", 6.0, ["relief_smoothing_deg=6", "<= 5"]),
     ("helical_slices", 0, ["helical_slices=0", ">= 1"]),
     ("approach", "direct", ["approach='direct'", "nested", "lifted"]),
+    ("spring_limit_screen", 0.0, ["spring_limit_screen=0", "> 0"]),
+    ("spring_limit_screen", 1.5, ["spring_limit_screen=1.5", "<= 1"]),
     ("bulk_temperature_C", 1500.0, ["bulk_temperature_C=1500", "1000"]),
     ("friction_coefficient", 1.0, ["friction_coefficient=1", "< 1"]),
     ("check_positions", 0, ["check_positions=0", ">= 2"]),

@@ -386,3 +386,41 @@ def test_violated_constant_constraint_raises_by_name():
     with pytest.raises(InfeasibleProblemError, match="fixed_margin") as e:
         p.subject_to("fixed_margin", ca.MX(-0.2) + ca.mtimes(ca.DM([[0.0]]), x), lower=0.0)
     assert e.value.violated[0].name == "fixed_margin"
+
+
+def _polygon_problem(screen):
+    """Maximise x + 2 y inside the regular 400-gon circumscribing the unit circle (one half-plane per side):
+    the optimum is the polygon's vertex nearest the direction (1, 2)/sqrt(5), between sqrt(5) and sqrt(5)/cos(pi/400)
+    (analytic bounds of an inscribed circle and the circumscribed one)."""
+    p = Problem("polygon")
+    x = p.variable("x", init=0.0, lower=-3.0, upper=3.0)
+    y = p.variable("y", init=0.0, lower=-3.0, upper=3.0)
+    t = np.linspace(0.0, 2.0 * np.pi, 400, endpoint=False)
+    p.subject_to("side", ca.cos(ca.DM(t)) * x + ca.sin(ca.DM(t)) * y, upper=1.0, screen=screen)
+    p.maximize(x + 2.0 * y)
+    return p
+
+
+def test_screened_constraint_rows_by_exchange_reach_the_full_optimum():
+    """Rows by exchange (``screen``): the start (0, 0) is 1 from every side, so no side is handed to Ipopt at
+    first; the unconstrained optimum (3, 3) breaks sides, they join with their neighbours within the screen and the
+    warm re-solve ends at the polygon's vertex -- the optimum of the problem with every row -- with far fewer rows."""
+    full = _polygon_problem(None)
+    reference = full.solve()
+    screened = _polygon_problem(0.05)
+    result = screened.solve()
+    assert result.exchanges >= 1
+    assert np.sqrt(5.0) - 1e-7 <= result.objective <= np.sqrt(5.0) / np.cos(np.pi / 400) + 1e-7
+    assert result.objective == pytest.approx(reference.objective, rel=1e-7)
+    side = result.constraints[result.constraints["base"] == "side"]
+    assert len(side) == 400 and float(side["margin"].min()) >= -1e-7          # every row met, every row reported
+    passed = screened.opti.ng - 2                                             # minus the variables' bound rows
+    assert passed <= (full.opti.ng - 2) // 2
+    assert int((side["multiplier"] != 0.0).sum()) <= passed                   # held-back rows: multiplier 0
+
+
+def test_screen_must_be_a_nonnegative_margin():
+    p = Problem("bad_screen")
+    x = p.variable("x", init=0.0, lower=-1.0, upper=1.0)
+    with pytest.raises(GearoptInputError, match=r"screen=-0\.5.*below its limit 0"):
+        p.subject_to("c", ca.vertcat(x, 2 * x), upper=1.0, screen=-0.5)
