@@ -219,9 +219,14 @@ class Declarations:
         params = [p.symbol for p in self._parameters.values()]
         if params and ca.depends_on(flat, ca.vertcat(*params)):
             return False
-        # structural tests first: a symbolic Jacobian of a large model (every spring of an LTCA) cost seconds per
-        # constraint, and only an affine row can have a constant, possibly zero, gradient
-        if any(ca.which_depends(flat, x, 2, True)):
+        # structure first: a symbolic Jacobian (or a Hessian sparsity) of a large model -- every spring of an LTCA
+        # -- cost seconds per constraint. A row on two or more variables is no simple bound whatever its
+        # coefficients; only rows on none or one need the numbers.
+        per_row = np.bincount(np.asarray(ca.jacobian_sparsity(flat, x).get_triplet()[0], dtype=int),
+                              minlength=int(flat.numel()))
+        if per_row.size and per_row.min() >= 2:
+            return False
+        if per_row.any() and any(ca.which_depends(flat, x, 2, True)):
             return False
         jac = ca.jacobian(flat, x)
         jac_value, value = (np.array(v, dtype=float).reshape(-1)
