@@ -47,6 +47,7 @@ from ..design.scene import SceneResult
 from ..design.scene_terms import quantity_kind
 from ..errors import GearoptError, GearoptInputError
 from ..nlp import InitialGuessWarning
+from ..validation import check_range
 from .parametric import kkt_sensitivity
 
 COLUMNS = ["name", "kind", "value", "unit", "sensitivity", "log_sensitivity", "active", "of", "of_unit"]
@@ -79,7 +80,7 @@ class SensitivityReport:
         entries re-solved at ±5 % the re-solved objective beside the estimate."""
         t = self.table if rows is None else self.table.head(rows)
         cols = ["name", "kind", "value", "unit", "sensitivity", "log_sensitivity", "active",
-                "objective at -5 % (re-solve / first order)", "objective at +5 % (re-solve / first order)"]
+                "objective at -5 % (re-solve / first order)", "objective at +5 % (re-solve / first order)", "check"]
         lines = ["| " + " | ".join(cols) + " |", "|" + "---|" * len(cols)]
 
         def pair(r, tag):
@@ -91,7 +92,7 @@ class SensitivityReport:
         for r in t.itertuples(index=False):
             lines.append(f"| {r.name} | {r.kind} | {r.value:.5g} | {r.unit} | {r.sensitivity:.4g} | "
                          f"{r.log_sensitivity:.4g} | {'yes' if r.active else ''} | {pair(r, 'minus')} | "
-                         f"{pair(r, 'plus')} |")
+                         f"{pair(r, 'plus')} | {getattr(r, 'resolve_check', '')} |")
         return "\n".join(lines)
 
     def to_csv(self, path: str | Path) -> Path:
@@ -105,22 +106,32 @@ RESOLVE_STEP = 0.05
 """Relative change of a datum at which :func:`sensitivity_report` re-solves the scene to check its first-order
 estimate (``resolve_top`` entries)."""
 
+RESOLVE_TOLERANCE = 0.10
+"""A re-solved change of the objective that differs from the first-order one by more than this fraction of it is
+flagged in ``resolve_check`` (issue 28: an active-set change or a second optimum nearby)."""
+
 
 def sensitivity_report(result: SceneResult, *, active_tol: float = 1e-9, resolve_top: int = 3,
-                       **ipopt: Any) -> SensitivityReport:
+                       resolve_tolerance: float = RESOLVE_TOLERANCE, **ipopt: Any) -> SensitivityReport:
     """The sensitivity report of a solved scene (``scene.build().solve()``); see the module docstring.
 
     The sensitivities are local first-order estimates. For the ``resolve_top`` data with the largest logarithmic
     sensitivity the scene is re-solved with the datum at ±5 % (:data:`RESOLVE_STEP`, from the optimum): the columns
     ``objective_minus_5pct`` / ``objective_plus_5pct`` hold the re-solved objective and ``first_order_minus_5pct``
     / ``first_order_plus_5pct`` the estimate beside it (NaN for the other rows and for limits, whose
-    sensitivities are the multipliers).
+    sensitivities are the multipliers). ``resolve_discrepancy`` is the larger of the two sides' relative difference
+    between the re-solved and the first-order change of the objective; ``resolve_check`` says ``"agrees"`` or, where
+    the discrepancy exceeds ``resolve_tolerance`` (:data:`RESOLVE_TOLERANCE`), why the estimate does not hold that
+    far: the limits that became active or inactive in the re-solve (an active-set change: the sensitivity holds
+    only on one side of the step), or, with the same active set, the objective's curvature or another optimum
+    nearby (how far the design moved is given); a failed re-solve is named.
 
     Raises:
         GearoptInputError: ``result`` is not a solved scene result, or the parametric re-solve lands on another
             optimum than ``result`` (another objective value: the report would describe a different design). A
             re-solve that only moves along a flat optimum is reported in ``note``.
     """
+    check_range("resolve_tolerance", resolve_tolerance, 0.0, None, low_inclusive=False)
     built = getattr(result, "source", None)
     if not isinstance(result, SceneResult) or built is None:
         raise GearoptInputError(f"result={type(result).__name__} must be the SceneResult of a solved scene "
@@ -147,36 +158,73 @@ def sensitivity_report(result: SceneResult, *, active_tol: float = 1e-9, resolve
     table = pd.DataFrame(rows, columns=COLUMNS)
     table = table.iloc[np.argsort(-np.nan_to_num(np.abs(table["log_sensitivity"].to_numpy(float)), nan=-1.0),
                                   kind="stable")].reset_index(drop=True)
-    for col in ("objective_minus_5pct", "first_order_minus_5pct", "objective_plus_5pct", "first_order_plus_5pct"):
+    for col in ("objective_minus_5pct", "first_order_minus_5pct", "objective_plus_5pct", "first_order_plus_5pct",
+                "resolve_discrepancy"):
         table[col] = np.nan
+    table["resolve_check"] = ""
     if pb.data_parameters and resolve_top > 0:
-        _resolve_checks(pb, result, table, factor, objective, resolve_top, **ipopt)
+        _resolve_checks(pb, result, table, factor, objective, resolve_top, resolve_tolerance, **ipopt)
     return SensitivityReport(scene.name, name, unit, objective, table, pd.DataFrame(qrows), residual, note)
 
 
 def _resolve_checks(pb, result: SceneResult, table: pd.DataFrame, factor: float, objective: float, top: int,
-                    **ipopt: Any) -> None:
+                    tolerance: float, **ipopt: Any) -> None:
     """Re-solve the parametric scene with each of the ``top`` most influential data at ±:data:`RESOLVE_STEP` (from
-    the optimum, the datum restored after) and write the objective beside the first-order estimate."""
+    the optimum, the datum restored after), write the objective beside the first-order estimate and flag the
+    entries whose re-solve disagrees by more than ``tolerance`` (:func:`sensitivity_report`)."""
     p = pb.problem
+    base_active = _active_limits(result.solve)
+    base_values = {n: np.asarray(v, dtype=float) for n, v in result.solve.values.items() if n in p.variable_names}
     rows = table[(table["kind"] == "parameter") & table["active"]].head(top)
     for i, r in rows.iterrows():
         entry = pb.data_parameters[r["name"]]
         base = entry["value"]
+        worst, causes = 0.0, []
         for sign, tag in ((-1.0, "minus"), (1.0, "plus")):
-            for name, value in result.solve.values.items():
-                if name in p.variable_names:
-                    p.set_initial(name, value)
+            for name, value in base_values.items():
+                p.set_initial(name, value)
             p.set_parameter(r["name"], base * (1.0 + sign * RESOLVE_STEP))
+            estimate = objective + r["sensitivity"] * base * sign * RESOLVE_STEP
+            table.loc[i, f"first_order_{tag}_5pct"] = estimate
             try:
                 with warnings.catch_warnings():
                     warnings.simplefilter("ignore", InitialGuessWarning)
                     solved = p.solve(**ipopt)
-                table.loc[i, f"objective_{tag}_5pct"] = float(solved.objective) * factor
-            except GearoptError:                                 # a failed re-solve leaves NaN: said by the column
-                pass
-            table.loc[i, f"first_order_{tag}_5pct"] = objective + r["sensitivity"] * base * sign * RESOLVE_STEP
+            except GearoptError as exc:                          # a failed re-solve leaves NaN and says why
+                causes.append(f"re-solve at {sign * 100 * RESOLVE_STEP:+g} % failed ({type(exc).__name__})")
+                continue
+            got = float(solved.objective) * factor
+            table.loc[i, f"objective_{tag}_5pct"] = got
+            change, first_order = got - objective, estimate - objective
+            discrepancy = abs(change - first_order) / max(abs(first_order), 1e-9 * max(abs(objective), 1.0))
+            worst = max(worst, discrepancy)
+            if discrepancy > tolerance:
+                causes.append(_disagreement_cause(sign, discrepancy, base_active, _active_limits(solved),
+                                                  base_values, solved))
         p.set_parameter(r["name"], base)
+        table.loc[i, "resolve_discrepancy"] = worst
+        table.loc[i, "resolve_check"] = "; ".join(causes) if causes else "agrees"
+
+
+def _active_limits(solved) -> set[str]:
+    """Names of the constraints active at a solve (declared names, not elements)."""
+    cons = solved.constraints
+    return set(cons.loc[cons["active"], "base"])
+
+
+def _disagreement_cause(sign: float, discrepancy: float, before: set[str], after: set[str], values: dict,
+                        solved) -> str:
+    """Why a re-solve at ``sign`` x :data:`RESOLVE_STEP` differs from the first-order estimate by ``discrepancy``."""
+    step = f"at {sign * 100 * RESOLVE_STEP:+g} % the re-solve differs by {100 * discrepancy:.0f} %"
+    gained, lost = sorted(after - before), sorted(before - after)
+    if gained or lost:
+        what = ", ".join(([f"{n} became active" for n in gained] if gained else [])
+                         + ([f"{n} became inactive" for n in lost] if lost else []))
+        return f"{step}: active-set change ({what}); the sensitivity holds on one side only"
+    moved = max((float(np.max(np.abs(np.asarray(solved.values[n], dtype=float) - v) / np.maximum(np.abs(v), 1.0)))
+                 for n, v in values.items()), default=0.0)
+    return (f"{step} with the same active set: the objective curves over the step or another optimum lies near "
+            f"(the design moved by up to {100 * moved:.1f} % of its values)")
 
 
 def objective_meta(scene) -> tuple[str, str, float]:
