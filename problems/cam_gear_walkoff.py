@@ -64,7 +64,16 @@ LOG = logging.getLogger("cam_gear_walkoff")
 
 
 class StageTimings(dict):
-    """``{stage: elapsed [s]}`` that logs each stage as it is recorded: start and end clock time and elapsed."""
+    """``{stage: elapsed [s]}`` that logs each stage as it is recorded: start and end clock time and elapsed;
+    :meth:`stage` also logs the start (a long stage is then visible while it runs)."""
+
+    @contextlib.contextmanager
+    def stage(self, stage: str):
+        """Time the block as ``stage``, logging its start now and its end when the block ends."""
+        LOG.info("stage %-36s started (%s)", stage, time.strftime("%H:%M:%S"))
+        t0 = time.perf_counter()
+        yield
+        self[stage] = time.perf_counter() - t0
 
     def __setitem__(self, stage: str, elapsed_s: float) -> None:
         super().__setitem__(stage, elapsed_s)
@@ -975,6 +984,7 @@ def _side_stage(stage: str, run):
     """``run()`` timed as ``stage``, with the compile-cache counters it moved (a side process may run several)."""
     from gearopt.compile_cache import cache_stats
 
+    LOG.info("stage %-36s started (%s)", stage, time.strftime("%H:%M:%S"))
     before, t0 = cache_stats(), time.perf_counter()
     section = run()
     after, timings = cache_stats(), StageTimings()
@@ -1064,31 +1074,26 @@ def main(argv: list[str] | None = None) -> int:
         side_runs = {stage: side.submit(fn, data, args.out, quick=args.quick) for stage, fn in SIDE_STAGES.items()}
         plotted: set = set()                     # side stages whose figures went to the figure writer
 
-        t0 = time.perf_counter()
-        macro = macro_design(data, thesis)
-        timings["macro_design"] = time.perf_counter() - t0
+        with timings.stage("macro_design"):
+            macro = macro_design(data, thesis)
 
-        t0 = time.perf_counter()
-        teeth = tooth_count_stage(data, macro["trains"]["spur"])
-        timings["tooth_counts"] = time.perf_counter() - t0
+        with timings.stage("tooth_counts"):
+            teeth = tooth_count_stage(data, macro["trains"]["spur"])
 
-        t0 = time.perf_counter()
-        split = shift_split_study(macro["trains"]["spur"])
-        timings["shift_split_nlp"] = time.perf_counter() - t0
+        with timings.stage("shift_split_nlp"):
+            split = shift_split_study(macro["trains"]["spur"])
 
-        t0 = time.perf_counter()
-        dynamics = dynamics_stage(data, quick=args.quick)
-        design_torques = dynamic_design_torques(data, dynamics)
-        timings["dynamics"] = time.perf_counter() - t0
-        t0 = time.perf_counter()                 # each section written as its stage ends: its figures render now
-        sections = {"dynamics": write_dynamics(args.out, dynamics, design_torques)}
-        timings["write_dynamics"] = time.perf_counter() - t0
+        with timings.stage("dynamics"):
+            dynamics = dynamics_stage(data, quick=args.quick)
+            design_torques = dynamic_design_torques(data, dynamics)
+        with timings.stage("write_dynamics"):    # each section written as its stage ends: its figures render now
+            sections = {"dynamics": write_dynamics(args.out, dynamics, design_torques)}
         plot_side_figures(side_runs, plotted)
 
-        t0 = time.perf_counter()
-        sizing = joint_sizing_stage(data, macro["trains"], dynamics)
-        timings["joint_sizing_nlp"] = time.perf_counter() - t0
+        with timings.stage("joint_sizing_nlp"):
+            sizing = joint_sizing_stage(data, macro["trains"], dynamics)
 
+        LOG.info("stage %-36s started (%s)", "contact_ltca_and_microgeometry_nlp", time.strftime("%H:%M:%S"))
         t0, written = time.perf_counter(), {}
 
         def write_mesh(mesh, study):             # each mesh's section as its study ends: its figures render
@@ -1104,32 +1109,27 @@ def main(argv: list[str] | None = None) -> int:
                                {mesh: w[1] for mesh, w in written.items()})
         plot_side_figures(side_runs, plotted)
 
-        t0 = time.perf_counter()
-        ratings = rating_stage(data, macro["trains"])
-        ratings.update(rating_at_dynamic_peaks(data, macro["trains"], design_torques))
-        timings["rating"] = time.perf_counter() - t0
+        with timings.stage("rating"):
+            ratings = rating_stage(data, macro["trains"])
+            ratings.update(rating_at_dynamic_peaks(data, macro["trains"], design_torques))
 
-        t0 = time.perf_counter()
-        joints = joint_stage(data)
-        timings["joints_blanks_webs"] = time.perf_counter() - t0
+        with timings.stage("joints_blanks_webs"):
+            joints = joint_stage(data)
         plot_side_figures(side_runs, plotted)
 
-        t0 = time.perf_counter()
-        sections.update(rating=write_rating(args.out, ratings), joints=write_joints(args.out, joints))
-        timings["write_rating_joints"] = time.perf_counter() - t0
+        with timings.stage("write_rating_joints"):
+            sections.update(rating=write_rating(args.out, ratings), joints=write_joints(args.out, joints))
 
-        t0 = time.perf_counter()
-        side_results = {stage: side_result(stage, run) for stage, run in side_runs.items()}
-        timings["side_process_wait"] = time.perf_counter() - t0
+        with timings.stage("side_process_wait"):
+            side_results = {stage: side_result(stage, run) for stage, run in side_runs.items()}
         plot_side_figures(side_runs, plotted)
         for r in side_results.values():
             timings.update(r["timings"])
 
-        t0 = time.perf_counter()
-        calibration = side_results["failure_reproduction"]["section"][1].get("calibration") or {}
-        recommendation = recommendation_stage(data, side_results["codesign_nlp"]["section"][1], design_torques,
-                                              dynamics, calibration.get("calibrated_inputs"))
-        timings["recommendation"] = time.perf_counter() - t0
+        with timings.stage("recommendation"):
+            calibration = side_results["failure_reproduction"]["section"][1].get("calibration") or {}
+            recommendation = recommendation_stage(data, side_results["codesign_nlp"]["section"][1],
+                                                  design_torques, dynamics, calibration.get("calibrated_inputs"))
 
         t0 = time.perf_counter()
         write_outputs(args.out, macro, split, timings, contact, ratings, joints, dynamics, design_torques, teeth,

@@ -431,3 +431,19 @@ def test_quick_run_leaves_the_thread_setting_as_it_found_it(run):
 
     assert os.environ.get("GEAROPT_THREADS") is None or os.environ["GEAROPT_THREADS"] != "1"
     assert default_map_threads() == min(os.cpu_count() or 1, 8) or "GEAROPT_THREADS" in os.environ
+
+
+def test_each_stage_is_logged_when_it_starts_and_when_it_ends(caplog):
+    """Issue 29 (item 6): a long stage shows in the log while it runs, not only when it ends."""
+    import logging
+
+    from conftest import load_script
+
+    timings = load_script("cam_gear_walkoff").StageTimings()
+    with caplog.at_level(logging.INFO, logger="cam_gear_walkoff"):
+        with timings.stage("some_stage"):
+            started = [r.getMessage() for r in caplog.records]
+        ended = [r.getMessage() for r in caplog.records]
+    assert len(started) == 1 and started[0].startswith("stage some_stage") and "started" in started[0]
+    assert len(ended) == 2 and ended[1].startswith("stage some_stage") and " s  (" in ended[1]
+    assert set(timings) == {"some_stage"} and timings["some_stage"] >= 0.0
