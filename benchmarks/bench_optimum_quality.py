@@ -45,7 +45,9 @@ relief problem: its designs count too), CPU seconds (``time.process_time``: gear
 global search from its first evaluation), evaluations (the global search's distinct designs, one exact LTCA per load
 case each; gearopt's exact LTCA calls, counted by wrapping the solver its exact check calls, and its Ipopt
 iterations), the CPU-time ratio, and both final designs re-checked at ``FINE_FACTOR`` times the positions.
-gearopt is run with ``solve()`` (the default, one start) and ``solve(starts=4)``.
+gearopt is run with ``solve()`` (the default, one start) and ``solve(starts=4)``. A local peer beside them (issue
+29's acceptance): SciPy's SLSQP with finite-difference gradients on the same exact evaluator from the scene's
+declared start (:func:`run_slsqp`): its final design, CPU time and evaluations, gearopt's gap and CPU ratio to it.
 
 Writes ``benchmarks/results/optimum_quality.json`` and ``benchmarks/results/optimum_quality.png``.
 Run: ``python benchmarks/bench_optimum_quality.py`` (``--quick``: one problem, one seed, a tiny budget; ``--out DIR``).
@@ -93,9 +95,10 @@ PENALTY_UM = 1000.0                  # merit = max PPTE [um] + PENALTY_UM x rela
 ACTIVE_MARGIN = 0.01                 # a limit whose relative margin is below this is reported active
 FINE_FACTOR = 4                      # the fine re-check of both final designs: 4x the check's positions
 GEAROPT_STARTS = (1, 4)              # solve(starts=...) of gearopt: the default, and four starts
+SLSQP_MAXITER = 100                  # SciPy SLSQP iterations (finite-difference gradients, issue 29's peer)
 EMBEDDED = {"relief_crown": "relief_crank_cam"}   # problem -> a problem its design space holds (crown 0)
 QUICK = {"PROBLEMS": ("relief_crank_cam",), "SEEDS": (0,), "DE_POPSIZE": 3, "DE_MAXITER": 4,
-         "POLISH_EVALUATIONS_PER_VARIABLE": 5, "GEAROPT_STARTS": (1,)}
+         "POLISH_EVALUATIONS_PER_VARIABLE": 5, "GEAROPT_STARTS": (1,), "SLSQP_MAXITER": 3}
 
 RELIEF = ("tip_relief_1_um", "tip_relief_2_um", "tip_relief_1_start_roll_deg", "tip_relief_2_start_roll_deg")
 CROWN = ("profile_crown_1_um", "profile_crown_2_um")
@@ -243,6 +246,12 @@ class ExactEvaluator:
                 "within_rank_tolerance": violation <= RANK_TOLERANCE,
                 "margins": margins, "load_cases": rows, "slices": slices, "positions": positions}
 
+    def exact(self, u: np.ndarray) -> dict:
+        """The cached evaluation at bound-normalised ``u`` (:meth:`evaluate`; an infinite violation where the exact
+        solver refused the pair)."""
+        self.merit(u)
+        return self._cache[np.clip(np.asarray(u, float), 0.0, 1.0).tobytes()]
+
     def merit(self, u: np.ndarray) -> float:
         """Penalised exact objective at bound-normalised ``u`` (cached; every new point is recorded)."""
         key = np.clip(np.asarray(u, float), 0.0, 1.0).tobytes()
@@ -343,6 +352,35 @@ def run_global(ev: ExactEvaluator, seed: int) -> dict:
             "trace": ev.trace()}
 
 
+def run_slsqp(ev: ExactEvaluator, start: dict) -> dict:
+    """SciPy's SLSQP (Kraft, DFVLR-FB 88-28, 1988) with 2-point finite-difference gradients on the exact evaluator,
+    from the scene's declared start (the start gearopt's NLP gets), on the bound-normalised variables: the objective
+    the exact largest PPTE, every limit's relative margin (geometry margins in their own units) >= 0; at most
+    ``SLSQP_MAXITER`` iterations. Its design is the final iterate (what a user of SLSQP gets), judged like the others;
+    CPU time from its first evaluation."""
+    n = len(ev.names)
+    ev.start()
+    u0 = np.clip(ev.unit(start), 0.0, 1.0)
+    names = list(ev.exact(u0).get("margins", {}))
+
+    def objective(u):
+        v = ev.exact(u)["objective"]
+        return float(v) if np.isfinite(v) else 1e6
+
+    def margins(u):
+        m = ev.exact(u).get("margins")
+        return np.array([m[k] for k in names]) if m else -np.ones(len(names))
+
+    r = minimize(objective, u0, method="SLSQP", bounds=[(0.0, 1.0)] * n,
+                 constraints=[{"type": "ineq", "fun": margins}] if names else [],
+                 options={"maxiter": SLSQP_MAXITER, "ftol": 1e-9})
+    cpu = time.process_time() - ev._t0
+    values = ev.values(r.x)
+    return {"cpu_s": cpu, "iterations": int(r.nit), "evaluations": len(ev.records), "ltca_calls": ev.ltca_calls,
+            "scipy_status": int(r.status), "scipy_message": str(r.message), "values": values,
+            "judged": judged(ev, values), "trace": ev.trace()}
+
+
 def judged(ev: ExactEvaluator, values: dict) -> dict:
     """A design judged by the exact evaluator: objective, violation, feasibility, margins, the active limits."""
     e = ev.evaluate(values)
@@ -395,6 +433,10 @@ def run_problem(name: str) -> dict:
         searches.append(r)
         print(f"  DE + NM seed {seed}: {r['objective']} um, {r['evaluations']} evaluations, {r['cpu_s']:.1f} CPU-s",
               flush=True)
+    slsqp = run_slsqp(ev, runs[0]["built"].initial_values())
+    sj = slsqp["judged"]
+    print(f"  SLSQP-FD: {sj['objective']:.4f} um, feasible {sj['feasible']}, {slsqp['evaluations']} evaluations, "
+          f"{slsqp['cpu_s']:.1f} CPU-s", flush=True)
     found = [r for r in searches if r["objective"] is not None]
     best = min(found, key=lambda r: r["objective"]) if found else None
     if best is not None:
@@ -418,6 +460,14 @@ def run_problem(name: str) -> dict:
         "gearopt_active_limits": head["judged"]["active_limits"],
         "global_active_limits": best["judged"]["active_limits"] if best else None,
         "exact_scope": scope,
+        "slsqp_objective_um": sj["objective"], "slsqp_feasible": sj["feasible"], "slsqp_cpu_s": slsqp["cpu_s"],
+        "slsqp_evaluations": slsqp["evaluations"], "slsqp_iterations": slsqp["iterations"],
+        "gap_to_slsqp_percent": gap(head["judged"]["objective"], sj["objective"]),
+        "cpu_ratio_gearopt_over_slsqp": head["cpu_s"] / slsqp["cpu_s"],
+        # issue 29's acceptance: no more CPU than SLSQP-FD and an exact PPTE no worse than its feasible one by 1 %
+        "meets_slsqp_acceptance": bool(head["cpu_s"] <= slsqp["cpu_s"] and head["judged"]["feasible"]
+                                       and (not sj["feasible"] or gap(head["judged"]["objective"],
+                                                                      sj["objective"]) <= 1.0)),
         "gearopt_by_starts": [{"starts": g["starts"], "objective_um": g["judged"]["objective"],
                                "feasible": g["judged"]["feasible"], "cpu_s": g["cpu_s"], "ltca_calls": g["ltca_calls"],
                                "ipopt_iterations": g["ipopt_iterations"],
@@ -426,7 +476,7 @@ def run_problem(name: str) -> dict:
                               for g in gearopt]}
     return {"name": name, "kind": p["kind"], "description": p["description"], "mesh": p["mesh"],
             "variables": ev.names, "lower": ev.low.tolist(), "upper": ev.high.tolist(),
-            "torques_Nm": [t for _, t in ev.torques], "gearopt": gearopt, "global_search": searches,
+            "torques_Nm": [t for _, t in ev.torques], "gearopt": gearopt, "global_search": searches, "slsqp": slsqp,
             "summary": summary}
 
 
@@ -477,7 +527,8 @@ def main(argv=None) -> dict:
                          "gearopt_rank_tolerance_relative": RANK_TOLERANCE,
                          "penalty_um_per_relative_violation": PENALTY_UM, "active_margin_relative": ACTIVE_MARGIN,
                          "fine_check_factor": FINE_FACTOR,
-                         "gearopt_calls": [f"scene.build().solve(starts={k})" for k in GEAROPT_STARTS]},
+                         "gearopt_calls": [f"scene.build().solve(starts={k})" for k in GEAROPT_STARTS],
+                         "slsqp_maxiter": SLSQP_MAXITER},
             "problems": problems}
     (Path(OUT) / "optimum_quality.json").write_text(json.dumps(data, indent=1))
     figure(data, Path(OUT) / "optimum_quality.png")

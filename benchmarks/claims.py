@@ -218,7 +218,7 @@ def codesign(d) -> str:
 
 def optimum_quality(d) -> str:
     st, m = d["settings"], d["machine"]
-    rows, over = [], []
+    rows, over, slsqp_ok = [], [], []
     for p in d["problems"]:
         s = p["summary"]
         scope = "" if s["exact_scope"] == "in scope" else ", NLP alone"
@@ -228,6 +228,13 @@ def optimum_quality(d) -> str:
         feasible = "" if s["gearopt_feasible"] else ", gearopt's design infeasible"
         more = "".join(f"; starts={g['starts']}: {g['objective_um']:.4g} um, gap {g['gap_percent']:+.2g} %, "
                        f"{g['cpu_s']:.2g} CPU-s" for g in s["gearopt_by_starts"][1:])
+        if s.get("slsqp_objective_um") is not None:
+            more += (f"; SLSQP-FD from the same start {s['slsqp_objective_um']:.4g} um"
+                     f"{'' if s['slsqp_feasible'] else ' (infeasible)'} in {s['slsqp_cpu_s']:.2g} CPU-s "
+                     f"({s['slsqp_evaluations']} evaluations): gearopt {s['gap_to_slsqp_percent']:+.2g} % in "
+                     f"{s['cpu_ratio_gearopt_over_slsqp']:.2g}x its CPU time")
+            if s["meets_slsqp_acceptance"]:
+                slsqp_ok.append(p["name"].replace("_", " "))
         rows.append(f"{p['name'].replace('_', ' ')} ({p['kind']}{scope}): gearopt {s['gearopt_objective_um']:.4g} um "
                     f"in {s['gearopt_cpu_s']:.2g} CPU-s ({s['gearopt_ltca_calls']} exact LTCA calls, "
                     f"{s['gearopt_ipopt_iterations']} Ipopt iterations), global search "
@@ -243,7 +250,22 @@ def optimum_quality(d) -> str:
             f"{st['de_popsize_per_variable']} x variables, {st['de_maxiter']} generations, seeds {seeds}) + "
             f"Nelder-Mead ({st['polish_evaluations_per_variable']} evaluations per variable) on the exact LTCA at "
             f"{st['check_positions']} positions, both judged by one evaluator, every limit met exactly): "
-            + "; ".join(rows) + ". Gap above 1 %: " + (", ".join(over) if over else "none") + ".")
+            + "; ".join(rows) + ". Gap above 1 %: " + (", ".join(over) if over else "none") + "."
+            + _slsqp_verdict(d, slsqp_ok))
+
+
+def _slsqp_verdict(d, met: list[str]) -> str:
+    """Issue 29's acceptance against SLSQP-FD over the problems that ran it."""
+    runs = [p["summary"] for p in d["problems"] if p["summary"].get("slsqp_objective_um") is not None]
+    if not runs:
+        return ""
+    gaps = [s["gap_to_slsqp_percent"] for s in runs]
+    ratios = [s["cpu_ratio_gearopt_over_slsqp"] for s in runs]
+    better = sum(g < 0 for g in gaps)
+    return (f" Issue 29's acceptance (no more CPU than SLSQP-FD from the same start, a design no worse than its "
+            f"feasible one by 1 %): met on {', '.join(met) if met else 'none'}; gearopt's design is better than "
+            f"SLSQP-FD's on {better} of {len(runs)} ({_span(gaps, lambda v: f'{v:+.2g} %')}) at "
+            f"{_span(ratios, lambda v: f'{v:.2g}x')} its CPU time.")
 
 
 def _pct(v: float) -> str:
