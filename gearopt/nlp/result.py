@@ -91,7 +91,9 @@ class ProblemResult:
     def report(self) -> str:
         """Readable text report: status line, objective, timings, variable table and constraint table."""
         state = "converged" if self.success else "FAILED"
-        lines = [f"Problem '{self.problem}': {self.status} ({state}) after {self.iterations} iterations",
+        exchanged = (f" ({self.exchanges} re-solve{'s' if self.exchanges > 1 else ''} exchanging screened rows)"
+                     if self.exchanges else "")
+        lines = [f"Problem '{self.problem}': {self.status} ({state}) after {self.iterations} iterations{exchanged}",
                  f"  objective      {self.objective:.8g}",
                  f"  build / solve  {self.build_time_s:.3g} s / {self.solve_time_s:.3g} s", ""]
         if self.parameters:

@@ -417,6 +417,7 @@ def test_screened_constraint_rows_by_exchange_reach_the_full_optimum():
     passed = screened.opti.ng - 2                                             # minus the variables' bound rows
     assert passed <= (full.opti.ng - 2) // 2
     assert int((side["multiplier"] != 0.0).sum()) <= passed                   # held-back rows: multiplier 0
+    assert f"{result.exchanges} re-solve" in result.report().splitlines()[0]
 
 
 def test_screen_must_be_a_nonnegative_margin():
