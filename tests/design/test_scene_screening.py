@@ -38,3 +38,32 @@ def test_screened_spring_limit_gives_the_optimum_of_every_spring_with_fewer_rows
     rows, all_rows = built.transcription.problem.opti.ng, full_built.transcription.problem.opti.ng
     assert all_rows - rows >= SCREEN_MIN_ELEMENTS // 2                              # most springs held back
     assert float(stress["value"].max()) <= limit * (1.0 + 1e-5)     # every spring met (Ipopt tolerance)
+
+
+def test_screening_on_a_pair_of_other_names(tmp_path):
+    """Any train: the packaged minimal pair with its gears renamed, at an 8 deg helix (sliced): the screened NLP
+    ends at the optimum of every spring's NLP with at most a fifth of its rows."""
+    import re
+
+    from gearopt.data import default_data_path, load_default_data, train_from_data
+
+    text = (default_data_path().parent / "minimal_train.toml").read_text(encoding="utf-8")
+    for old, new in {"pinion": "sun_gear", "wheel": "drum_gear"}.items():
+        text = re.sub(rf"\b{old}\b", new, text)
+    (tmp_path / "renamed.toml").write_text(text, encoding="utf-8")
+    data = load_default_data(tmp_path / "renamed.toml")
+    train = dataclasses.replace(train_from_data(data), helix_angle_deg=8.0)
+    mesh = "sun_gear-drum_gear"
+    limit = 1.01 * ltca(train.pairs[mesh], 100.0).max_contact_stress_MPa
+    built, results = {}, {}
+    for screen in (None, 0.2):
+        scene = Scene("renamed", train=train, load_cases=[LoadCase("design", 100.0)],
+                      variables=[DesignVariable(v, mesh) for v in ("tip_relief_1_um", "tip_relief_2_um")],
+                      objectives=[Objective("ppte_um", mesh)],
+                      limits=[Limit("max_contact_stress_MPa", mesh, upper=limit)], data=data,
+                      ltca_options={"max_refinements": 0, "positions": 80, "spring_limit_screen": screen})
+        built[screen] = scene.build()
+        results[screen] = built[screen].solve()
+    for name, value in results[None].values.items():
+        assert results[0.2].values[name] == pytest.approx(value, rel=1e-6, abs=1e-6)
+    assert 5 * built[0.2].transcription.problem.opti.ng <= built[None].transcription.problem.opti.ng
