@@ -22,8 +22,8 @@ Example::
 
 from __future__ import annotations
 
-import time
 import dataclasses
+import time
 from typing import Any
 
 import casadi as ca
@@ -167,7 +167,8 @@ class Problem(Declarations, Evaluation):
                              float(ipopt.get("bound_frac", IPOPT_BOUND_FRAC)))
         report.warn_if_outside_bounds()
         report.raise_if_bad()
-        self._pass_screened(self._evaluate(start)[0], broken_only=False)
+        if self._screened():                         # rows by exchange: the held-back elements near a bound here
+            self._pass_screened(self._evaluate(start)[0], broken_only=False)
         lam0 = self._start_multipliers(warm_start)
         build_s = self._pending_build_s + (time.perf_counter() - t_check)
         self._pending_build_s = 0.0
