@@ -235,7 +235,10 @@ def optimum_quality(d) -> str:
                      f"{s['cpu_ratio_gearopt_over_slsqp']:.2g}x its CPU time")
             if s["meets_slsqp_acceptance"]:
                 slsqp_ok.append(p["name"].replace("_", " "))
-        rows.append(f"{p['name'].replace('_', ' ')} ({p['kind']}{scope}): gearopt {s['gearopt_objective_um']:.4g} um "
+        head = s["gearopt_by_starts"][0]
+        starts = f" ({head['starts']} screened starts)" if head["starts"] > 1 else ""
+        rows.append(f"{p['name'].replace('_', ' ')} ({p['kind']}{scope}): gearopt{starts} "
+                    f"{s['gearopt_objective_um']:.4g} um "
                     f"in {s['gearopt_cpu_s']:.2g} CPU-s ({s['gearopt_ltca_calls']} exact LTCA calls, "
                     f"{s['gearopt_ipopt_iterations']} Ipopt iterations), global search "
                     f"{s['global_best_objective_um']:.4g} um in {s['global_cpu_s_per_seed']:.2g} CPU-s per seed "

@@ -81,7 +81,7 @@ from .scene_refine import SceneRefinement, exact_best_start
 from .scene_result import SceneResult
 from .scene_search import exact_screen, screened_starts, search_scope
 from .scene_spec import DesignVariable, Limit, LoadCase, Objective
-from .scene_terms import quantity_kind
+from .scene_terms import quantity_kind, variable_kind
 from .scene_transcription import SceneTranscription
 
 @dataclass
@@ -341,29 +341,40 @@ class BuiltScene:
 
     # -- solve -------------------------------------------------------------------------------------------------
 
-    def solve(self, *, starts: int = 1, seed: int = 0, verbose: bool = False, check: bool = True,
+    def solve(self, *, starts: int | None = None, seed: int = 0, verbose: bool = False, check: bool = True,
               refine: bool | None = None, **ipopt) -> "SceneResult":
         """Solve the scene's NLP (Ipopt). Raises a :class:`~gearopt.errors.SolveError` subclass naming the violated
         constraints on failure.
 
         Starts: where the exact search applies (:func:`gearopt.design.scene_search.search_scope`: PPTE objectives,
-        limits on exact-LTCA quantities, few bounded variables), the ``starts`` best designs of an exact screen
+        limits on exact-LTCA and closed-form geometry quantities, few bounded variables), the ``starts`` (default
+        :meth:`default_starts`: 1, or ``macro_starts`` with free macro variables) best designs of an exact screen
         (scrambled Sobol, ``seed``; ``SceneResult.screen``; not for a build warm-started with ``initial``, whose
         start the caller chose) and the optimum is polished on the exact model
         (``SceneResult.refinement.attrs["polish"]``); otherwise ``starts`` > 1 solves from the declared start plus
         ``starts - 1`` Latin-hypercube points of the design variables inside their bounds
         (:func:`gearopt.nlp.multistart.multistart`, ``seed``). Either way the exact LTCA ranks the optima of a
-        scene with a PPTE objective and ``SceneResult.starts`` tables every start with the success rate. ``check``: re-evaluate the optimum of every
-        mesh with LTCA quantities by the exact LTCA at ``check_positions`` (``SceneResult.exact_check``: exact and
+        scene with a PPTE objective and ``SceneResult.starts`` tables every start with the success rate. ``check``:
+        re-evaluate the optimum of every mesh with LTCA quantities by the exact LTCA at ``check_positions`` (``SceneResult.exact_check``: exact and
         smooth values side by side). ``refine`` (default: whenever a PPTE objective or limit is declared and
         ``check``): the semi-infinite refinement of :class:`gearopt.design.scene_refine.SceneRefinement` -- add the exact
         TE's peak and trough positions and re-solve warm until the smooth and exact PPTE agree within
         ``ltca_options["refine_tolerance"]`` (``SceneResult.refinement``)."""
+        if starts is None:
+            starts = self.default_starts(check)
         if refine is None:
             refine = check and any(q.quantity == "ppte_um" for q in (*self.scene.objectives, *self.scene.limits))
         if refine:
             return SceneRefinement(self).solve(starts=starts, seed=seed, verbose=verbose, **ipopt)
         return self.solve_once(starts=starts, seed=seed, verbose=verbose, check=check, **ipopt)
+
+    def default_starts(self, check: bool = True) -> int:
+        """The starts of :meth:`solve` without ``starts``: ``ltca_options["macro_starts"]`` (4) of the exact screen's
+        best designs where the screen applies (not warm-started, ``check``, in :func:`search_scope`) and a macro
+        variable (train or mesh geometry) is free -- a co-design's exact optimum has neighbours across the helix
+        angle and the shift that one local solve does not reach -- else 1."""
+        macro = any(variable_kind(v.name).group in ("train", "macro") for v in self.scene.variables)
+        return self.options.search.macro_starts if macro and self.screened(check) else 1
 
     def values_of(self, solved) -> dict[str, float]:
         """The design variables of a solve (``"target.variable"`` -> value, clipped to their bounds)."""
@@ -374,6 +385,13 @@ class BuiltScene:
             values[name] = float(np.clip(v, entry.lower[0], entry.upper[0]))
         return values
 
+    def screened(self, check: bool = True) -> bool:
+        """Whether a solve of this build starts from the exact screen: ``check``, ``screen_samples`` > 0, in
+        :func:`search_scope`, and not warm-started (a build with ``initial`` for a design variable: the caller chose
+        the start)."""
+        warm = bool(set(self.variable_names) & set(self.initial_overrides))
+        return bool(check and not warm and self.options.search.screen_samples and search_scope(self) is None)
+
     def solve_once(self, *, starts: int = 1, seed: int = 0, verbose: bool = False, check: bool = True,
                    screened: bool = True, **ipopt) -> "SceneResult":
         """One solve of this NLP on its present position sets (no refinement); see :meth:`solve`. ``screened``
@@ -381,8 +399,7 @@ class BuiltScene:
         designs; ``False`` (a warm re-solve): the declared start."""
         starts_table, screen = None, None
         names = self.variable_names
-        warm = bool(set(names) & set(self.initial_overrides))     # the caller chose the start
-        if screened and not warm and check and self.options.search.screen_samples and search_scope(self) is None:
+        if screened and self.screened(check):
             screen = exact_screen(self, seed=seed)       # the global phase: the exact model picks the starts
             points = screened_starts(screen, names, starts)
             ms = self.problem.multistart(len(points), variables=names, points=points, origin="exact screen",
@@ -396,6 +413,27 @@ class BuiltScene:
                 solved, starts_table = exact_best_start(self, ms)     # the exact model ranks the starts
         else:
             solved = self.problem.solve(verbose=verbose, **ipopt)
+        return self._result(solved, check, starts_table, screen)
+
+    def solve_starts(self, *, starts: int, seed: int = 0, verbose: bool = False,
+                     **ipopt) -> tuple[list["SceneResult | None"], pd.DataFrame, pd.DataFrame | None]:
+        """Every start of a multistart solved once and checked (the refinement then finishes each;
+        :meth:`solve`): ``(results, table, screen)`` -- per start its :class:`SceneResult` (``None`` where Ipopt
+        failed), the starts table (:meth:`gearopt.nlp.problem.Problem.multistart`) and the exact screen (``None``
+        where it does not apply: the declared start and ``starts - 1`` Latin-hypercube points, ``seed``). Raises the
+        multistart's :class:`~gearopt.errors.SolveError` when every start fails."""
+        names, screen = self.variable_names, None
+        if self.screened(True):
+            screen = exact_screen(self, seed=seed)
+            ms = self.problem.multistart(max(1, int(starts)), variables=names, origin="exact screen",
+                                         points=screened_starts(screen, names, starts), verbose=verbose, **ipopt)
+        else:
+            ms = self.problem.multistart(max(1, int(starts) - 1), seed=seed, variables=names, include_initial=True,
+                                         verbose=verbose, **ipopt)
+        results = [None if s is None else self._result(s, True, None, screen) for s in ms.results]
+        return results, ms.table.copy(), screen
+
+    def _result(self, solved, check: bool, starts_table, screen) -> "SceneResult":
         values = self.values_of(solved)
         table = self.transcription.quantity_table(solved)
         exact = self.exact_check(values, solved.value) if check else pd.DataFrame()

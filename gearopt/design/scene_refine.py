@@ -44,7 +44,9 @@ without a dense grid everywhere:
    exact objectives lie within the tolerance of the best, one whose smooth PPTE agreed with the exact one is
    preferred (its NLP quantities can then be read at face value). For a warm-started scene
    (e.g. from the sequential answer) the start competes too when it is admissible, so the result is never worse
-   than it. ``refinement.attrs["chosen"]`` says which design was returned, ``attrs["verified_objective"]`` its exact
+   than it. Likewise the exact screen's best design competes when it meets every exact limit (the exact model has
+   the last word: an NLP optimum reached from it that is worse on the exact model does not replace it; chosen
+   ``"exact screen's best design ..."``). ``refinement.attrs["chosen"]`` says which design was returned, ``attrs["verified_objective"]`` its exact
    objective and ``attrs["verified"]`` whether its smooth PPTE agreed with the exact one within the tolerance;
 6. where the scene is in the exact search's scope (:func:`~gearopt.design.scene_search.search_scope`), polish that
    design on the exact model (:func:`~gearopt.design.scene_search.exact_polish`; ``attrs["polish"]``): the first
@@ -66,7 +68,7 @@ import pandas as pd
 
 from ..errors import SolveError
 from .positions import extreme_fractions, new_fractions, peak_fractions
-from .scene_search import exact_limit_violation, exact_polish, rank_key, search_scope
+from .scene_search import exact_geometry_violations, exact_limit_violation, exact_polish, rank_key, search_scope
 from .scene_terms import quantity_kind
 
 RESOLVE_BUDGET_FACTOR, RESOLVE_BUDGET_MIN_ITERATIONS = 8, 50
@@ -242,8 +244,29 @@ class SceneRefinement:
         self.built = built
 
     def solve(self, *, starts: int = 1, seed: int = 0, verbose: bool = False, **ipopt):
-        """Solve with the exchange method (module docstring, steps 1-5)."""
-        built = self.built
+        """Solve with the exchange method (module docstring, steps 1-6). With ``starts`` > 1 every start is a whole
+        local solve -- its first solve refined and polished like a single start's -- and the best on the exact
+        model is returned (:func:`exact_final_key`), so that more starts never give a worse exact design (the
+        starts nest: those of a larger ``starts`` include those of a smaller one). ``SceneResult.starts`` then has
+        each start's ``refined_exact_objective`` and ``refined_exact_violation`` and the ``chosen`` one."""
+        if starts <= 1:
+            return self._refine(None, seed=seed, verbose=verbose, **ipopt)
+        firsts, table, screen = self.built.solve_starts(starts=starts, seed=seed, verbose=verbose, **ipopt)
+        finals = [None if first is None else self._refine(first, seed=seed, verbose=verbose, **ipopt)
+                  for first in firsts]
+        keys = [None if r is None else exact_final_key(r) for r in finals]
+        best = min((k for k in range(len(finals)) if finals[k] is not None), key=lambda k: (keys[k], k))
+        table["refined_exact_objective"] = [np.nan if k is None else k[2] for k in keys]
+        table["refined_exact_violation"] = [np.nan if k is None else k[1] for k in keys]
+        table["chosen"] = [k == best for k in range(len(finals))]
+        result = dataclasses.replace(finals[best], starts=table, screen=screen)
+        result.refinement = finals[best].refinement
+        return result
+
+    def _refine(self, first, *, seed: int = 0, verbose: bool = False, **ipopt):
+        """The exchange method from one start: ``first`` (a :class:`~gearopt.design.scene.SceneResult` of the
+        build's first solve from one start) or ``None`` (the build's own first solve, screened where it applies)."""
+        built, starts = self.built, 1
         refinement = built.options.refinement
         tol, abs_tol = refinement.refine_tolerance, refinement.refine_abs_tolerance_um
         stress_tol = refinement.refine_stress_tolerance
@@ -258,7 +281,7 @@ class SceneRefinement:
                 verified = ppte_agrees(built, q0, ex0, tol, abs_tol)
                 candidates.append((_verified_objective(built, q0, ex0), not verified, "start", (start, q0, ex0)))
         max_refinements = refinement.max_refinements
-        rows, current, status, first_screen = [], built, "max_refinements reached", None
+        rows, current, status, first_screen, first_starts = [], built, "max_refinements reached", None, None
         t_start = time.perf_counter()
         for it in range(max_refinements + 1):
             t0 = time.perf_counter()
@@ -267,15 +290,15 @@ class SceneRefinement:
                 budget = max(RESOLVE_BUDGET_MIN_ITERATIONS, RESOLVE_BUDGET_FACTOR * rows[0]["ipopt_iterations"])
                 options["max_iter"] = int(min(int(ipopt.get("max_iter", budget)), budget))
             try:
-                result = current.solve_once(starts=starts if it == 0 else 1, seed=seed, verbose=verbose, check=True,
-                                            screened=it == 0, **options)
+                result = first if it == 0 and first is not None else current.solve_once(
+                    starts=starts, seed=seed, verbose=verbose, check=True, screened=it == 0, **options)
             except SolveError as exc:
                 if it == 0:
                     raise
                 status = f"re-solve {it} failed ({type(exc).__name__}: {exc.status}); kept the best verified design"
                 break
             if it == 0:
-                first_screen = result.screen
+                first_screen, first_starts = result.screen, result.starts
             ex = result.exact_check
             err = float(ex["ppte_um_error"].max()) if len(ex) else 0.0
             stress_err = _stress_errors(ex)
@@ -342,6 +365,8 @@ class SceneRefinement:
                 break
             reuse = {k: v for k, v in current.models.items() if k.startswith(REUSED_MODELS)}
             current = current.rebuild(positions=sets, initial=result.values, reuse=reuse, options=options)
+        if first_screen is not None:
+            candidates += _screen_candidate(built, first_screen, candidates, tol, abs_tol)
         chosen, verified, objective = f"solve {len(rows) - 1} (last, not admissible)", False, float("nan")
         if candidates:
             best_objective = min(c[0] for c in candidates)
@@ -349,12 +374,13 @@ class SceneRefinement:
             verified_near = [c for c in candidates if not c[1] and c[0] <= best_objective + slack]
             objective, unverified, chosen, best = min(verified_near or candidates, key=lambda c: c[0])
             verified = not unverified
-            if chosen == "start":
+            if chosen in ("start", "screen"):
                 start, q0, ex0 = best
                 result = dataclasses.replace(
-                    result, values=start, quantities=q0, exact_check=ex0, positions=built_positions,
+                    result, values=start, quantities=q0, exact_check=ex0, positions=built_positions, source=built,
                     microgeometry={m: built.microgeometry_at(start, m) for m in built.ltca_meshes()})
-                chosen = "start (no verified solve improved on it)"
+                chosen = "start (no verified solve improved on it)" if chosen == "start" else \
+                    "exact screen's best design (no solve improved on it)"
             else:
                 result = best
         polish = None
@@ -364,14 +390,44 @@ class SceneRefinement:
                 objective = float(polish["polished_objective"].iloc[0])
                 chosen += " + exact polish"
                 verified = ppte_agrees(result.source, result.quantities, result.exact_check, tol, abs_tol)
-        if first_screen is not None:        # the re-solves are warm (not screened): the screen is the first solve's
-            result = dataclasses.replace(result, screen=first_screen)
+        if first_screen is not None or first_starts is not None:    # the re-solves are warm (one start, not
+            result = dataclasses.replace(result, screen=first_screen, starts=first_starts)   # screened): the first's
         table = pd.DataFrame(rows)
         table.attrs.update(status=status, tolerance=tol, total_time_s=time.perf_counter() - t_start, chosen=chosen,
                            verified=verified, verified_objective=objective if candidates else float("nan"),
                            polish=polish)
         result.refinement = table
         return result
+
+
+def exact_final_key(result) -> tuple[bool, float, float]:
+    """Rank of a refined design among starts (:func:`~gearopt.design.scene_search.rank_key`): its exact objective
+    (``refinement.attrs["verified_objective"]``) and its exact violation -- the exact check's limits plus, where the
+    exact search applies, the closed-form geometry's (:func:`~gearopt.design.scene_search.exact_geometry_violations`);
+    a start without an admissible design ranks last."""
+    built = result.source
+    objective = float(result.refinement.attrs.get("verified_objective", np.nan))
+    violation = exact_limit_violation(built, result.exact_check)
+    if search_scope(built) is None:
+        violation += float(sum(exact_geometry_violations(built, result.values).values()))
+    if not np.isfinite(objective):
+        return True, float("inf"), float("inf")
+    return rank_key(objective, violation)
+
+
+def _screen_candidate(built, screen: pd.DataFrame, candidates: list, tol: float, abs_tol: float) -> list:
+    """The exact screen's best design as a refinement candidate (a list of none or one), when it meets every exact
+    limit (within :data:`~gearopt.design.scene_search.EXACT_RANK_TOLERANCE`) and its exact objective is below every
+    solve's: an NLP optimum reached from it may be a worse local optimum on the exact model."""
+    if not len(screen):
+        return []
+    top = screen.iloc[0]
+    objective, violation = float(top["exact_objective"]), float(top["exact_violation"])
+    if rank_key(objective, violation)[0] or any(c[0] <= objective for c in candidates):
+        return []
+    values = {n: float(top[n]) for n in built.variable_names}
+    q0, ex0 = built.quantities_at(values), built.exact_check(values, built.evaluator_at(values))
+    return [(objective, not ppte_agrees(built, q0, ex0, tol, abs_tol), "screen", (values, q0, ex0))]
 
 
 def _polished(result):
@@ -394,5 +450,5 @@ def solve_refined(built, *, starts: int = 1, seed: int = 0, verbose: bool = Fals
     (:meth:`SceneRefinement.solve`)."""
     return SceneRefinement(built).solve(starts=starts, seed=seed, verbose=verbose, **ipopt)
 
-__all__ = ["SceneRefinement", "solve_refined", "ppte_disagreement", "ppte_agrees", "exact_lower_limit_shortfalls",
+__all__ = ["SceneRefinement", "solve_refined", "exact_final_key", "ppte_disagreement", "ppte_agrees", "exact_lower_limit_shortfalls",
            "extreme_fractions", "peak_fractions", "new_fractions", "REUSED_MODELS"]

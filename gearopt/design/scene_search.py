@@ -22,14 +22,18 @@ model and within evaluation budgets (no wall time):
    polished design replaces the optimum only if it meets the exact limits at least as well and its exact objective
    is lower.
 
-Both apply to a scene whose objectives are all PPTE and whose limits are all on exact-LTCA quantities (PPTE,
-contact and root stress, contact temperature, loaded contact ratio) -- every number of the search is then the exact
-model's -- with microgeometry variables only (reliefs, their starts, crowns: a box sample of macro values meets
-designs the geometry refuses, and the NLP's constraints between macro and micro values are not in the box), finitely
-bounded, at most ``screen_max_variables`` of them (a space-filling sample thins
-out quickly with the dimension). :func:`search_scope` says why a scene is out of scope (a co-design with joint
-limits, say); those scenes are solved as before. Cost on the first scene: 64 + 1 screen evaluations and 100
-polish evaluations, about 2 CPU-s against 0.7 CPU-s for the NLP.
+Both apply to a scene whose objectives are all PPTE and whose limits are all on quantities the exact model
+evaluates -- the exact LTCA's (PPTE, contact and root stress, contact temperature, loaded contact ratio) and the
+closed-form geometry's (``geometry_limits``, contact ratios, tip thicknesses) -- so every number of the search is
+the exact model's; with microgeometry variables (reliefs, their starts, crowns) and macro variables (the train's
+root profile shift and helix angle, a mesh's shift, tip diameters, face width), finitely bounded, at most
+``screen_max_variables`` of them (a space-filling sample thins out quickly with the dimension). A box sample of
+macro values meets designs the geometry refuses: such a design (the exact model raises a
+:class:`~gearopt.errors.GearoptError` for it: pointed teeth, an unreachable centre distance) ranks as infeasible, and
+the NLP's closed-form constraints between macro and micro values (a free relief start between the pitch point and
+the tip margin) count in its exact violation (:func:`exact_geometry_violations`). :func:`search_scope` says why a
+scene is out of scope (a co-design with joint limits, say); those scenes are solved as before. Cost on the first
+scene: 64 + 1 screen evaluations and 100 polish evaluations, about 2 CPU-s against 0.7 CPU-s for the NLP.
 """
 
 from __future__ import annotations
@@ -41,6 +45,7 @@ import pandas as pd
 from scipy.optimize import minimize
 from scipy.stats import qmc
 
+from ..errors import GearoptError
 from .scene_terms import quantity_kind, variable_kind
 
 EXACT_RANK_TOLERANCE = 1e-3
@@ -49,6 +54,13 @@ EXACT_RANK_TOLERANCE = 1e-3
 EXACT_LIMIT_COLUMNS = ("ppte_um", "max_contact_stress_MPa", "max_root_stress_MPa", "max_contact_temperature_C",
                        "loaded_contact_ratio")
 """The quantities the exact check evaluates (the limits it can judge)."""
+
+SEARCH_VARIABLE_GROUPS = ("micro", "macro", "train")
+"""Variable groups the exact search samples (:data:`~gearopt.design.scene_terms.VARIABLES`): not joints or blanks,
+whose limits the exact LTCA does not evaluate."""
+
+REFUSED_MERIT = 1e6
+"""The polish's merit of a design the exact model refuses (no objective exists there)."""
 
 POLISH_PENALTY = 1e3
 """Penalty of the polish: an exact limit violated by 0.1 % (relative) costs as much as the start's objective."""
@@ -77,6 +89,67 @@ def exact_limit_violations(built, exact: pd.DataFrame) -> dict[str, float]:
             total += float(np.clip((lim.lower - vals) / max(abs(lim.lower), 1e-12), 0.0, None).sum())
         key = f"{lim.quantity} {lim.target}"
         out[key] = out.get(key, 0.0) + total
+    return out
+
+
+def _geometry_limit(quantity: str) -> bool:
+    """Whether ``quantity`` is a mesh quantity of the closed-form geometry alone (evaluated exactly at a numeric
+    pair)."""
+    kind = quantity_kind(quantity)
+    return kind.target_kind == "mesh" and kind.needs == ("geometry",)
+
+
+def _geometry_values(pair, quantity: str, options) -> np.ndarray:
+    """The values of a closed-form geometry quantity of the numeric ``pair`` (the NLP's expressions of
+    :meth:`~gearopt.design.scene_transcription.SceneTranscription.elements`, at numbers)."""
+    if quantity == "geometry_limits":
+        return np.array([float(v) for v in pair.constraints(**dict(options)).values()])
+    g = pair.geometry()
+    if quantity == "min_tip_thickness_mm":
+        return np.array([float(v) for v in g["tip_thickness_mm"]])
+    if quantity.startswith("tip_thickness_"):
+        return np.array([float(g["tip_thickness_mm"][int(quantity[len("tip_thickness_")]) - 1])])
+    return np.array([float(g[quantity])])
+
+
+def exact_geometry_violations(built, values: Mapping[str, float]) -> dict[str, float]:
+    """``{"<limit or constraint> <target>": violation}`` of the scene's closed-form constraints at the design
+    ``values``: its limits on geometry quantities (relative to the limit; ``geometry_limits`` margins, whose bound is
+    0, in their own units) and, where a mesh's macro geometry is free, each free tip-relief start between the pitch
+    point and ``start_margin_deg`` below the tip (deg) -- the constraints the NLP carries beside the LTCA's. 0 where
+    met."""
+    out: dict[str, float] = {}
+    pairs: dict[str, object] = {}
+
+    def pair(mesh):
+        if mesh not in pairs:
+            pairs[mesh] = built.numeric_pair(mesh, values)
+        return pairs[mesh]
+    for lim in built.scene.limits:
+        if not _geometry_limit(lim.quantity):
+            continue
+        vals = _geometry_values(pair(lim.target), lim.quantity, lim.options)
+        if lim.quantity == "geometry_limits":
+            total = float(np.clip(-vals, 0.0, None).sum())
+        else:
+            total = 0.0
+            if lim.upper is not None:
+                total += float(np.clip((vals - lim.upper) / max(abs(lim.upper), 1e-12), 0.0, None).sum())
+            if lim.lower is not None:
+                total += float(np.clip((lim.lower - vals) / max(abs(lim.lower), 1e-12), 0.0, None).sum())
+        key = f"{lim.quantity} {lim.target}"
+        out[key] = out.get(key, 0.0) + total
+    margin = built.options.model.start_margin_deg
+    for mesh in built.ltca_meshes():
+        if not built.graph.macro_free(mesh):
+            continue
+        for i in (0, 1):
+            start = built.contact.free_micro(mesh, i, "tip_relief_start_roll_deg", values)
+            if start is None:
+                continue
+            g = pair(mesh).geometry()
+            low, high = float(g["pitch_point_roll_deg"][i]), float(g["eap_roll_deg"][i]) - margin
+            out[f"tip_relief_start_{i + 1}_in_profile {mesh}"] = max(low - start, start - high, 0.0)
     return out
 
 
@@ -118,15 +191,16 @@ def search_scope(built) -> str | None:
         return f"objectives on {', '.join(other)} (not PPTE)"
     if any(o.load_cases is None and not built.load_cases for o in scene.objectives):
         return "no load case"
-    other = sorted({lim.quantity for lim in scene.limits if lim.quantity not in EXACT_LIMIT_COLUMNS})
+    other = sorted({lim.quantity for lim in scene.limits
+                    if lim.quantity not in EXACT_LIMIT_COLUMNS and not _geometry_limit(lim.quantity)})
     if other:
-        return f"limits on {', '.join(other)} (not evaluated by the exact LTCA)"
+        return f"limits on {', '.join(other)} (not evaluated by the exact LTCA or the closed-form geometry)"
     names = built.variable_names
     if not names:
         return "no design variable"
-    macro = sorted({v.name for v in scene.variables if variable_kind(v.name).group != "micro"})
-    if macro:       # a box sample of macro values meets designs the geometry refuses (relief starts past the tip)
-        return f"variables {', '.join(macro)} are not microgeometry"
+    other = sorted({v.name for v in scene.variables if variable_kind(v.name).group not in SEARCH_VARIABLE_GROUPS})
+    if other:
+        return f"variables {', '.join(other)} are neither microgeometry nor gear geometry"
     if len(names) > search.screen_max_variables:
         return f"{len(names)} variables > screen_max_variables={search.screen_max_variables}"
     low, high = variable_bounds(built)
@@ -143,9 +217,14 @@ def variable_bounds(built) -> tuple[np.ndarray, np.ndarray]:
 
 def exact_evaluation(built, values: Mapping[str, float]) -> tuple[float, float]:
     """``(exact objective, exact limit violation)`` of the design ``values`` (:func:`exact_ppte_objective`,
-    :func:`exact_limit_violation`; in-scope scenes only)."""
-    exact = built.exact_check(values)
-    return exact_ppte_objective(built, exact), exact_limit_violation(built, exact)
+    :func:`exact_limit_violation` plus :func:`exact_geometry_violations`; in-scope scenes only); ``(inf, inf)`` for a
+    design the exact model refuses (a :class:`~gearopt.errors.GearoptError` from its pair or LTCA)."""
+    try:
+        geometry = sum(exact_geometry_violations(built, values).values())
+        exact = built.exact_check(values)
+    except GearoptError:
+        return float("inf"), float("inf")
+    return exact_ppte_objective(built, exact), exact_limit_violation(built, exact) + geometry
 
 
 def exact_screen(built, *, seed: int = 0) -> pd.DataFrame:
@@ -203,6 +282,8 @@ def exact_polish(built, values: Mapping[str, float]) -> tuple[dict[str, float], 
             seen[key] = exact_evaluation(built, design(u))
         objective, violation = seen[key]
         outside = float(np.sum(np.clip(u - 1.0, 0.0, None) + np.clip(-u, 0.0, None)))   # breaks the clip's plateau
+        if not np.isfinite(violation):
+            return REFUSED_MERIT * max(abs(f0), 1.0) + abs(f0) * outside
         return objective + weight * violation + abs(f0) * outside
 
     u0 = (x0 - low) / span
@@ -223,4 +304,5 @@ def exact_polish(built, values: Mapping[str, float]) -> tuple[dict[str, float], 
 
 
 __all__ = ["exact_screen", "exact_polish", "search_scope", "screened_starts", "exact_limit_violation",
+           "exact_geometry_violations",
            "exact_ppte_objective", "rank_key", "EXACT_RANK_TOLERANCE", "EXACT_LIMIT_COLUMNS"]

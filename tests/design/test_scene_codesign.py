@@ -73,7 +73,11 @@ def test_free_root_shift_with_reliefs_is_no_worse_than_the_sequential_design(tra
     assert co <= seq * 1.02
     start = {**micro_only.values, "train.root_profile_shift": train.profile_shifts["crank"]}
     label = result.refinement.attrs["chosen"]               # "solve <i>" or "start (...)" (scene_refine, step 5)
-    if label.startswith("solve"):
+    if label.endswith("+ exact polish"):                    # in the exact search's scope: polished (step 6)
+        polish = result.refinement.attrs["polish"].iloc[0]
+        assert polish["accepted"] and polish["polished_objective"] < polish["start_objective"]
+        assert polish["polished_violation"] <= max(polish["start_violation"], 0.0) + 1e-12
+    elif label.startswith("solve"):
         chosen = result.refinement.iloc[int(label.split()[1])]
         final = dataclasses.replace(scene, ltca_options={"smoothing_um": chosen["smoothing_um"]}).build(
             positions=result.positions)

@@ -1,0 +1,104 @@
+"""The exact search on a co-design (issue 28: a global phase where the space is small enough; more starts never
+worse): a scene with free macro variables (the train's root profile shift) beside relief amounts is screened on the
+exact model, designs the geometry refuses rank last, the closed-form geometry limits count in the exact violation,
+and each start is a whole local solve (refined, polished) of which the best exact one is returned.
+
+Any train: the packaged minimal pair with its gears renamed (sun_gear/drum_gear). The independent references are
+:func:`gearopt.ltca` at its default resolution and the pair's own geometry (``GearPair.constraints``,
+``geometry()``) at the train rebuilt from the design's values."""
+
+import dataclasses
+import re
+
+import numpy as np
+import pytest
+
+from gearopt.contact.ltca import ltca
+from gearopt.data import default_data_path, load_default_data, train_from_data
+from gearopt.design.scene import DesignVariable, Limit, LoadCase, Objective, Scene
+from gearopt.design.scene_search import exact_evaluation, exact_geometry_violations, search_scope
+
+MESH = "sun_gear-drum_gear"
+GEOMETRY = {"min_contact_ratio": 1.2, "min_backlash_mm": None}
+MIN_LCR = 1.2
+pytestmark = pytest.mark.filterwarnings("ignore::UserWarning")
+
+
+@pytest.fixture(scope="module")
+def train(tmp_path_factory):
+    text = (default_data_path().parent / "minimal_train.toml").read_text(encoding="utf-8")
+    for old, new in {"pinion": "sun_gear", "wheel": "drum_gear"}.items():
+        text = re.sub(rf"\b{old}\b", new, text)
+    path = tmp_path_factory.mktemp("renamed") / "renamed.toml"
+    path.write_text(text, encoding="utf-8")
+    return train_from_data(load_default_data(path))
+
+
+def codesign_scene(train, variables=("tip_relief_1_um", "tip_relief_2_um"), **ltca_options) -> Scene:
+    return Scene("co-design", train=train, load_cases=[LoadCase("T150", 150.0)],
+                 variables=[DesignVariable("root_profile_shift", "train", lower=-0.3, upper=0.9)]
+                 + [DesignVariable(v, MESH) for v in variables],
+                 objectives=[Objective("ppte_um", MESH)],
+                 limits=[Limit("geometry_limits", MESH, options=GEOMETRY),
+                         Limit("loaded_contact_ratio", MESH, lower=MIN_LCR)],
+                 ltca_options={"positions": 24, "macro_starts": 2, **ltca_options})
+
+
+@pytest.fixture(scope="module")
+def solved(train):
+    built = codesign_scene(train).build()
+    return built, built.solve(), codesign_scene(train).build().solve(starts=1)
+
+
+def test_a_codesign_is_in_scope_and_takes_macro_starts_by_default(train):
+    built = codesign_scene(train).build()
+    assert search_scope(built) is None and built.default_starts() == 2
+    micro = Scene("micro", train=train, load_cases=[LoadCase("T150", 150.0)],
+                  variables=[DesignVariable("tip_relief_1_um", MESH)], objectives=[Objective("ppte_um", MESH)])
+    assert micro.build().default_starts() == 1
+    warm = codesign_scene(train).build(initial={"train.root_profile_shift": 0.25})
+    assert warm.default_starts() == 1 and not warm.screened()
+
+
+def test_geometry_limits_count_exactly_and_refused_designs_rank_last(train):
+    built = codesign_scene(train, ("tip_relief_1_um", "tip_relief_1_start_roll_deg")).build()
+    start = built.initial_values()
+    # a root shift whose mate is pushed past its shift limits: the violation is the pair's own negative margins
+    x = -0.3
+    margins = dataclasses.replace(train, root_profile_shift=x).pairs[MESH].constraints(**GEOMETRY)
+    expected = sum(max(-float(v), 0.0) for v in margins.values())
+    assert expected > 0.0
+    got = exact_geometry_violations(built, {**start, "train.root_profile_shift": x})
+    assert got[f"geometry_limits {MESH}"] == pytest.approx(expected, rel=1e-12)
+    # a free relief start past the tip margin of the pair at that shift (the NLP's constraint, exactly)
+    pair = dataclasses.replace(train, root_profile_shift=0.2).pairs[MESH]
+    high = float(pair.geometry()["eap_roll_deg"][0]) - built.options.model.start_margin_deg
+    beyond = {**start, "train.root_profile_shift": 0.2, f"{MESH}.tip_relief_1_start_roll_deg": high + 0.5}
+    assert exact_geometry_violations(built, beyond)[f"tip_relief_start_1_in_profile {MESH}"] == \
+        pytest.approx(0.5, rel=1e-9)
+    # a shift the exact LTCA refuses (transverse contact ratio below 1 at x = 2): no objective, infeasible
+    assert dataclasses.replace(train, root_profile_shift=2.0).pairs[MESH].geometry()["transverse_contact_ratio"] < 1
+    assert exact_evaluation(built, {**start, "train.root_profile_shift": 2.0}) == (np.inf, np.inf)
+
+
+def test_each_start_is_refined_and_the_best_exact_design_returned(train, solved):
+    built, result, one = solved
+    table = result.starts
+    assert len(table) == 2 and (table["origin"] == "exact screen").all()
+    assert table["chosen"].sum() == 1
+    assert table.loc[table["chosen"], "refined_exact_objective"].iloc[0] == table["refined_exact_objective"].min()
+    # the starts nest: the two-start answer is never worse on the exact model than the one-start answer
+    assert result.exact_check["ppte_um"].max() <= one.exact_check["ppte_um"].max() * (1 + 1e-9)
+    # no screened design that meets every exact limit is better than the answer
+    feasible = result.screen[result.screen["exact_violation"] <= 1e-3]
+    assert result.refinement.attrs["verified_objective"] <= feasible["exact_objective"].min() * (1 + 1e-9)
+
+
+def test_the_codesign_meets_its_limits_on_an_independent_evaluation(train, solved):
+    _, result, _ = solved
+    values = result.values
+    pair = dataclasses.replace(train, root_profile_shift=values["train.root_profile_shift"]).pairs[MESH]
+    assert min(float(v) for v in pair.constraints(**GEOMETRY).values()) >= -1e-6
+    run = ltca(pair, 150.0, microgeometry=result.microgeometry[MESH])
+    assert run.loaded_contact_ratio >= MIN_LCR * (1 - 0.01)
+    assert run.ppte_um == pytest.approx(result.exact_check["ppte_um"].max(), rel=0.02)
