@@ -131,8 +131,9 @@ def optimise_microgeometry(pair: GearPair, torque_Nm: float | Sequence[float], *
             NLP sees only its own ``positions`` samples, and a minimised PPTE is small, so the check runs at a
             converged resolution (benchmarks/results/ltca.json: 1280 positions keep a sub-micron PPTE within 1 %).
         starts: ``"load_cases"`` (default): one solve from ``initial`` and one from the minimum tip relief at each
-            further load case; an integer n: n starts in total, Latin-hypercube points (``seed``) after those. The
-            best optimum is returned; ``design.starts`` tables every start (status, objective, iterations).
+            further load case (at the first load case too when ``initial`` is given); an integer n: n starts in
+            total, Latin-hypercube points (``seed``) after those. The best optimum is returned; ``design.starts``
+            tables every start (status, objective, iterations).
         model: a prebuilt :class:`LTCAModel` of the pair (reused, not rebuilt); else one is built.
         refine: semi-infinite refinement of the best optimum (:mod:`gearopt.design.scene_refine`): while the NLP's
             PPTE at its positions differs from the exact LTCA's at ``check_positions`` by more than
@@ -185,7 +186,7 @@ def optimise_microgeometry(pair: GearPair, torque_Nm: float | Sequence[float], *
                 min_loaded_contact_ratio=min_loaded_contact_ratio, max_tip_relief_um=max_tip_relief_um,
                 max_profile_crown_um=max_profile_crown_um, start_margin_deg=start_margin_deg, exact_opts=exact_opts,
                 max_root_stress_MPa=max_root_stress_MPa, max_flash_temperature_C=max_flash_temperature_C)
-    candidates = _starting_points(pair, torques, driving_gear, start, starts, spec, seed)
+    candidates = _starting_points(pair, torques, driving_gear, start, starts, spec, seed, minimum)
     records, best = [], None
     for origin, guess in candidates:
         try:
@@ -337,10 +338,15 @@ def _solve_from(spec, guess, relief_smoothing_deg, polish, relief_shape, verbose
     return numbers, solved, current
 
 
-def _starting_points(pair, torques, driving_gear, first, starts, spec, seed) -> list[tuple[str, Microgeometry]]:
-    """The first guess, then the minimum tip relief at each other load case ("load_cases"), then Latin-hypercube
-    points inside the variable bounds up to ``starts`` in total (an int)."""
+def _starting_points(pair, torques, driving_gear, first, starts, spec, seed,
+                     minimum=None) -> list[tuple[str, Microgeometry]]:
+    """The first guess, then the minimum tip relief at each load case ("load_cases"; at the first one too when the
+    first guess is the caller's, ``minimum``: a given start that leads Ipopt to a point of local infeasibility does
+    not fail the design), then Latin-hypercube points inside the variable bounds up to ``starts`` in total (an
+    int)."""
     points = [("initial", first)]
+    if minimum is not None and first is not minimum:
+        points.append((f"min_tip_relief@{torques[0]:g}Nm", minimum))
     for t in torques[1:]:
         points.append((f"min_tip_relief@{t:g}Nm", min_tip_relief_design(pair, t, driving_gear=driving_gear)))
     if starts == "load_cases":

@@ -25,9 +25,10 @@ RANDOM = sc.microgeometry_random_cases(8, seed=11)
 def test_random_scene_solves_or_fails_typed(k):
     outcome = sc.run_case("microgeometry_random", RANDOM[k])
     sc.assert_finite_or_typed(outcome)
-    if RANDOM[k]["initial_seed"] is None:
-        # from the library's default start (the thesis minimum tip relief) these scenes solve
-        assert outcome.kind == "solved", outcome.describe()
+    # these scenes are feasible (from the library's default start, the thesis minimum tip relief, each solves); a
+    # random initial microgeometry that leads Ipopt to a point of local infeasibility does not fail the design: the
+    # default start joins it as a second start
+    assert outcome.kind == "solved", outcome.describe()
 
 
 @pytest.mark.parametrize("torque_Nm", [5.0, 3.0 * sc.DESIGN_TORQUE_NM])
