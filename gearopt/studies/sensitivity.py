@@ -35,6 +35,7 @@ no design variable moves) has zero objective sensitivity; its quantity sensitivi
 
 from __future__ import annotations
 
+import dataclasses
 import warnings
 from dataclasses import dataclass
 from pathlib import Path
@@ -165,6 +166,101 @@ def sensitivity_report(result: SceneResult, *, active_tol: float = 1e-9, resolve
     if pb.data_parameters and resolve_top > 0:
         _resolve_checks(pb, result, table, factor, objective, resolve_top, resolve_tolerance, **ipopt)
     return SensitivityReport(scene.name, name, unit, objective, table, pd.DataFrame(qrows), residual, note)
+
+
+LIMIT_STEP = 0.005
+"""Relative move of a limit at which :func:`limit_move_check` re-solves the scene (issue 28: ±0.5 %)."""
+
+LIMIT_ABS_TOLERANCE = 0.01
+"""Absolute agreement [objective unit, e.g. um of PPTE] within which :func:`limit_move_check` counts a re-solved
+change as the first-order one, whatever the relative miss (a change of a few nanometres is below the exact model's
+resolution of a sub-micron optimum)."""
+
+
+def limit_move_check(result: SceneResult, *, step: float = LIMIT_STEP, tolerance: float = RESOLVE_TOLERANCE,
+                     abs_tolerance: float = LIMIT_ABS_TOLERANCE, every_limit: bool = False,
+                     **solve: Any) -> pd.DataFrame:
+    """Check the limits' sensitivities of a solved scene on the exact model: each active declared limit (every
+    limit with ``every_limit``) moved by ``step`` (relative) either way, the scene re-solved warm from the optimum
+    (``scene.build(initial=optimum, positions=optimum's)``: the same branch of optima, refined and polished like the
+    first solve), and the change of the *exact* objective (the refinement's verified objective; the NLP's for a
+    scene without one) compared with the reported sensitivity (:func:`sensitivity_report`: the multipliers, summed
+    over the limit's load cases) times the move.
+
+    Returns one row per (limit, side): ``limit`` (``quantity[target] (side)``, with its load cases), ``bound``,
+    ``unit``, ``sensitivity`` (objective units per unit of the bound), ``active``, ``exact_objective`` (at the
+    optimum), and per side ``exact_objective_minus`` / ``_plus`` (re-solved), ``first_order_minus`` / ``_plus``,
+    then ``worst_miss`` (the larger absolute difference of re-solved and first-order change, objective units) and
+    ``check``: ``"agrees"`` when each miss is within ``tolerance`` of the first-order change or ``abs_tolerance``,
+    else what differs (a failed re-solve is named)."""
+    check_range("step", step, 0.0, 0.5, low_inclusive=False)
+    check_range("tolerance", tolerance, 0.0, None, low_inclusive=False)
+    check_range("abs_tolerance", abs_tolerance, 0.0, None)
+    built = getattr(result, "source", None)
+    if not isinstance(result, SceneResult) or built is None:
+        raise GearoptInputError(f"result={type(result).__name__} must be the SceneResult of a solved scene "
+                                f"(scene.build().solve())")
+    scene = built.scene
+    name, unit, factor = objective_meta(scene)
+    f0 = _exact_objective(result, factor)
+    sens = {r["name"]: r for r in _limit_rows(built, result, factor, f0, name, unit)}
+    records = {r["label"]: r for r in built.records if r["role"] == "limit"}
+    rows = []
+    for j, lim in enumerate(scene.limits):
+        kind = quantity_kind(lim.quantity)
+        for side in ("lower", "upper"):
+            bound = getattr(lim, side)
+            if bound is None or kind.shape == "named":
+                continue
+            mine = [sens[f"{label} ({side})"] for label, rec in records.items()
+                    if rec["quantity"] == lim.quantity and rec["target"] == lim.target
+                    and (lim.load_cases is None or rec["load_case"] in lim.load_cases)
+                    and f"{label} ({side})" in sens]
+            s = float(sum(r["sensitivity"] for r in mine))
+            active = any(r["active"] for r in mine)
+            if not (active or every_limit):
+                continue
+            where = "" if lim.load_cases is None else f" @ {'/'.join(lim.load_cases)}"
+            row = {"limit": f"{lim.quantity}[{lim.target}] ({side}){where}", "bound": float(bound),
+                   "unit": kind.unit, "sensitivity": s, "active": active, "exact_objective": f0}
+            worst, causes = 0.0, []
+            for sign, tag in ((-1.0, "minus"), (1.0, "plus")):
+                moved = bound * (1.0 + sign * step)
+                predicted = s * (moved - bound)
+                row[f"first_order_{tag}"] = f0 + predicted
+                limits = [dataclasses.replace(lim, **{side: moved}) if k == j else other
+                          for k, other in enumerate(scene.limits)]
+                try:
+                    with warnings.catch_warnings():
+                        warnings.simplefilter("ignore", InitialGuessWarning)
+                        again = dataclasses.replace(scene, limits=limits).build(
+                            initial=result.values, positions=result.positions).solve(**solve)
+                except GearoptError as exc:
+                    row[f"exact_objective_{tag}"] = np.nan
+                    causes.append(f"re-solve at {sign * 100 * step:+g} % failed ({type(exc).__name__})")
+                    continue
+                got = _exact_objective(again, factor)
+                row[f"exact_objective_{tag}"] = got
+                miss = abs((got - f0) - predicted)
+                worst = max(worst, miss)
+                if miss > max(tolerance * abs(predicted), abs_tolerance):
+                    causes.append(f"at {sign * 100 * step:+g} % the exact optimum moved by {got - f0:.4g} "
+                                  f"{unit} against {predicted:.4g} {unit} first order")
+            row["worst_miss"] = worst
+            row["check"] = "; ".join(causes) if causes else "agrees"
+            rows.append(row)
+    return pd.DataFrame(rows, columns=["limit", "bound", "unit", "sensitivity", "active", "exact_objective",
+                                       "exact_objective_minus", "first_order_minus", "exact_objective_plus",
+                                       "first_order_plus", "worst_miss", "check"])
+
+
+def _exact_objective(result: SceneResult, factor: float) -> float:
+    """The objective of a solved scene on the exact model (the refinement's verified objective, else the NLP's), in
+    the objective quantity's unit."""
+    ref = getattr(result, "refinement", None)
+    verified = ref.attrs.get("verified_objective") if ref is not None else None
+    value = verified if verified is not None and np.isfinite(verified) else float(result.solve.objective)
+    return float(value) * factor
 
 
 def _resolve_checks(pb, result: SceneResult, table: pd.DataFrame, factor: float, objective: float, top: int,
@@ -349,4 +445,5 @@ def _quantity_rows(pb, solved, sens, names: list[str]) -> list[dict[str, Any]]:
     return rows
 
 
-__all__ = ["sensitivity_report", "SensitivityReport", "objective_meta"]
+__all__ = ["sensitivity_report", "SensitivityReport", "objective_meta", "limit_move_check", "LIMIT_STEP",
+           "LIMIT_ABS_TOLERANCE"]

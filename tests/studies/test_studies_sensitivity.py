@@ -11,7 +11,7 @@ import gearopt as go
 from gearopt.design.scene import DesignVariable, Limit, LoadCase, Objective, Scene
 from gearopt.errors import GearoptInputError
 from gearopt.nlp import Problem
-from gearopt.studies import kkt_sensitivity, sensitivity_report
+from gearopt.studies import kkt_sensitivity, limit_move_check, sensitivity_report
 from studies_scenes import DATA_TORQUES as TORQUES, MESH, relief_scene
 
 
@@ -111,6 +111,25 @@ def test_limit_sensitivity_matches_a_re_solve_with_the_limit_moved(scene, solved
     # the contact-stress limit has a large margin: no sensitivity
     stress = report.table[report.table["name"].str.startswith("max_contact_stress_MPa")]
     assert len(stress) == 3 and (stress["sensitivity"].abs() < 1e-6).all() and not stress["active"].any()
+
+
+def test_a_binding_limit_moved_half_a_percent_moves_the_exact_optimum_by_its_sensitivity():
+    """Issue 28, acceptance 3, on its acceptance scene (spur crank-cam tip relief over 150/300/450 N m, loaded
+    contact ratio >= 1.2; the default solve: exact screen, refinement, exact polish): the limit moved by +-0.5 % and
+    the scene re-solved on its branch (warm from the optimum) moves the exact optimum by the reported sensitivity
+    (the multipliers, d PPTE / d limit) times the move, within 10 % or 0.01 um."""
+    result = relief_scene(min_lcr=1.2, stress_limit=False, torques=TORQUES, positions=40).build().solve()
+    check = limit_move_check(result)
+    assert len(check) == 1
+    row = check.iloc[0]
+    assert row["active"] and row["sensitivity"] > 0.0     # a higher contact-ratio floor costs PPTE
+    assert row["exact_objective"] == pytest.approx(result.exact_check["ppte_um"].max(), rel=1e-9)
+    for tag, sign in (("minus", -1.0), ("plus", 1.0)):
+        predicted = row["sensitivity"] * sign * 0.005 * 1.2
+        assert row[f"first_order_{tag}"] - row["exact_objective"] == pytest.approx(predicted, rel=1e-9)
+        change = row[f"exact_objective_{tag}"] - row["exact_objective"]
+        assert abs(change - predicted) <= max(0.1 * abs(predicted), 0.01), (tag, change, predicted)
+    assert row["check"] == "agrees"
 
 
 def test_contact_stress_follows_hertz_square_root_of_its_torque(report):
