@@ -248,7 +248,8 @@ class SceneRefinement:
         local solve -- its first solve refined and polished like a single start's -- and the best on the exact
         model is returned (:func:`exact_final_key`), so that more starts never give a worse exact design (the
         starts nest: those of a larger ``starts`` include those of a smaller one). ``SceneResult.starts`` then has
-        each start's ``refined_exact_objective`` and ``refined_exact_violation`` and the ``chosen`` one."""
+        each start's ``refined_exact_objective``, ``refined_exact_violation`` and ``refined_ipopt_iterations`` (its
+        first solve and re-solves) and the ``chosen`` one."""
         if starts <= 1:
             return self._refine(None, seed=seed, verbose=verbose, **ipopt)
         firsts, table, screen = self.built.solve_starts(starts=starts, seed=seed, verbose=verbose, **ipopt)
@@ -258,6 +259,8 @@ class SceneRefinement:
         best = min((k for k in range(len(finals)) if finals[k] is not None), key=lambda k: (keys[k], k))
         table["refined_exact_objective"] = [np.nan if k is None else k[2] for k in keys]
         table["refined_exact_violation"] = [np.nan if k is None else k[1] for k in keys]
+        table["refined_ipopt_iterations"] = [0 if r is None else int(r.refinement["ipopt_iterations"].sum())
+                                             for r in finals]
         table["chosen"] = [k == best for k in range(len(finals))]
         result = dataclasses.replace(finals[best], starts=table, screen=screen)
         result.refinement = finals[best].refinement
