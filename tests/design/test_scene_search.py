@@ -45,6 +45,14 @@ def test_more_starts_never_give_a_worse_exact_design(solved):
     for r in solved.values():
         assert r.screen is not None and r.starts["origin"].eq("exact screen").all()
         assert r.starts["chosen"].sum() == 1
+    # why for any k (issue 28, acceptance 2: k = 1, 4, 8, 16): each start is a whole local solve, the first start of
+    # four is the one start's solve to the last digit (the screen's starts nest), and the answer is the best of them
+    table = solved[4].starts
+    one = solved[1].refinement.attrs["verified_objective"]
+    assert table["refined_exact_objective"].iloc[0] == pytest.approx(one, rel=1e-12)
+    chosen = table.loc[table["chosen"], "refined_exact_objective"].iloc[0]
+    assert chosen == table["refined_exact_objective"].min()
+    assert solved[4].refinement.attrs["verified_objective"] == pytest.approx(chosen, rel=1e-12)
 
 
 def test_the_design_meets_its_limit_and_no_small_move_improves_it_on_an_independent_evaluation(solved):
