@@ -87,6 +87,14 @@ def summarise(outcomes: list[sc.Outcome]) -> dict:
         "errors": dict(Counter(o.error for o in outcomes if o.error)),
         "statuses": dict(Counter(_status(o) for o in outcomes if o.kind != "solved")),
     }
+    # each failure classified (issue 28): "infeasible data" where the case is built without a feasible point (the
+    # extreme family's brute-force check), else "solver failure" (every other family's scenes are feasible: the
+    # library's default start solves them)
+    failed = [o for o in outcomes if o.kind != "solved"]
+    out["failures_classified"] = dict(Counter("infeasible data" if o.case.get("expected") == "infeasible"
+                                              else "solver failure" for o in failed))
+    feasible = [o for o in outcomes if o.case.get("expected", "feasible") == "feasible"]
+    out["success_rate_feasible"] = sum(o.kind == "solved" for o in feasible) / max(len(feasible), 1)
     expected = [o for o in outcomes if "expected" in o.case]
     if expected:
         feas = [o for o in expected if o.case["expected"] == "feasible"]

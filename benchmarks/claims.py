@@ -121,8 +121,19 @@ def microgeometry_three_torques(d) -> str:
 
 def stability(d) -> str:
     fams = ", ".join(f"{k} {100 * v['summary']['success_rate']:.0f} %" for k, v in d["families"].items())
+    feasible = [(k, v["summary"]) for k, v in d["families"].items() if "success_rate_feasible" in v["summary"]]
+    text = ""
+    if feasible:
+        worst = min(feasible, key=lambda kv: kv[1]["success_rate_feasible"])
+        kinds = {}
+        for _, s in feasible:
+            for kind, n in s.get("failures_classified", {}).items():
+                kinds[kind] = kinds.get(kind, 0) + n
+        text = (f" On the cases with a feasible point every family solves at least "
+                f"{100 * worst[1]['success_rate_feasible']:.0f} % (lowest: {worst[0]}); failures classified: "
+                + (", ".join(f"{n} {k}" for k, n in sorted(kinds.items())) or "none") + ".")
     return (f"`stability.json` ({d['cases_per_family']} cases per family): success {fams}; untyped or unnamed "
-            f"failures: {d['untyped_failures_total']}.")
+            f"failures: {d['untyped_failures_total']}.{text}")
 
 
 def dynamics_speed(d) -> str:
