@@ -81,15 +81,19 @@ def exact_limit_violations(built, exact: pd.DataFrame) -> dict[str, float]:
         rows = exact[exact["mesh"] == lim.target]
         if lim.load_cases is not None:
             rows = rows[rows["load_case"].isin(lim.load_cases)]
-        vals = rows[lim.quantity].to_numpy(float)
-        total = 0.0
-        if lim.upper is not None:
-            total += float(np.clip((vals - lim.upper) / max(abs(lim.upper), 1e-12), 0.0, None).sum())
-        if lim.lower is not None:
-            total += float(np.clip((lim.lower - vals) / max(abs(lim.lower), 1e-12), 0.0, None).sum())
         key = f"{lim.quantity} {lim.target}"
-        out[key] = out.get(key, 0.0) + total
+        out[key] = out.get(key, 0.0) + _relative_violation(lim, rows[lim.quantity].to_numpy(float))
     return out
+
+
+def _relative_violation(lim, vals: np.ndarray) -> float:
+    """Summed relative violation of ``lim``'s bounds by the values ``vals`` (0 where met)."""
+    total = 0.0
+    if lim.upper is not None:
+        total += float(np.clip((vals - lim.upper) / max(abs(lim.upper), 1e-12), 0.0, None).sum())
+    if lim.lower is not None:
+        total += float(np.clip((lim.lower - vals) / max(abs(lim.lower), 1e-12), 0.0, None).sum())
+    return total
 
 
 def _geometry_limit(quantity: str) -> bool:
@@ -129,14 +133,8 @@ def exact_geometry_violations(built, values: Mapping[str, float]) -> dict[str, f
         if not _geometry_limit(lim.quantity):
             continue
         vals = _geometry_values(pair(lim.target), lim.quantity, lim.options)
-        if lim.quantity == "geometry_limits":
-            total = float(np.clip(-vals, 0.0, None).sum())
-        else:
-            total = 0.0
-            if lim.upper is not None:
-                total += float(np.clip((vals - lim.upper) / max(abs(lim.upper), 1e-12), 0.0, None).sum())
-            if lim.lower is not None:
-                total += float(np.clip((lim.lower - vals) / max(abs(lim.lower), 1e-12), 0.0, None).sum())
+        total = float(np.clip(-vals, 0.0, None).sum()) if lim.quantity == "geometry_limits" else \
+            _relative_violation(lim, vals)
         key = f"{lim.quantity} {lim.target}"
         out[key] = out.get(key, 0.0) + total
     margin = built.options.model.start_margin_deg

@@ -133,10 +133,7 @@ def sensitivity_report(result: SceneResult, *, active_tol: float = 1e-9, resolve
             re-solve that only moves along a flat optimum is reported in ``note``.
     """
     check_range("resolve_tolerance", resolve_tolerance, 0.0, None, low_inclusive=False)
-    built = getattr(result, "source", None)
-    if not isinstance(result, SceneResult) or built is None:
-        raise GearoptInputError(f"result={type(result).__name__} must be the SceneResult of a solved scene "
-                                f"(scene.build().solve())")
+    built = _solved_build(result)
     scene = built.scene
     name, unit, factor = objective_meta(scene)
     objective = float(result.solve.objective) * factor
@@ -196,10 +193,7 @@ def limit_move_check(result: SceneResult, *, step: float = LIMIT_STEP, tolerance
     check_range("step", step, 0.0, 0.5, low_inclusive=False)
     check_range("tolerance", tolerance, 0.0, None, low_inclusive=False)
     check_range("abs_tolerance", abs_tolerance, 0.0, None)
-    built = getattr(result, "source", None)
-    if not isinstance(result, SceneResult) or built is None:
-        raise GearoptInputError(f"result={type(result).__name__} must be the SceneResult of a solved scene "
-                                f"(scene.build().solve())")
+    built = _solved_build(result)
     scene = built.scene
     name, unit, factor = objective_meta(scene)
     f0 = _exact_objective(result, factor)
@@ -252,6 +246,15 @@ def limit_move_check(result: SceneResult, *, step: float = LIMIT_STEP, tolerance
     return pd.DataFrame(rows, columns=["limit", "bound", "unit", "sensitivity", "active", "exact_objective",
                                        "exact_objective_minus", "first_order_minus", "exact_objective_plus",
                                        "first_order_plus", "worst_miss", "check"])
+
+
+def _solved_build(result):
+    """The build that solved ``result``; a :class:`GearoptInputError` when it is not a solved scene's result."""
+    built = getattr(result, "source", None)
+    if not isinstance(result, SceneResult) or built is None:
+        raise GearoptInputError(f"result={type(result).__name__} must be the SceneResult of a solved scene "
+                                f"(scene.build().solve())")
+    return built
 
 
 def _exact_objective(result: SceneResult, factor: float) -> float:
