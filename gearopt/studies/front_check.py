@@ -20,6 +20,7 @@ import numpy as np
 import pandas as pd
 
 from ..design.scene import Limit, Scene
+from ..design.scene_options import LTCAOptions
 from ..design.scene_terms import quantity_kind
 from ..errors import GearoptInputError, SolveError
 from .epsilon import failure_record
@@ -49,7 +50,9 @@ def verify_front(front: ParetoFront, scene: Scene, executor: Any = "serial", *,
     refinement's tolerance), ``refinements``, ``exact_objective`` (for a single PPTE objective: the exact LTCA's PPTE
     of the verified design, aggregated like the objective, in um; else the verified objective of the NLP),
     ``smooth_objective`` (the NLP's value of it at the verified design), ``verified:<quantity column>`` (the front's
-    quantity at the verified design: the exact LTCA's where it evaluates it), and ``verified:<variable>`` per design variable.
+    quantity at the verified design: the exact LTCA's where it evaluates it), ``verified:<variable>`` per design
+    variable and ``design_of_point``: each point reports the best verified design of the front that meets its bound
+    (:func:`_exact_envelope`), so the exact objectives are monotone in the bound.
     """
     if not isinstance(front, ParetoFront):
         raise GearoptInputError(f"front={front!r} must be a ParetoFront (gearopt.studies.pareto_front)")
@@ -74,7 +77,40 @@ def verify_front(front: ParetoFront, scene: Scene, executor: Any = "serial", *,
         results = ex.map(verify_point, [t for _, t in tasks], desc="front verification")
     for (i, _), result in zip(tasks, results):
         rows[i].update(result)
+    bounds = dict(zip(front.table["point"].astype(int), front.table[front.quantity_column].astype(float)))
+    tolerance = LTCAOptions.from_mapping(options).refinement.refine_stress_tolerance
+    _exact_envelope(rows, bounds, front, scene, tolerance)
     return pd.DataFrame(rows)
+
+
+def _exact_envelope(rows: list[dict], bounds: Mapping[int, float], front: ParetoFront, scene: Scene,
+                    tolerance: float) -> None:
+    """Each verified point reports the best verified design of the front that meets its bound (the exact envelope,
+    issue 28: a front's exact values monotone in the bound). The re-solves run independently and may land on local
+    optima of different quality; a design verified for a tighter bound meets a looser one too, so a point whose own
+    re-solve is worse on the exact model than such a design reports that design (``design_of_point`` names the point
+    it was verified for; itself otherwise). A design meets a bound when its verified front quantity does within
+    ``tolerance`` (relative: the refinement's own acceptance of an exact lower limit). Only for a scene whose single
+    objective is a PPTE to minimise (the exact objective the envelope compares)."""
+    obj = _single_ppte(scene)
+    column = f"verified:{front.quantity_column}"
+    done = [r for r in rows if r.get("verification") == OK and np.isfinite(r.get("exact_objective", np.nan))]
+    for r in done:
+        r["design_of_point"] = r["point"]
+    if obj is None or obj.sense != "min":
+        return
+    own = [dict(r) for r in done]
+
+    def meets(design: dict, bound: float) -> bool:
+        q = float(design[column])
+        slack = tolerance * max(abs(bound), quantity_kind(front.quantity).scale)
+        return q >= bound - slack if front.sense == "max" else q <= bound + slack
+    for r, mine in zip(done, own):
+        bound = bounds[int(r["point"])]
+        best = min((d for d in own if d is mine or meets(d, bound)), key=lambda d: (d["exact_objective"],
+                                                                                     d is not mine))
+        if best is not mine:
+            r.update({k: v for k, v in best.items() if k not in ("point", "status")})
 
 
 def verify_point(task: tuple) -> dict[str, Any]:

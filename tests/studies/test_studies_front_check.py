@@ -68,3 +68,31 @@ def test_front_of_another_scene_is_refused(front, scene):
         verify_front(front, replace(scene, name="other"))
     with pytest.raises(GearoptInputError, match="ParetoFront"):
         verify_front(front.table, scene)
+
+
+def test_exact_objectives_are_monotone_in_the_bound(front, check):
+    """Issue 28, item 4: each point reports the best verified design of the front that meets its bound, so a
+    larger loaded-contact-ratio floor never shows a lower exact PPTE, and every reported design meets its bound."""
+    ok = check[check["verification"] == "ok"]
+    bounds = front.table.set_index("point").loc[ok["point"], front.quantity_column].to_numpy(float)
+    order = np.argsort(bounds)
+    assert np.all(np.diff(ok["exact_objective"].to_numpy(float)[order]) >= -1e-12)
+    tolerance = LTCAOptions().refinement.refine_stress_tolerance
+    assert np.all(ok[f"verified:{front.quantity_column}"].to_numpy(float) >= bounds * (1 - tolerance) - 1e-12)
+    assert set(ok["design_of_point"]) <= set(ok["point"])
+
+
+def test_a_worse_re_solve_reports_the_better_design_of_a_tighter_bound(front, scene):
+    """The envelope on a made-up table: point 1 (floor 1.3) re-solved to a worse design than point 2 found for the
+    tighter floor 1.4; point 1 reports point 2's design, point 2 keeps its own, and point 0 (floor 1.2) its better
+    own design."""
+    from gearopt.studies.front_check import _exact_envelope
+
+    column = f"verified:{front.quantity_column}"
+    rows = [{"point": k, "status": "ok", "verification": "ok", "exact_objective": f, column: q, "verified": True,
+             f"verified:{MESH}.tip_relief_1_um": u}
+            for k, (f, q, u) in enumerate([(3.0, 1.21, 10.0), (4.5, 1.31, 11.0), (4.0, 1.41, 12.0)])]
+    _exact_envelope(rows, {0: 1.2, 1: 1.3, 2: 1.4}, front, scene, 0.01)
+    assert [r["design_of_point"] for r in rows] == [0, 2, 2]
+    assert [r["exact_objective"] for r in rows] == [3.0, 4.0, 4.0]
+    assert rows[1][f"verified:{MESH}.tip_relief_1_um"] == 12.0 and rows[1]["point"] == 1
