@@ -28,9 +28,12 @@ def extreme_fractions(te: np.ndarray, fractions: np.ndarray, per_side: int = 3, 
     lo, hi = te.min(), te.max()
     span = max(hi - lo, 1e-12)
     prev, nxt = np.roll(te, 1), np.roll(te, -1)
-    peaks = [i for i in np.argsort(-te) if te[i] >= prev[i] and te[i] >= nxt[i] and te[i] >= hi - band * span]
-    troughs = [i for i in np.argsort(te) if te[i] <= prev[i] and te[i] <= nxt[i] and te[i] <= lo + band * span]
-    idx = [int(np.argmax(te)), int(np.argmin(te))] + peaks[:per_side] + troughs[:per_side]
+    is_peak = (te >= prev) & (te >= nxt) & (te >= hi - band * span)
+    is_trough = (te <= prev) & (te <= nxt) & (te <= lo + band * span)
+    by_height, by_depth = np.argsort(-te), np.argsort(te)      # the order of the former per-index filter
+    peaks = by_height[is_peak[by_height]][:per_side]
+    troughs = by_depth[is_trough[by_depth]][:per_side]
+    idx = [int(np.argmax(te)), int(np.argmin(te))] + [int(i) for i in peaks] + [int(i) for i in troughs]
     return _with_neighbours(idx, fractions, neighbours)
 
 

@@ -289,11 +289,12 @@ class BuiltScene:
         return self.contact.positions_of(mesh)
 
     def exact_check(self, values: Mapping[str, float], evaluate: Callable | None = None, *,
-                    train=None) -> pd.DataFrame:
+                    train=None, positions: int | None = None) -> pd.DataFrame:
         """Exact LTCA of every LTCA mesh at a design, beside the smooth model's values when ``evaluate``
         (:meth:`ContactModels.exact_check`); ``train``: another numeric train's pairs instead of the scene's (e.g.
-        another root profile shift: :func:`gearopt.design.scene_presolve.scan_train_variable`)."""
-        return self.contact.exact_check(values, evaluate, train=train)
+        another root profile shift: :func:`gearopt.design.scene_presolve.scan_train_variable`); ``positions``: a
+        one-slice mesh's positions instead of ``check_positions`` (the exact screen's ``screen_positions``)."""
+        return self.contact.exact_check(values, evaluate, train=train, positions=positions)
 
     # -- the NLP and its quantities (hooks of gearopt.studies) -------------------------------------------------
 

@@ -405,29 +405,32 @@ class ContactModels:
 
     # -- exact check ---------------------------------------------------------------------------------------------
 
-    def exact_check(self, values: Mapping[str, float], evaluate=None, *, train=None) -> pd.DataFrame:
+    def exact_check(self, values: Mapping[str, float], evaluate=None, *, train=None,
+                    positions: int | None = None) -> pd.DataFrame:
         """Exact LTCA (``check_positions``, the default slices) of every LTCA mesh at the optimum, per load case,
         beside the smooth model's values at the same design (``smooth_*``) and their relative differences
         (``*_error``, relative to the exact value). ``worst_fractions`` lists the mesh positions (fractions of a
         base pitch) of the exact TE's peak and trough, ``stress_fractions`` those where the exact contact stress,
         root stress and contact temperature peak (each a maximum over the mesh cycle: a semi-infinite limit like
-        PPTE, refined the same way)."""
+        PPTE, refined the same way). ``positions``: a one-slice mesh's positions instead of ``check_positions``
+        (coarser: the exact screen ranks designs with it)."""
         rows = []
         for mesh in self.ltca_meshes():
             mods = self.microgeometry_at(values, mesh)
             pair = self.graph.numeric_pair(mesh, values) if train is None else train.pairs[mesh]
             model = self.ltca_model(mesh)
             slices = default_slices(pair, mods)
-            positions = max(self.options.check.check_positions, self._model_positions(model)) if slices == 1 \
-                else default_positions(slices)
+            mesh_positions = (max(self.options.check.check_positions, self._model_positions(model))
+                              if positions is None else int(positions)) if slices == 1 else default_positions(slices)
             speed = model.speed_rpm
             for lc in self.mesh_cases(mesh):
                 r = ltca(pair, lc.mesh_torque_Nm(mesh), driving_gear=self.graph.driving_gear(mesh), microgeometry=mods,
-                         stiffness=self.options.model.stiffness, positions=positions, slices=slices, speed_rpm=speed,
+                         stiffness=self.options.model.stiffness, positions=mesh_positions, slices=slices,
+                         speed_rpm=speed,
                          bulk_temperature_C=self.options.temperature.bulk_temperature_C,
                          friction_coefficient=self.options.temperature.friction_coefficient)
                 te = r.transmission_error_um
-                fractions = np.arange(positions) / positions
+                fractions = np.arange(mesh_positions) / mesh_positions
                 row = {"mesh": mesh, "load_case": lc.name, "torque_Nm": lc.mesh_torque_Nm(mesh), "slices": slices,
                        "ppte_um": r.ppte_um, "max_contact_stress_MPa": r.max_contact_stress_MPa,
                        "loaded_contact_ratio": r.loaded_contact_ratio,
@@ -442,7 +445,7 @@ class ContactModels:
                     peaks.append(r.flash_temperature_rise_K)
                 row["stress_fractions"] = peak_fractions(peaks, fractions, self.options.refinement.refine_neighbours)
                 if evaluate is not None:
-                    row["smooth_dense_ppte_um"] = self._dense_smooth_ppte(mesh, values, lc, positions)
+                    row["smooth_dense_ppte_um"] = self._dense_smooth_ppte(mesh, values, lc, mesh_positions)
                     for q in ("ppte_um", "max_contact_stress_MPa", "max_root_stress_MPa", "max_contact_temperature_C"):
                         if q in row:
                             s = self._smooth_value(q, mesh, lc, evaluate)

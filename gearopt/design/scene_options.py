@@ -194,6 +194,9 @@ class SearchOptions:
     Attributes:
         screen_samples: scrambled-Sobol designs of the exact screen that picks the Ipopt starts (0: no screen; else a
             power of two, 2..65536).
+        screen_positions: mesh positions of a one-slice mesh's exact LTCA in the screen (>= 16; a sliced mesh uses
+            its default): the screen only ranks designs to pick the starts, every design the search returns is
+            judged at ``check_positions``.
         screen_max_variables: most design variables a scene may have for the screen and the polish (>= 1).
         polish_evaluations_per_variable: exact evaluations per design variable of the Nelder-Mead polish of the
             optimum (0: no polish).
@@ -205,6 +208,7 @@ class SearchOptions:
     """
 
     screen_samples: int = 64
+    screen_positions: int = 320
     screen_max_variables: int = 8
     polish_evaluations_per_variable: int = 25
     macro_starts: int = 4
@@ -215,6 +219,7 @@ class SearchOptions:
         if n and (n < 2 or n & (n - 1)):
             raise GearoptInputError(f"screen_samples={n} is not a power of two (a Sobol sample is balanced at 2^m "
                                     f"points): use 0 (no screen) or 2, 4, ..., 65536")
+        _count(self, "screen_positions", 16, 100000)
         _count(self, "screen_max_variables", 1, 1000)
         _count(self, "polish_evaluations_per_variable", 0, 100000)
         _count(self, "macro_starts", 1, 1000)

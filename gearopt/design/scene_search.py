@@ -11,7 +11,8 @@ model and within evaluation budgets (no wall time):
 1. **Exact screen** (:func:`exact_screen`, the global phase): a scrambled Sobol sample of the design variables inside
    their bounds (Owen-scrambled base-2 digital net; ``screen_samples`` points, seeded), plus the declared start,
    each evaluated by the exact check (:meth:`~gearopt.design.scene_contact.ContactModels.exact_check`: the exact LTCA
-   at ``check_positions`` of every mesh and load case, ~4 ms per mesh and load case), and ranked like the
+   of every mesh and load case at ``screen_positions``, 320 for a one-slice mesh: the screen only ranks designs, so
+   a quarter of ``check_positions`` serves), and ranked like the
    multistart (:func:`rank_key`: meeting every exact limit first, then the exact objective). The ``starts`` best are
    the Ipopt starts. The same seed gives the same ranked sample whatever ``starts``, so the starts of a larger
    ``starts`` include those of a smaller one. A build warm-started with ``initial`` (a continuation, a front
@@ -213,13 +214,14 @@ def variable_bounds(built) -> tuple[np.ndarray, np.ndarray]:
     return (np.array([float(e.lower[0]) for e in entries]), np.array([float(e.upper[0]) for e in entries]))
 
 
-def exact_evaluation(built, values: Mapping[str, float]) -> tuple[float, float]:
+def exact_evaluation(built, values: Mapping[str, float], *, positions: int | None = None) -> tuple[float, float]:
     """``(exact objective, exact limit violation)`` of the design ``values`` (:func:`exact_ppte_objective`,
     :func:`exact_limit_violation` plus :func:`exact_geometry_violations`; in-scope scenes only); ``(inf, inf)`` for a
-    design the exact model refuses (a :class:`~gearopt.errors.GearoptError` from its pair or LTCA)."""
+    design the exact model refuses (a :class:`~gearopt.errors.GearoptError` from its pair or LTCA). ``positions``: a
+    one-slice mesh's exact LTCA positions (default ``check_positions``)."""
     try:
         geometry = sum(exact_geometry_violations(built, values).values())
-        exact = built.exact_check(values)
+        exact = built.exact_check(values, positions=positions)
     except GearoptError:
         return float("inf"), float("inf")
     return exact_ppte_objective(built, exact), exact_limit_violation(built, exact) + geometry
@@ -239,7 +241,8 @@ def exact_screen(built, *, seed: int = 0) -> pd.DataFrame:
     points = np.vstack([[initial[n] for n in names], low + unit * (high - low)])
     rows = []
     for k, point in enumerate(points):
-        objective, violation = exact_evaluation(built, dict(zip(names, point)))
+        objective, violation = exact_evaluation(built, dict(zip(names, point)),
+                                                positions=built.options.search.screen_positions)
         rows.append({"origin": "initial" if k == 0 else "sobol", **dict(zip(names, point)),
                      "exact_objective": objective, "exact_violation": violation})
     table = pd.DataFrame(rows)
@@ -247,7 +250,8 @@ def exact_screen(built, *, seed: int = 0) -> pd.DataFrame:
                                                               table["exact_violation"][i]), i))
     table = table.loc[order].reset_index(drop=True)
     table["rank"] = np.arange(len(table))
-    table.attrs.update(samples=samples, seed=seed, evaluations=len(table))
+    table.attrs.update(samples=samples, seed=seed, evaluations=len(table),
+                       positions=built.options.search.screen_positions)
     return table
 
 

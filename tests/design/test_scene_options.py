@@ -26,8 +26,8 @@ FORMER_DEFAULTS = {
     "refine_neighbours": 3, "approach": "nested"}
 """``DEFAULT_LTCA_OPTIONS`` as the dict it was before the records."""
 
-SEARCH_DEFAULTS = {"screen_samples": 64, "screen_max_variables": 8, "polish_evaluations_per_variable": 25,
-                   "macro_starts": 4, "stop_without_progress": False, "spring_limit_screen": 0.2}
+SEARCH_DEFAULTS = {"screen_samples": 64, "screen_positions": 320, "screen_max_variables": 8,
+                   "polish_evaluations_per_variable": 25, "macro_starts": 4, "stop_without_progress": False, "spring_limit_screen": 0.2}
 """The options added since (issue 28: the exact screen, polish and a co-design's default starts,
 :class:`SearchOptions`; issue 29: the refinement's stop without progress, the per-spring limits by exchange)."""
 
@@ -108,6 +108,7 @@ def test_replace_takes_flat_overrides_and_keeps_the_rest():
     ("screen_max_variables", 0, ["screen_max_variables=0", ">= 1"]),
     ("polish_evaluations_per_variable", 2.5, ["polish_evaluations_per_variable=2.5", "integer"]),
     ("macro_starts", 0, ["macro_starts=0", ">= 1"]),
+    ("screen_positions", 8, ["screen_positions=8", ">= 16"]),
 ])
 def test_bad_values_raise_naming_the_option_value_and_limit(key, value, words):
     with pytest.raises(GearoptInputError) as info:
