@@ -102,3 +102,22 @@ def test_the_codesign_meets_its_limits_on_an_independent_evaluation(train, solve
     run = ltca(pair, 150.0, microgeometry=result.microgeometry[MESH])
     assert run.loaded_contact_ratio >= MIN_LCR * (1 - 0.01)
     assert run.ppte_um == pytest.approx(result.exact_check["ppte_um"].max(), rel=0.02)
+
+
+def test_limit_move_check_on_the_renamed_pair(train, solved):
+    """Any train: :func:`gearopt.studies.limit_move_check` on the renamed pair's co-design names its limit by the
+    user's mesh name, and an inactive limit (zero multiplier) moved by +-0.5 % leaves the exact optimum where it is
+    within the check's 0.01 um; an active one moves it by its sensitivity times the move within the same."""
+    from gearopt.studies import limit_move_check
+
+    _, result, _ = solved
+    check = limit_move_check(result, every_limit=True)
+    row = check.set_index("limit").loc[f"loaded_contact_ratio[{MESH}] (lower)"]
+    assert row["bound"] == MIN_LCR
+    if not row["active"]:
+        assert abs(row["sensitivity"]) < 1e-6         # Ipopt's multiplier of an inactive bound
+    for tag, sign in (("minus", -1.0), ("plus", 1.0)):
+        predicted = row["sensitivity"] * sign * 0.005 * MIN_LCR
+        assert abs(row[f"exact_objective_{tag}"] - row["exact_objective"] - predicted) <= max(0.1 * abs(predicted),
+                                                                                             0.01)
+    assert row["check"] == "agrees"
