@@ -324,12 +324,14 @@ def run_gearopt(scene: Scene, starts: int | None) -> dict:
         scene_contact.ltca = counter.fun
     ref = result.refinement
     polish = ref.attrs.get("polish") if ref is not None else None
-    return {"starts": starts, "call": call, "built": built, "result": result, "values": dict(result.values), "cpu_s": cpu,
-            "wall_s": wall, "ltca_calls": counter.calls,
+    if result.starts is not None and "refined_ipopt_iterations" in result.starts:    # every start's solves
+        iterations = int(result.starts["refined_ipopt_iterations"].sum())
+    else:
+        iterations = int(ref["ipopt_iterations"].sum()) if ref is not None else int(result.solve.iterations)
+    return {"starts": starts, "call": call, "built": built, "result": result, "values": dict(result.values),
+            "cpu_s": cpu, "wall_s": wall, "ltca_calls": counter.calls,
             "exact_design_evaluations": counter.calls / max(len(result.exact_check), 1),
-            "ipopt_iterations": int(result.starts["refined_ipopt_iterations"].sum())
-            if result.starts is not None and "refined_ipopt_iterations" in result.starts else
-            int(ref["ipopt_iterations"].sum()) if ref is not None else int(result.solve.iterations), "solves": int(len(ref)) if ref is not None else 1,
+            "ipopt_iterations": iterations, "solves": int(len(ref)) if ref is not None else 1,
             "polish_evaluations": int(polish["evaluations"].iloc[0]) if polish is not None else 0,
             "chosen": ref.attrs.get("chosen") if ref is not None else None}
 

@@ -356,8 +356,8 @@ class BuiltScene:
         ``starts - 1`` Latin-hypercube points of the design variables inside their bounds
         (:func:`gearopt.nlp.multistart.multistart`, ``seed``). Either way the exact LTCA ranks the optima of a
         scene with a PPTE objective and ``SceneResult.starts`` tables every start with the success rate. ``check``:
-        re-evaluate the optimum of every mesh with LTCA quantities by the exact LTCA at ``check_positions`` (``SceneResult.exact_check``: exact and
-        smooth values side by side). ``refine`` (default: whenever a PPTE objective or limit is declared and
+        re-evaluate the optimum of every mesh with LTCA quantities by the exact LTCA at ``check_positions``
+        (``SceneResult.exact_check``: exact and smooth values side by side). ``refine`` (default: whenever a PPTE objective or limit is declared and
         ``check``): the semi-infinite refinement of :class:`gearopt.design.scene_refine.SceneRefinement` -- add the exact
         TE's peak and trough positions and re-solve warm until the smooth and exact PPTE agree within
         ``ltca_options["refine_tolerance"]`` (``SceneResult.refinement``)."""

@@ -46,8 +46,9 @@ without a dense grid everywhere:
    (e.g. from the sequential answer) the start competes too when it is admissible, so the result is never worse
    than it. Likewise the exact screen's best design competes when it meets every exact limit (the exact model has
    the last word: an NLP optimum reached from it that is worse on the exact model does not replace it; chosen
-   ``"exact screen's best design ..."``). ``refinement.attrs["chosen"]`` says which design was returned, ``attrs["verified_objective"]`` its exact
-   objective and ``attrs["verified"]`` whether its smooth PPTE agreed with the exact one within the tolerance;
+   ``"exact screen's best design ..."``). ``refinement.attrs["chosen"]`` says which design was returned,
+   ``attrs["verified_objective"]`` its exact objective and ``attrs["verified"]`` whether its smooth PPTE agreed
+   with the exact one within the tolerance;
 6. where the scene is in the exact search's scope (:func:`~gearopt.design.scene_search.search_scope`), polish that
    design on the exact model (:func:`~gearopt.design.scene_search.exact_polish`; ``attrs["polish"]``): the first
    solve's starts came from the exact screen, and the polish takes the smooth model's last offset out of the
