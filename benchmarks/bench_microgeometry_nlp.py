@@ -15,8 +15,8 @@ within 1 % of Ipopt's. The same designs are also re-scored on 5120 positions (th
 
 Methods (all timed in this one run; ratios to Ipopt's build + solve):
 
-- Ipopt: the library call from scratch (smooth model build, NLP build, solve, exact re-evaluation), the call with a
-  prebuilt smooth model, and Ipopt's own solve time;
+- Ipopt: the library call from scratch (the scene's exact screen of starts, smooth model build, NLP build, solve,
+  exact re-evaluation) and Ipopt's own solve time;
 - grid over the two relief amounts with the starts and crowns at Ipopt's optimum (5..65 points per axis), and the
   full 6-D grid (3..5 points per axis), each point one exact LTCA (``gearopt.contact.ltca.ltca``);
 - scipy SLSQP with 2-point finite differences (variables scaled to [0, 1] by their bounds, same start as Ipopt):
@@ -136,19 +136,16 @@ def bench_ipopt(pair):
                            "status": design.solve.status}
 
 
-def head_to_head(pair, model, slsqp_fun, exact_fun):
+def head_to_head(pair, slsqp_fun, exact_fun):
     """Interleaved rounds (the machine is shared: a burst of load hits every method of a round alike): Ipopt from
-    scratch, Ipopt with the prebuilt smooth model, the SLSQP run on the same smooth NLP, one exact LTCA. Medians."""
-    rows = {k: [] for k in ("build_and_solve_s", "with_prebuilt_model_s", "solve_only_s", "nlp_build_s",
+    scratch, the SLSQP run on the same smooth NLP, one exact LTCA. Medians."""
+    rows = {k: [] for k in ("build_and_solve_s", "solve_only_s", "nlp_build_s",
                             "slsqp_fd_smooth_nlp_s", "slsqp_fd_smooth_nlp_to_reach_s", "exact_ltca_s")}
     out = None
     for _ in range(REPEATS):
         t0 = time.perf_counter()
-        optimise_microgeometry(pair, TORQUE_NM, refine=False)
+        d = optimise_microgeometry(pair, TORQUE_NM, refine=False)
         rows["build_and_solve_s"].append(time.perf_counter() - t0)
-        t0 = time.perf_counter()
-        d = optimise_microgeometry(pair, TORQUE_NM, model=model, refine=False)
-        rows["with_prebuilt_model_s"].append(time.perf_counter() - t0)
         rows["solve_only_s"].append(d.solve.solve_time_s)
         rows["nlp_build_s"].append(d.solve.build_time_s)
         out = slsqp_fun()
@@ -354,7 +351,6 @@ def plot(result, path):
     ax = axes[0]
     ip = result["ipopt"]["timing"]
     for label, t, c in (("ipopt build+solve", ip["build_and_solve_s"], "tab:red"),
-                        ("ipopt, prebuilt model", ip["with_prebuilt_model_s"], "darkred"),
                         ("ipopt solve only", ip["solve_only_s"], "salmon")):
         ax.loglog(t, target, "*", ms=12, label=label, color=c)
     for i, r in enumerate(result["grid"]):
@@ -424,8 +420,8 @@ def main(argv=None):
         out = slsqp_smooth(pair, lo_hi, x0, limit)
         return (*out, reach_time(score, out[3], target))
 
-    med, out_a = head_to_head(pair, model, slsqp_a, lambda: score(x_opt))
-    timing.update({k: med[k] for k in ("build_and_solve_s", "with_prebuilt_model_s", "solve_only_s", "nlp_build_s",
+    med, out_a = head_to_head(pair, slsqp_a, lambda: score(x_opt))
+    timing.update({k: med[k] for k in ("build_and_solve_s", "solve_only_s", "nlp_build_s",
                                        "exact_ltca_s")})
     print(f"ipopt: PPTE {target:.4f} um (converged {ipopt['ppte_converged_um']:.4f}), "
           f"{timing['build_and_solve_s'] * 1e3:.1f} ms build+solve, {timing['solve_only_s'] * 1e3:.1f} ms solve",
@@ -440,8 +436,7 @@ def main(argv=None):
         print(f"  {r['method']}: {r['time_s']:.2f} s, {r['iterations']} it, PPTE {r['ppte_um']:.4f}, "
               f"feasible {r['feasible']}, reach {r['time_to_reach_s']}", flush=True)
     base = timing["build_and_solve_s"]
-    ratios = {"ipopt_solve_only": timing["solve_only_s"] / base,
-              "ipopt_with_prebuilt_model": timing["with_prebuilt_model_s"] / base}
+    ratios = {"ipopt_solve_only": timing["solve_only_s"] / base}
     for r in grid:   # grids: points x the interleaved median of one exact LTCA (the timed run is also kept)
         r["time_estimate_s"] = r["points"] * timing["exact_ltca_s"]
         r["time_ratio_to_ipopt"] = r["time_estimate_s"] / base

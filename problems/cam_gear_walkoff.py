@@ -492,7 +492,6 @@ def write_contact_mesh(out: Path, mesh: str, st, *, every_figure: bool = True) -
     tag = mesh.replace("-", "_")
     write_table(st.summary, out, f"contact_{tag}")
     opt = st.optimisation
-    margins = opt.solve.constraints
     write_table(opt.table, out, f"microgeometry_{tag}_exact_ltca")
     # built and rendered by the figure writer's worker (plot_later) while this process goes on
     fig_te = plot_later(figs.plot_transmission_error, out / "figures" / f"te_{tag}.png",
@@ -530,7 +529,7 @@ def write_contact_mesh(out: Path, mesh: str, st, *, every_figure: bool = True) -
     entry["optimised_microgeometry"] = {k: v for k, v in opt.values.items()}
     entry["optimised_microgeometry"]["relief_shape"] = opt.microgeometry.relief_shape
     entry["optimised_microgeometry"]["relief_smoothing_deg"] = opt.microgeometry.relief_smoothing_deg
-    entry["constraint_margins"] = headlines.nlp_constraint_margins(margins)
+    entry["constraint_margins"] = headlines.nlp_constraint_margins(opt)
     entry["verified_margins"] = headlines.verified_margins(opt)
     entry["ppte_over_range"] = headlines.ppte_over_range(opt)
     entry["smooth_exact_gap"] = headlines.smooth_exact_gap(opt)

@@ -4,7 +4,8 @@ package), shared by the scene's model graph, its refinement and the stand-alone 
 - mesh positions (fractions of a base pitch) of the semi-infinite refinement: the exact TE's peaks and troughs
   (:func:`extreme_fractions`), the peaks of stresses and temperatures (:func:`peak_fractions`), the ones not yet in a
   set (:func:`new_fractions`);
-- the room of a tip-relief start on a gear's profile (:func:`start_bounds`);
+- the room of a tip-relief start on a gear's profile (:func:`start_bounds`) and the thesis' minimum tip relief as
+  a design (:func:`min_tip_relief_design`, the default start of a free relief);
 - the corners of a box of named bounds (:func:`corner_values`), for bounding a quantity over a design space.
 """
 
@@ -15,6 +16,8 @@ from typing import Mapping
 
 import numpy as np
 
+from ..contact.microgeometry import Microgeometry
+from ..contact.tip_relief import min_tip_relief_um
 from ..errors import GearoptInputError
 
 
@@ -86,4 +89,19 @@ def corner_values(bounds: Mapping[str, tuple[float, float]]) -> list[dict[str, f
     return out
 
 
-__all__ = ["extreme_fractions", "peak_fractions", "new_fractions", "start_bounds", "corner_values"]
+
+
+def min_tip_relief_design(pair, torque_Nm: float, *, driving_gear: int = 1) -> Microgeometry:
+    """The thesis' minimum tip relief (Eq. 3.38, amounts at the pitch point, :func:`~gearopt.contact.tip_relief.
+    min_tip_relief_um`) of a spur :class:`~gearopt.geometry.pair.GearPair` at ``torque_Nm`` [N m] on the driving gear,
+    as a linear relief starting at each gear's single-contact boundary next to its tip (the 'long' relief of the
+    double-contact zone)."""
+    amounts = min_tip_relief_um(pair, torque_Nm, driving_gear)
+    g = pair.geometry()
+    starts = tuple(max(float(g["lpstc_roll_deg"][i]), float(g["hpstc_roll_deg"][i])) for i in range(2))
+    return Microgeometry(tip_relief_um=tuple(float(a) for a in amounts), tip_relief_start_roll_deg=starts,
+                         relief_shape="linear")
+
+
+__all__ = ["extreme_fractions", "peak_fractions", "new_fractions", "start_bounds", "corner_values",
+           "min_tip_relief_design"]

@@ -34,8 +34,7 @@ from ..contact.ltca_smooth import LTCAModel
 from ..contact.microgeometry import Microgeometry
 from ..errors import GearoptInputError
 from ..rating.stiffness import iso6336_stiffness
-from .microgeometry_nlp import min_tip_relief_design
-from .positions import corner_values, extreme_fractions, peak_fractions, start_bounds
+from .positions import corner_values, extreme_fractions, min_tip_relief_design, peak_fractions, start_bounds
 from .scene_models import SceneModels
 from .scene_spec import LoadCase
 from .scene_terms import FLANKS, quantity_kind
@@ -245,6 +244,7 @@ class ContactModels:
         common = dict(driving_gear=self.graph.driving_gear(mesh), stiffness=o.model.stiffness,
                       positions=self.positions(mesh),
                       lead_modification=self._lead(mesh), smoothing_um=o.model.smoothing_um,
+                      count_width_um=o.model.count_width_um,
                       root_stress="ltca_root_stress" in needs, speed_rpm=speed,
                       bulk_temperature_C=o.temperature.bulk_temperature_C,
                       friction_coefficient=o.temperature.friction_coefficient)

@@ -30,7 +30,7 @@ from types import MappingProxyType
 from typing import Any, Mapping
 
 from ..contact.ltca_macro import DEFAULT_ENGAGEMENT_WIDTH_MM
-from ..contact.ltca_smooth import DEFAULT_SMOOTHING_UM
+from ..contact.ltca_smooth import DEFAULT_COUNT_WIDTH_UM, DEFAULT_SMOOTHING_UM
 from ..errors import GearoptInputError
 from ..validation import as_number, check_choice, check_int, check_range
 
@@ -67,6 +67,8 @@ class ContactModelOptions:
     Attributes:
         positions: initial uniform mesh positions per base pitch of each mesh's smooth LTCA (2..100000).
         smoothing_um: contact smoothing width [um] (> 0).
+        count_width_um: sigmoid width of the smooth loaded-contact count [um] (> 0): a pair counts as half-loaded
+            where its gap is exactly closed; narrow it at light load, where the mesh deflection is comparable with it.
         stiffness: single-pair stiffness profile: ``"iso6336"``, ``"potential_energy"`` or a number > 0
             [N/(mm*um)].
         relief_smoothing_deg: roll-angle blend of a relief start in the design's microgeometry [deg] (0..5).
@@ -86,6 +88,7 @@ class ContactModelOptions:
 
     positions: int = 40
     smoothing_um: float = DEFAULT_SMOOTHING_UM
+    count_width_um: float = DEFAULT_COUNT_WIDTH_UM
     stiffness: str | float = "iso6336"
     relief_smoothing_deg: float = 0.1
     start_margin_deg: float = 0.25
@@ -99,6 +102,7 @@ class ContactModelOptions:
         if self.spring_limit_screen is not None:
             _real(self, "spring_limit_screen", 0.0, 1.0, low_inclusive=False)
         _real(self, "smoothing_um", 0.0, None, unit="um", low_inclusive=False)
+        _real(self, "count_width_um", 0.0, None, unit="um", low_inclusive=False)
         if isinstance(self.stiffness, str):
             check_choice("stiffness", self.stiffness, STIFFNESS_KINDS)
         else:

@@ -29,11 +29,13 @@ def test_optimum_beats_unmodified_and_minimum_tip_relief(design):
 
 
 def test_refinement_verifies_the_optimum_against_the_exact_ltca(crank_cam, design):
-    """Semi-infinite refinement (default): the NLP's PPTE at its final positions agrees with the exact LTCA at 1280
-    positions within 2 %, where the first solve on 40 positions did not."""
+    """Semi-infinite refinement (default): the returned design is verified -- the smooth model's PPTE at its positions
+    agrees with the exact LTCA at 1280 positions within the refinement's tolerance (2 %, or 0.01 um) -- and the
+    refinement re-solved on more positions than the first solve's 40."""
     ref = design.refinement
-    assert ref.attrs["status"] == "converged" and ref["max_ppte_error"].iloc[-1] <= 0.02
-    assert ref["positions"].iloc[-1] > 40
+    assert ref.attrs["verified"] and ref["positions"].max() > 40
+    smooth = design.scene.quantities.set_index("quantity").loc["ppte_um", "value"]
+    assert abs(smooth - design.ppte_um) <= max(0.02 * design.ppte_um, 0.01)
 
 
 def test_limits_hold_on_the_exact_ltca(design):
@@ -45,10 +47,13 @@ def test_limits_hold_on_the_exact_ltca(design):
 
 
 def test_nlp_objective_equals_exact_ppte_of_the_optimum(crank_cam, design):
-    # the blended relief is part of the design, so at the NLP's own 40 positions only the contact smoothing
-    # (0.05 um) separates the two; the converged check (640 positions) sees the TE between the samples too
+    # the blended relief is part of the design, so at a uniform 40-position grid only the contact smoothing
+    # (0.05 um softplus, which lowers a gap by at most w ln 2 per flank) and the sampling separate the smooth model
+    # from the exact one; the converged check (1280 positions) sees the TE between the samples too
+    from gearopt.contact.ltca_smooth import LTCAModel
     sampled = ltca(crank_cam, 300.0, microgeometry=design.microgeometry, positions=40).ppte_um
-    assert design.solve.objective == pytest.approx(sampled, abs=2 * 0.05 * np.log(2) + 1e-3)
+    smooth = float(LTCAModel(crank_cam, positions=40).evaluate(design.microgeometry, 300.0).ppte_um)
+    assert smooth == pytest.approx(sampled, abs=2 * 0.05 * np.log(2) + 1e-3)
     assert sampled <= design.ppte_um < sampled + 0.5
 
 
@@ -106,8 +111,12 @@ def test_min_tip_relief_design_starts_at_single_contact_boundary(crank_cam):
 def test_multistart_returns_the_best_start_and_tables_every_start(crank_cam):
     d = optimise_microgeometry(crank_cam, [150.0, 300.0, 450.0], starts=4, seed=1, max_refinements=1)
     assert len(d.starts) == 4 and d.starts.success.any()
-    # the best start is the one refined (semi-infinite refinement: its first row is that start's solve)
-    assert d.refinement["objective_um"].iloc[0] == pytest.approx(d.starts.objective_um.min())
+    # every start is refined; the best on the exact model is returned: the lowest exact objective among the
+    # starts that meet every exact limit, and its exact objective is the design's
+    chosen = d.starts[d.starts.chosen]
+    assert len(chosen) == 1 and chosen.objective_um.iloc[0] == pytest.approx(d.ppte_um, rel=1e-9)
+    admissible = d.starts[d.starts.exact_violation == 0.0]
+    assert chosen.objective_um.iloc[0] == admissible.objective_um.min()
     with pytest.raises(GearoptInputError, match="starts"):
         optimise_microgeometry(crank_cam, [150.0, 300.0, 450.0], starts=0)
 
@@ -115,8 +124,8 @@ def test_multistart_returns_the_best_start_and_tables_every_start(crank_cam):
 def test_root_stress_and_temperature_limits_are_constraints_and_infeasibility_is_named(crank_cam):
     d = optimise_microgeometry(crank_cam, [300.0, 450.0], max_root_stress_MPa=300.0, max_flash_temperature_C=135.0,
                                speed_rpm=2500.0)
-    names = set(d.solve.constraints["base"])
-    assert {"root_stress_1", "root_stress_2", "flash_temperature_rise"} <= names
+    names = " ".join(d.solve.constraints["base"])
+    assert "max_root_stress_MPa" in names and "max_contact_temperature_C" in names
     for t in (300.0, 450.0):
         r = ltca(crank_cam, t, microgeometry=d.microgeometry, speed_rpm=2500.0)
         assert max(r.max_root_stress_MPa) <= 300.0 * 1.01 and r.max_flash_temperature_C <= 135.5
@@ -126,27 +135,3 @@ def test_root_stress_and_temperature_limits_are_constraints_and_infeasibility_is
     assert "root_stress" in str(info.value)
     with pytest.raises(GearoptInputError, match="speed_rpm"):
         optimise_microgeometry(crank_cam, 300.0, max_flash_temperature_C=130.0)
-
-
-def test_exact_limit_violations_name_what_the_exact_ltca_breaks_and_by_how_much():
-    """The refinement checks the NLP's limits on the exact LTCA (the smooth loaded contact ratio counts a pair whose
-    gap just closed as partly loaded, so an optimiser can sit on a limit the exact model breaks): each broken limit
-    is named with its shortfall or excess in its own unit; limits the exact results meet are not."""
-    from gearopt.contact.ltca import ltca
-    from gearopt.design.microgeometry_nlp import exact_limit_violations
-
-    pair = go.load_default_train("spur").pairs["crank-cam"]
-    exact = [ltca(pair, t, positions=160, speed_rpm=2500.0) for t in (150.0, 450.0)]
-    lcr = min(r.loaded_contact_ratio for r in exact)
-    stress = max(r.max_contact_stress_MPa for r in exact)
-    root = max(max(r.max_root_stress_MPa) for r in exact)
-    temp = max(r.max_flash_temperature_C for r in exact)
-    spec = dict(min_loaded_contact_ratio=lcr + 0.05, max_contact_stress_MPa=stress - 10.0,
-                max_root_stress_MPa=root + 50.0, max_flash_temperature_C=temp - 1.0)
-    got = exact_limit_violations(spec, exact)
-    assert set(got) == {"loaded_contact_ratio", "contact_stress", "flash_temperature"}
-    assert got["loaded_contact_ratio"] == pytest.approx(0.05)
-    assert got["contact_stress"] == pytest.approx(10.0)
-    assert got["flash_temperature"] == pytest.approx(1.0)
-    assert exact_limit_violations(dict(spec, min_loaded_contact_ratio=lcr, max_contact_stress_MPa=stress,
-                                       max_flash_temperature_C=temp), exact) == {}

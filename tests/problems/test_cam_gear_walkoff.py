@@ -321,8 +321,10 @@ def test_ppte_headlines_are_worst_over_the_range(run):
         for dims in entry["tip_relief_drawing"].values():
             assert dims["start_diameter_mm"] < dims["tip_diameter_mm"] and dims["relief_length_mm"] > 0
         # named, aggregated margins in their own units, not ~800 per-position entries
-        assert set(entry["constraint_margins"]) <= {"contact_stress_MPa", "root_stress_1_MPa", "root_stress_2_MPa",
-                                                    "loaded_contact_ratio", "flash_temperature_rise_K"}
+        assert set(entry["constraint_margins"]) <= {"contact_stress_MPa", "root_stress_MPa", "loaded_contact_ratio",
+                                                    "contact_temperature_C"}
+        assert set(entry["verified_margins"]) <= {"contact_stress_MPa", "root_stress_1_MPa", "root_stress_2_MPa",
+                                                  "loaded_contact_ratio", "contact_temperature_C"}
 
 def test_failure_reproduction_per_train_and_joint(run):
     # acceptance interface of issue 19: per train and joint the worst slip utilisation and axial creep over the

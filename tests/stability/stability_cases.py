@@ -47,7 +47,7 @@ import numpy as np
 
 import gearopt as go
 from gearopt.contact.ltca import ltca
-from gearopt.contact.ltca_smooth import DEFAULT_COUNT_WIDTH_UM, LTCAModel
+from gearopt.contact.ltca_smooth import DEFAULT_COUNT_WIDTH_UM
 from gearopt.contact.microgeometry import Microgeometry
 from gearopt.design import optimise_microgeometry
 from gearopt.design.shift_distribution import optimise_shift_split
@@ -247,11 +247,11 @@ def run_microgeometry(case: dict, family: str = "microgeometry") -> Outcome:
         pair = pair_at(None, case.get("face_width_factor", 1.0))
         seed = case.get("initial_seed")
         initial = None if seed is None else _random_microgeometry(pair, np.random.default_rng(seed))
-        model = LTCAModel(pair, positions=positions, smoothing_um=case.get("smoothing_um", 0.05),
-                          count_width_um=case.get("count_width_um", DEFAULT_COUNT_WIDTH_UM))
         limit = ltca(pair, torque, positions=positions).max_contact_stress_MPa
         design = optimise_microgeometry(pair, torque, positions=positions, check_positions=CHECK_POSITIONS,
-                                        model=model, initial=initial, max_contact_stress_MPa=limit)
+                                        smoothing_um=case.get("smoothing_um", 0.05),
+                                        count_width_um=case.get("count_width_um", DEFAULT_COUNT_WIDTH_UM),
+                                        initial=initial, max_contact_stress_MPa=limit)
         exact = design.exact["optimised"][torque]
         numbers = np.array([exact.ppte_um, exact.max_contact_stress_MPa, exact.loaded_contact_ratio,
                             design.solve.objective] + list(design.values.values()), dtype=float)

@@ -56,7 +56,7 @@ def test_light_load_narrows_the_loaded_contact_count_below_the_deflection():
     smooth = float(np.min(model.evaluate(Microgeometry(), [torque]).loaded_contact_ratio))
     exact = ltca(pair, torque, positions=20).loaded_contact_ratio
     assert smooth < sc.MIN_LOADED_CONTACT_RATIO < exact          # the default count refuses a feasible pair
-    design = optimise_microgeometry(pair, torque, positions=20, check_positions=sc.CHECK_POSITIONS, model=model,
+    design = optimise_microgeometry(pair, torque, positions=20, check_positions=sc.CHECK_POSITIONS,
                                     max_contact_stress_MPa=ltca(pair, torque, positions=20).max_contact_stress_MPa)
     widths = design.starts["count_width_um"]
     assert (widths.iloc[:1] == DEFAULT_COUNT_WIDTH_UM).all() and not design.starts["success"].iloc[0]
