@@ -1,5 +1,5 @@
 """Sample points of a scene's design problems: pure helpers, below every scene module (no import of the design
-package), shared by the scene's model graph, its refinement and the stand-alone microgeometry NLP.
+package), shared by the scene's model graph and its refinement.
 
 - mesh positions (fractions of a base pitch) of the semi-infinite refinement: the exact TE's peaks and troughs
   (:func:`extreme_fractions`), the peaks of stresses and temperatures (:func:`peak_fractions`), the ones not yet in a

@@ -111,8 +111,10 @@ JOINT_OUTPUTS = ("joint_torque_Nm", "thrust_N", "demand_tangential_N", "demand_a
                  "utilisation", "key_force_N", "shoulder_force_N", "slip_um", "axial_position_um",
                  "slip_speed_m_s", "axial_slip_um", "axial_velocity_m_s")
 #: Slip states per joint: circumferential slip u_t, plastic axial slip z, the gear's axial position u_a (all in
-#: SLIP_UNIT_M) and its axial velocity du_a/d(crank angle) [SLIP_UNIT_M/rad].
+#: SLIP_UNIT_M) and its axial velocity du_a/d(crank angle) [SLIP_UNIT_M/rad]. A joint on which no mesh can put a
+#: thrust (a spur gear) carries u_t only: its axial states would stay exactly 0 (``THRUST_FREE_STATES``).
 STATES_PER_JOINT = 4
+THRUST_FREE_STATES = 1
 
 
 class JointIntegrationError(SolveError):
@@ -134,7 +136,9 @@ def _sign(v: float) -> float:
 
 @dataclass
 class JointEquations:
-    """Network equations augmented by the slip states (u_t, u_a in um per joint, after the network's states)."""
+    """Network equations augmented by the slip states (after the network's states, per joint from
+    ``state_offsets[i]``: u_t, and where a thrust can act z, u_a and the axial velocity; ``thrust_free[i]``: the
+    joint carries u_t only)."""
 
     x: ca.SX
     p: ca.SX
@@ -144,6 +148,8 @@ class JointEquations:
     parameter_names: list
     output_names: list
     n_network: int
+    state_offsets: tuple = ()
+    thrust_free: tuple = ()
 
 
 def joint_equations(network: TorsionalNetwork, joints, lash: bool = True) -> JointEquations:
@@ -165,8 +171,7 @@ def joint_equations(network: TorsionalNetwork, joints, lash: bool = True) -> Joi
     acc = eq.rhs[n:] * omega
     extra_names = [f"{j.name}.{k}" for j in joints for k in JOINT_PARAMETERS]
     p_joint = ca.SX.sym("p_joint", len(extra_names))
-    u = ca.SX.sym("u", STATES_PER_JOINT * len(joints))
-    rates, outputs, out_names = [], [], []
+    states, rates, outputs, out_names, offsets, thrust_free = [], [], [], [], [], []
     for i, j in enumerate(joints):
         if j.gear_node not in network.inertias:
             raise GearoptInputError(f"joint {j.name!r}: gear_node={j.gear_node!r} is not a network node")
@@ -191,14 +196,21 @@ def joint_equations(network: TorsionalNetwork, joints, lash: bool = True) -> Joi
                                     f"touch node {j.gear_node!r}")
         torque = torque - j.gear_inertia_kgm2 * acc[free.index(j.gear_node)]
         thrust = scale * thrust
-        k = STATES_PER_JOINT * i
-        slip, z, axial = (u[k + q] * SLIP_UNIT_M for q in range(3))
-        w = u[k + 3] * SLIP_UNIT_M * omega  # axial velocity [m/s]
+        free_of_thrust = ca.SX(thrust).is_zero()     # no mesh of this gear has an axial force
+        offsets.append(sum(s.numel() for s in states))
+        thrust_free.append(bool(free_of_thrust))
+        u = ca.SX.sym(f"u_{i}", THRUST_FREE_STATES if free_of_thrust else STATES_PER_JOINT)
+        states.append(u)
+        slip = u[0] * SLIP_UNIT_M
+        # without thrust z, u_a and their velocity stay exactly 0 (no axial demand, no shoulder contact)
+        z, axial, w = (0.0, 0.0, 0.0) if free_of_thrust else (u[1] * SLIP_UNIT_M, u[2] * SLIP_UNIT_M,
+                                                              u[3] * SLIP_UNIT_M * omega)
         jr = joint_rates(j, torque, thrust, slip, z, axial, w, capacity, clearance_um * 1e-6, v_reg)
         d_t, d_a, v_t, v_z = (jr["demand_tangential_N"], jr["demand_axial_N"], jr["slip_rate_m_s"],
                               jr["axial_slip_rate_m_s"])
-        rates += [v_t / SLIP_UNIT_M / omega, v_z / SLIP_UNIT_M / omega, u[k + 3],
-                  jr["axial_acceleration_m_s2"] / SLIP_UNIT_M / omega ** 2]
+        rates.append(v_t / SLIP_UNIT_M / omega)
+        if not free_of_thrust:
+            rates += [v_z / SLIP_UNIT_M / omega, u[3], jr["axial_acceleration_m_s2"] / SLIP_UNIT_M / omega ** 2]
         r = 0.5e-3 * j.fit_diameter_mm
         rigid = nm.sqrt((torque / r) ** 2 + thrust ** 2) / capacity
         util = nm.sqrt(d_t ** 2 + d_a ** 2) / capacity
@@ -206,10 +218,10 @@ def joint_equations(network: TorsionalNetwork, joints, lash: bool = True) -> Joi
                     axial * 1e6, nm.sqrt(v_t ** 2 + v_z ** 2), z * 1e6, w]
         out_names += [(q, j.name) for q in JOINT_OUTPUTS]
     # the network's own equations do not depend on the joint states (one-way coupling)
-    result = JointEquations(x=ca.vertcat(eq.x, u), p=ca.vertcat(eq.p, p_joint), tau=eq.tau,
+    result = JointEquations(x=ca.vertcat(eq.x, *states), p=ca.vertcat(eq.p, p_joint), tau=eq.tau,
                             rhs=ca.vertcat(eq.rhs, *rates), outputs=ca.vertcat(*outputs),
                             parameter_names=list(eq.parameter_names) + extra_names, output_names=out_names,
-                            n_network=int(eq.x.numel()))
+                            n_network=int(eq.x.numel()), state_offsets=tuple(offsets), thrust_free=tuple(thrust_free))
     network._cache[key] = result
     return result
 
@@ -342,11 +354,13 @@ class JointSimulator:
         names = self.eq.output_names
         x = x.copy()
         for i, j in enumerate(self.joints):
+            if self.eq.thrust_free[i]:
+                continue
             f = out[names.index(("thrust_N", j.name))]
             if f >= 0.0:  # the interface holds at most its capacity
                 f = min(f, pvec[self.eq.parameter_names.index(f"{j.name}.capacity_N")])
             k = j.interface_stiffness_N_per_m + (j.shoulder_stiffness_N_per_m if f < 0.0 else 0.0)
-            x[self.eq.n_network + STATES_PER_JOINT * i + 2] = f / k / SLIP_UNIT_M
+            x[self.eq.n_network + self.eq.state_offsets[i] + 2] = f / k / SLIP_UNIT_M
         return x
 
     def run(self, speed_rpm: float, cycles: int = 2, *, parameters: dict | None = None, run_in_cycles: int = 1,
@@ -362,7 +376,7 @@ class JointSimulator:
         if x0 is None:
             net_p = {k: v for k, v in (parameters or {}).items() if k in self.network.parameters()}
             x = np.concatenate([self.base.static_state(speed_rpm, net_p),
-                                np.zeros(STATES_PER_JOINT * len(self.joints))])
+                                np.zeros(self.eq.x.numel() - n_net)])
             x = self._axial_preload(x, pvec)
         else:
             x = np.asarray(x0, dtype=float).reshape(-1)
@@ -404,12 +418,14 @@ class JointSimulator:
                   for q, (rows, cols) in groups.items()}
         rows = []
         for i, j in enumerate(self.joints):
-            k = n_net + STATES_PER_JOINT * i
+            k = n_net + self.eq.state_offsets[i]
             um = SLIP_UNIT_M * 1e6
             ut = np.concatenate([[starts[0][k] * um], frames["slip_um"][j.name].to_numpy()])
-            # creep = change of the plastic axial slip z (the gear's elastic deflection on the interface recovers)
-            ua_start, ua_end = starts[0][k + 1] * um, x[k + 1] * um
-            ua = np.array([st[k + 1] * um for st in starts] + [ua_end])
+            # creep = change of the plastic axial slip z (the gear's elastic deflection on the interface recovers);
+            # a thrust-free joint has none
+            axial = (lambda state, q: 0.0) if self.eq.thrust_free[i] else (lambda state, q: state[k + q] * um)
+            ua_start, ua_end = axial(starts[0], 1), axial(x, 1)
+            ua = np.array([axial(st, 1) for st in starts] + [ua_end])
             per_cycle = np.diff(ua)
             rows.append({"joint": j.name,
                          "max_rigid_utilisation": float(frames["rigid_utilisation"][j.name].max()),
@@ -418,7 +434,7 @@ class JointSimulator:
                          "axial_creep_um_per_cycle": float(ua_end - ua_start) / cycles,
                          "axial_creep_um_cycle_std": float(np.std(per_cycle, ddof=1)) if cycles > 1 else 0.0,
                          "max_cycle_axial_creep_um": float(per_cycle.max()),
-                         "axial_position_um": float(x[k + 2] * um),
+                         "axial_position_um": float(axial(x, 2)),
                          "max_key_force_N": float(frames["key_force_N"][j.name].abs().max()),
                          "max_off_nose_thrust_N": float(frames["thrust_N"][j.name].max())})
         stats = {"integration_time_s": time.perf_counter() - t0, "build_time_s": self.build_time_s,
@@ -452,6 +468,7 @@ __all__ = [
     "JOINT_PARAMETERS",
     "SLIP_UNIT_M",
     "STATES_PER_JOINT",
+    "THRUST_FREE_STATES",
     "FrictionJoint",
     "JointIntegrationError",
     "JointSimulation",

@@ -10,6 +10,8 @@ from gearopt import numerics as nm
 from gearopt.dynamics import TorsionalNetwork
 from gearopt.dynamics.joint_friction import (
     SLIP_UNIT_M,
+    STATES_PER_JOINT,
+    THRUST_FREE_STATES,
     FrictionJoint,
     JointIntegrationError,
     JointSimulator,
@@ -118,6 +120,25 @@ def test_spur_mesh_slips_without_axial_creep():
     s = res.summary.loc["j"]
     assert s["slip_um_per_cycle"] > 5.0
     assert abs(s["axial_creep_um_per_cycle"]) < 1e-9
+
+
+def test_thrust_free_joint_integrates_its_circumferential_slip_only():
+    """A gear on which no mesh puts a thrust (here: a helical mesh the joint takes no thrust sign from) carries one
+    slip state instead of four -- its axial states would stay exactly 0 -- and slips as the four-state joint with
+    zero thrust does (same network, thrust scaled to 0; they differ by CVODES' step choice only, a smooth run)."""
+    net = gear_on_shaft(20.0, 100.0, 250.0)
+    free = FrictionJoint("j", "gear", 2e3 * R_FIT, 10000.0, (), JG, key_clearance_um=10.0, slip_speed_m_s=1.0)
+    full = joint(1.0, key=10.0)
+    sim_free = JointSimulator(net, [free], lash=False, rtol=1e-8)
+    sim_full = JointSimulator(net, [full], lash=False, rtol=1e-8)
+    assert sim_free.eq.thrust_free == (True,) and sim_full.eq.thrust_free == (False,)
+    assert sim_full.eq.x.numel() - sim_free.eq.x.numel() == STATES_PER_JOINT - THRUST_FREE_STATES
+    a = sim_free.run(SPEED, 2, run_in_cycles=0).summary.loc["j"]
+    b = sim_full.run(SPEED, 2, run_in_cycles=0, parameters={"j.thrust_scale": 0.0}).summary.loc["j"]
+    assert a["slip_um_per_cycle"] > 5.0
+    assert a["slip_um_per_cycle"] == pytest.approx(b["slip_um_per_cycle"], rel=1e-4)
+    assert a["max_rigid_utilisation"] == pytest.approx(b["max_rigid_utilisation"], rel=1e-6)
+    assert a["axial_creep_um_per_cycle"] == 0.0 and a["axial_position_um"] == 0.0
 
 
 def test_regularisation_converges():
