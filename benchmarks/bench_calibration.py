@@ -72,7 +72,7 @@ from scipy import special, stats
 
 import gearopt as go
 from gearopt.cases.timing_train.model import default_timing_model
-from gearopt.data import load_default_data, system_from_data
+from gearopt.data import load_system
 from gearopt.dynamics.walk_off_envelope import joint_envelope
 from gearopt.studies.calibration import (FLIPPED_PREFIX, WalkOffModel, calibrate_walk_off, default_uncertain_inputs,
                                          field_record, joint_mountings)
@@ -106,10 +106,10 @@ FLOOR = 1e-6                          # errors of exactly 0 are drawn here on th
 
 # -- the problem ----------------------------------------------------------------------------------------------------
 
-def envelope(data) -> tuple[object, float]:
+def envelope(system) -> tuple[object, float]:
     """The helical train's envelope of cam and crank with their shoulder-flipped copies, and its CPU seconds."""
     c0 = time.process_time()
-    model = default_timing_model("helical", data=data)
+    model = default_timing_model("helical", system=system)
     env = joint_envelope(model, JOINTS, variants={FLIPPED_PREFIX + j: (j, -1.0) for j in JOINTS}, **ENVELOPE)
     return env, time.process_time() - c0
 
@@ -271,10 +271,9 @@ def main(argv=None) -> dict:
     args = bench_args(__doc__, argv, globals(), QUICK)
     warnings.filterwarnings("ignore", category=UserWarning)
     load_start = list(os.getloadavg())
-    data = load_default_data()
-    system = system_from_data(data)
+    system = load_system()
     print("envelope ...", flush=True)
-    env, env_cpu = envelope(data)
+    env, env_cpu = envelope(system)
     problem = Problem(env, system)
     default_key = (DEFAULT["prior_samples"], DEFAULT["pivot_points"], DEFAULT["samples"])
 

@@ -92,7 +92,6 @@ def main(argv=None) -> dict:
     args = parser.parse_args(argv)
     mode = "quick" if args.quick else ("full" if args.full else "default")
     warnings.simplefilter("ignore")
-    data = go.load_default_data()
     loads = go.load_system().design_torques_Nm()
     train = go.load_default_train("spur")
     names = list(MESHES)

@@ -272,7 +272,7 @@ def _scene_command(args) -> int:
     spec, notice = _retarget(dict(scenes["scenes"][name]), f"{args.file} [scenes.{name}]", args.mesh, system)
     if notice:
         print(notice)
-    scene = scene_from_data({"scenes": {name: spec}}, name, train_data=system.data)
+    scene = scene_from_data({"scenes": {name: spec}}, name, train_data=system)
     if any(lc.dynamics is not None for lc in scene.load_cases):
         scene = dataclasses.replace(scene, dynamics_model=lambda kind: _dynamics_model(system, kind))
     try:

@@ -25,7 +25,7 @@ import matplotlib
 matplotlib.use("Agg")
 
 from gearopt.cli import run_script
-from gearopt.data import load_system, train_from_data
+from gearopt.data import System, load_system, train_from_data
 from gearopt.errors import GearoptInputError
 from gearopt.design.scene import DesignVariable, Limit, Objective, Scene
 from gearopt.studies import pareto_front, sensitivity_report
@@ -35,10 +35,10 @@ THICKNESS_BOUNDS_MM = (4.0, 20.0)
 MIN_BACKUP_RATIO = 1.2
 
 
-def build_scene(gear: str, data: dict) -> Scene:
-    """The blank scene of ``gear`` in the spur train of ``data``."""
+def build_scene(gear: str, system: System) -> Scene:
+    """The blank scene of ``gear`` in the spur train of ``system``."""
     lo, hi = THICKNESS_BOUNDS_MM
-    return Scene(f"{gear} blank", train=train_from_data(data, "spur"), data=data,
+    return Scene(f"{gear} blank", train=train_from_data(system.data, "spur"), data=system,
                  variables=[DesignVariable("web_thickness_mm", gear, lo, hi),
                             DesignVariable("rim_thickness_mm", gear, lo, hi)],
                  objectives=[Objective("inertia_kgm2", gear)],
@@ -68,7 +68,7 @@ def main(argv: list[str] | None = None) -> int:
     if system.joint_of(args.gear) is None:
         raise GearoptInputError(f"{system.source}: --gear {args.gear!r} has no [joints.*] entry: its bore and hub "
                                 f"are unknown (gears with joints: {', '.join(j.gear for j in system.joints.values())})")
-    scene = build_scene(args.gear, system.data)
+    scene = build_scene(args.gear, system)
     front = pareto_front(scene, "rim_backup_ratio", args.gear, points=points)
     front.table.to_csv(args.out / "front.csv", index=False)
     front.plot().savefig(args.out / "front.png", dpi=110)

@@ -42,7 +42,7 @@ import pandas as pd
 
 import gearopt as go
 from gearopt.cli import run_script
-from gearopt.data import load_default_data, load_thesis_tables, system_from_data, train_from_data
+from gearopt.data import load_thesis_tables, train_from_data
 from gearopt.design.shift_distribution import optimise_shift_split
 from gearopt.geometry.forces import mesh_torque_Nm
 from gearopt.data import values as data_values
@@ -83,10 +83,10 @@ class StageTimings(dict):
                  time.strftime("%H:%M:%S", time.localtime(end)))
 
 
-def macro_design(data: dict, thesis: dict) -> dict:
+def macro_design(system: go.System, thesis: dict) -> dict:
     """Stage 1: the macro-design tables of the spur redesign and the helical baseline."""
-    spur = train_from_data(data, "spur")
-    helical = train_from_data(data, "helical")
+    spur = train_from_data(system.data, "spur")
+    helical = train_from_data(system.data, "helical")
     iso = go.GearTrain(gears=spur.gears, meshes=spur.meshes, rack=spur.rack, helix_angle_deg=0.0,
                        root_mesh=spur.root_mesh, root_gear=spur.root_gear, root_shift_split=0.5)
     limits = dict(min_contact_ratio=1.2, min_tip_thickness_ratio=0.2)
@@ -111,14 +111,14 @@ TOOTH_COUNT_COLUMNS = ["rank", "teeth_crank", "teeth_cam", "teeth_ac", "teeth_fp
                        "min_tip_thickness_mm", "limiting", "status"]
 
 
-def tooth_count_stage(data: dict, spur: go.GearTrain, lube_tolerance_percent: float = 3.0) -> dict:
+def tooth_count_stage(system: go.System, spur: go.GearTrain, lube_tolerance_percent: float = 3.0) -> dict:
     """Stage 1b: integer tooth counts at the fixed centre distances (thesis Table 3.1): every assignment within
     ``lube_tolerance_percent`` of the original helical ratios on the lube-pump branch (0 % elsewhere, the cam
     exactly 2:1), screened for sums of shifts and ISO/TR 4467 limits, each solved for the root shift split that
     maximises the smallest worst-case contact ratio (Ipopt, warm-started), ranked."""
     from gearopt.design.tooth_counts import enumerate_tooth_counts, tooth_count_study
 
-    enumeration = enumerate_tooth_counts(spur, reference="helical_original", data=data,
+    enumeration = enumerate_tooth_counts(spur, reference="helical_original", system=system,
                                          ratio_tolerance_percent={"crank-lpi": lube_tolerance_percent})
     study = tooth_count_study(spur, enumeration=enumeration, objective="max_min_worst_case_contact_ratio")
     return {"study": study, "lube_tolerance_percent": lube_tolerance_percent,
@@ -133,7 +133,7 @@ def shift_split_study(spur: go.GearTrain, mesh: str = "crank-cam") -> dict:
 RATED_MESHES = ("crank-cam", "cam-ac", "cam-fp", "crank-lpi", "lpi-lpg")
 
 
-def rating_at_dynamic_peaks(data: dict, trains: dict, design_torques: pd.DataFrame) -> dict:
+def rating_at_dynamic_peaks(system: go.System, trains: dict, design_torques: pd.DataFrame) -> dict:
     """ISO 6336 rating of every rated mesh at the largest dynamic mesh torque the dynamics computed (with backlash,
     over the simulated speeds and recorded cycles), at the speed where it occurs. The torque already holds the
     engine's excitation and the mesh's own dynamics, so K_A = 1 and K_v = 1 (ISO 6336-1 method A: dynamic loads from
@@ -141,7 +141,7 @@ def rating_at_dynamic_peaks(data: dict, trains: dict, design_torques: pd.DataFra
     peak is not reached every load cycle; a load spectrum, ISO 6336-6, would credit that)."""
     from gearopt.rating import iso6336_train_table
 
-    grades = {g: v["accuracy_grade_iso1328"] for g, v in data_values(data)["gears"].items()}
+    grades = {g: v["accuracy_grade_iso1328"] for g, v in data_values(system.data)["gears"].items()}
     out = {}
     lash = design_torques[design_torques["backlash"]]
     for kind, rows in lash.groupby("train"):
@@ -159,17 +159,17 @@ def rating_at_dynamic_peaks(data: dict, trains: dict, design_torques: pd.DataFra
     return out
 
 
-def rating_stage(data: dict, trains: dict) -> dict:
+def rating_stage(system: go.System, trains: dict) -> dict:
     """Stage 4: ISO 6336-2/-3 method B contact and root stresses with safety factors per mesh at the design torques,
     helical baseline and spur redesign (K_A from the data, other load factors 1)."""
     from gearopt.rating import iso6336_train_table
 
-    loads = data_values(data)["design_loads"]
-    design = system_from_data(data).design_torques_Nm()
+    loads = data_values(system.data)["design_loads"]
+    design = system.design_torques_Nm()
     torques = {mesh: design[mesh] for mesh in RATED_MESHES}
     out = {kind: rating_table(trains[kind], torques, K_A=loads["application_factor_K_A"])
            for kind in ("helical", "spur")}
-    grades = {g: v["accuracy_grade_iso1328"] for g, v in data_values(data)["gears"].items()}
+    grades = {g: v["accuracy_grade_iso1328"] for g, v in data_values(system.data)["gears"].items()}
     for kind in ("helical", "spur"):  # every factor computed (ISO 6336-1/-2/-3, ISO/TS 6336-20/-21), endurance
         out[f"{kind}_computed_factors"] = iso6336_train_table(trains[kind], torques, loads["speed_rpm"],
                                                               application_factor=loads["application_factor_K_A"],
@@ -177,18 +177,18 @@ def rating_stage(data: dict, trains: dict) -> dict:
     return out
 
 
-def joint_stage(data: dict) -> dict:
+def joint_stage(system: go.System) -> dict:
     """Stage 5: shaft-hub joint capacities and slip/walk-off margins at the design loads (nominal fit, and the
     weakest case: minimum interference, DIN 7190 smoothing loss, highest nut factor), blank inertias and web
     fatigue, for the helical baseline and the spur redesign."""
     out = {}
     for kind in ("helical", "spur"):
         out[kind] = {
-            "joints_nominal": joint_table(data, kind, "design"),
-            "joints_weakest": joint_table(data, kind, "design", interference="min", nut_factor="max",
+            "joints_nominal": joint_table(system, kind, "design"),
+            "joints_weakest": joint_table(system, kind, "design", interference="min", nut_factor="max",
                                           smoothing=True),
-            "blanks": blank_table(data, kind),
-            "webs": web_table(data, kind, "design"),
+            "blanks": blank_table(system, kind),
+            "webs": web_table(system, kind, "design"),
         }
     return out
 
@@ -231,14 +231,14 @@ this tolerance the per-cycle RMS and peak crank-cam force agree with a tight ref
 (``benchmarks/results/dynamics_speed.json``) at under half the default's steps."""
 
 
-def dynamics_stage(data: dict, quick: bool = False) -> dict:
+def dynamics_stage(system: go.System, quick: bool = False) -> dict:
     """Stage 6: torsional dynamics of the timing train (helical baseline and spur redesign), with and without
     backlash, at rated speed and overspeed (thesis Figs. 4.3-4.5), and a speed sweep with the walk-off margins of
     the cam, AC and FP joints over speed."""
     from gearopt.cases.timing_train import default_timing_model
     from gearopt.dynamics import speed_sweep
 
-    engine = data_values(data)["engine"]
+    engine = data_values(system.data)["engine"]
     speeds = ((engine["overspeed_test_speed_rpm"],) if quick
               else (engine["rated_speed_rpm"], engine["overspeed_test_speed_rpm"]))
     sweep_speeds = ((engine["idle_speed_rpm"], engine["overspeed_test_speed_rpm"]) if quick
@@ -248,7 +248,7 @@ def dynamics_stage(data: dict, quick: bool = False) -> dict:
     lash_run = dict(run, cycles=1 if quick else RECORDED_CYCLES)
     out: dict = {"runs": {}, "sweeps": {}, "models": {}, "speeds_rpm": speeds}
     for kind in ("helical", "spur"):
-        model = default_timing_model(kind, data=data)
+        model = default_timing_model(kind, system=system)
         for speed in speeds:
             for lash in (False, True):
                 out["runs"][(kind, speed, lash)] = model.simulate(speed_rpm=speed, backlash=lash,
@@ -264,7 +264,7 @@ JOINT_TARGET_MARGIN = 1.5
 """Slip margin (capacity / dynamic peak demand) the joint-sizing stage asks of every joint over the speed sweep."""
 
 
-def joint_sizing_stage(data: dict, trains: dict, dyn: dict, target_margin: float = JOINT_TARGET_MARGIN) -> dict:
+def joint_sizing_stage(system: go.System, trains: dict, dyn: dict, target_margin: float = JOINT_TARGET_MARGIN) -> dict:
     """Stage 6b: size every timing-gear joint (crank, cam press fits; AC, FP tapers) for ``target_margin`` against
     the dynamic demands of the speed sweep (peak joint torque and axial force at every speed, with backlash), at
     the weakest tolerance / nut factor (:func:`gearopt.design.joint_sizing.size_joint`). A joint that no admissible
@@ -276,7 +276,7 @@ def joint_sizing_stage(data: dict, trains: dict, dyn: dict, target_margin: float
     for kind, sweep in dyn["sweeps"].items():
         joints = sweep[sweep["element_type"] == "joint"]
         for joint in DYNAMIC_JOINTS:
-            gear = data_values(data)["joints"][joint]["gear"]
+            gear = data_values(system.data)["joints"][joint]["gear"]
             ratio = abs(float(trains[kind].speed_ratios[gear]))
             sel = joints[joints["element"] == f"joint:{joint}"]
             demands = [JointDemand(torque_Nm=float(r["peak_torque_Nm"]), axial_force_N=float(r["peak_axial_force_N"]),
@@ -288,7 +288,7 @@ def joint_sizing_stage(data: dict, trains: dict, dyn: dict, target_margin: float
                    "present_min_torque_margin": float(sel["min_torque_margin"].min()),
                    "present_min_axial_margin": float(sel["min_axial_margin"].min())}
             try:
-                sized = size_joint(data, joint, demands, target_margin=target_margin, elastic_on_failure=True)
+                sized = size_joint(system, joint, demands, target_margin=target_margin, elastic_on_failure=True)
             except SolveError as exc:
                 relax = getattr(exc, "relaxations", None)
                 worst = (f"{relax.iloc[0]['name']} by {relax.iloc[0]['relaxation']:.3g} {relax.iloc[0]['unit']}"
@@ -306,15 +306,15 @@ def joint_sizing_stage(data: dict, trains: dict, dyn: dict, target_margin: float
     return {"table": pd.DataFrame(rows), "results": results}
 
 
-def dynamic_design_torques(data: dict, dyn: dict) -> pd.DataFrame:
+def dynamic_design_torques(system: go.System, dyn: dict) -> pd.DataFrame:
     """Mesh torques from the dynamics against the design torques of the data: per mesh and train, the peak
     |mesh force| x base radius of the mesh's first gear at each simulated speed, without and with backlash, and the
     ratio to the top of the design-torque range the microgeometry is optimised over (``[design_loads]``); with the
     mean and standard deviation of the per-cycle peaks over the recorded cycles (the spread of a non-periodic
     response)."""
-    loads = data_values(data)["design_loads"]
+    loads = data_values(system.data)["design_loads"]
     top = max(loads["torque_range_fractions"])
-    design = system_from_data(data).design_torques_Nm()
+    design = system.design_torques_Nm()
     rows = []
     for (kind, speed, lash), sim in dyn["runs"].items():
         for mesh in RATED_MESHES:
@@ -403,14 +403,14 @@ def write_dynamics(out: Path, dyn: dict, design_torques: pd.DataFrame | None = N
 CONTACT_MESHES = ("crank-cam", "cam-ac", "cam-fp")
 
 
-def contact_stage(data: dict, trains: dict, quick: bool = False, on_study=None) -> dict:
+def contact_stage(system: go.System, trains: dict, quick: bool = False, on_study=None) -> dict:
     """Stage 3: helical vs unmodified spur vs optimised spur for the three meshes of the thesis' chapter 4;
     ``on_study(mesh, study)`` is called as each mesh's study ends (the main job writes its section and hands its
     figures to the figure writer then, so they render while the next mesh is solved)."""
-    loads = data_values(data)["design_loads"]
-    lub = data_values(data)["lubrication"]
-    limits = data_values(data)["design_limits"]
-    required = system_from_data(data).requirements
+    loads = data_values(system.data)["design_loads"]
+    lub = data_values(system.data)["lubrication"]
+    limits = data_values(system.data)["design_limits"]
+    required = system.requirements
     options = dict(crank_speed_rpm=loads["speed_rpm"], torque_fractions=loads["torque_range_fractions"],
                    bulk_temperature_C=lub["oil_temperature_C"], friction_coefficient=lub["mean_friction_coefficient"],
                    max_root_stress_MPa=limits["max_root_stress_MPa"],
@@ -420,7 +420,7 @@ def contact_stage(data: dict, trains: dict, quick: bool = False, on_study=None) 
     if quick:
         options.update(positions=80, nlp_positions=20, harris_points=4, helical_slices=5, starts=1, max_refinements=1)
     studies = {}
-    design = system_from_data(data).design_torques_Nm()
+    design = system.design_torques_Nm()
     for mesh in CONTACT_MESHES:
         studies[mesh] = mesh_contact_study(trains, mesh, design[mesh], **options)
         if on_study is not None:
@@ -428,7 +428,7 @@ def contact_stage(data: dict, trains: dict, quick: bool = False, on_study=None) 
     return studies
 
 
-def recommendation_stage(data: dict, codesign: dict, design_torques: pd.DataFrame, dynamics: dict,
+def recommendation_stage(system: go.System, codesign: dict, design_torques: pd.DataFrame, dynamics: dict,
                          calibrated_inputs: dict | None = None) -> dict:
     """The one answer: every design of the co-design study judged on every requirement of the data's
     ``[requirements]`` with the exact models (contact of the three contact meshes over their ranges, ISO 6336 at
@@ -438,7 +438,7 @@ def recommendation_stage(data: dict, codesign: dict, design_torques: pd.DataFram
     from gearopt.cases.timing_train.recommendation import timing_recommendation
 
     quick = all(s.cycles == 1 for (k, _, lash), s in dynamics["runs"].items() if lash)
-    rec = timing_recommendation(system_from_data(data), codesign, contact_meshes=CONTACT_MESHES,
+    rec = timing_recommendation(system, codesign, contact_meshes=CONTACT_MESHES,
                                 design_torques=design_torques, sweep=dynamics["sweeps"]["spur"],
                                 dynamics_speeds_rpm=dynamics["speeds_rpm"],
                                 dynamics_run=dict(cycles=1 if quick else RECORDED_CYCLES, run_in_cycles=0 if quick
@@ -453,7 +453,7 @@ def _json_default(v):
     raise TypeError(f"{type(v).__name__} is not JSON serialisable")
 
 
-def codesign_stage(data: dict, quick: bool = False):
+def codesign_stage(system: go.System, quick: bool = False):
     """Stage: co-design of the spur train and a low-helix alternative (profile shift, helix angle, per-flank tip
     relief, walk-off margins in one NLP) beside the sequential design (gearopt.cases.timing_train.codesign); quick: the
     spur option, one load case, no refinement. The main job caps the co-design's refinement at 1 re-solve and slices
@@ -463,7 +463,7 @@ def codesign_stage(data: dict, quick: bool = False):
     to 3 re-solves. problems/codesign.py runs the study at its defaults."""
     from gearopt.cases.timing_train import codesign_study
 
-    return codesign_study(data, quick=quick, options=("spur",) if quick else ("spur", "low_helix"),
+    return codesign_study(system, quick=quick, options=("spur",) if quick else ("spur", "low_helix"),
                           ltca_options=None if quick else {"max_refinements": 1, "helical_slices": 11,
                                                            "max_helical_slices": 11},
                           sequential_options=None if quick else {"max_refinements": 3})
@@ -569,14 +569,14 @@ def write_rating(out: Path, ratings: dict) -> tuple[list[str], dict]:
 FAILURE_JOINTS = ("cam", "crank")
 
 
-def failure_reproduction_stage(data: dict, quick: bool = False) -> dict:
+def failure_reproduction_stage(system: go.System, quick: bool = False) -> dict:
     """Stage 0: reproduce the failure -- the shaft-hub joints as friction elements in the torsional model
     (``gearopt.dynamics.joint_friction``) over speed up to overspeed, damper state and fit, and the Monte Carlo
     walk-off probability (``gearopt.studies.failure``), for the helical train, the spur cure and helical
     alternatives."""
     from gearopt.cases.timing_train import failure_reproduction
     # the full envelope's (speed, damper) points run in two forked worker processes (the quick one serially)
-    return failure_reproduction(data, quick=quick, joints=FAILURE_JOINTS, samples=5000 if quick else 20000,
+    return failure_reproduction(system, quick=quick, joints=FAILURE_JOINTS, samples=5000 if quick else 20000,
                                 executor="serial" if quick else "processes", workers=2)
 
 
@@ -766,7 +766,7 @@ def _crank_sentence(summary: dict) -> str:
 def write_outputs(out: Path, macro: dict, split: dict, timings: dict, contact: dict | None = None,
                   ratings: dict | None = None, joints: dict | None = None, dynamics: dict | None = None,
                   design_torques: pd.DataFrame | None = None, teeth: dict | None = None,
-                  sizing: dict | None = None, data: dict | None = None,
+                  sizing: dict | None = None, system: go.System | None = None,
                   failure: dict | None = None, codesign=None, sections: dict | None = None,
                   recommendation: dict | None = None, quick: bool = False) -> None:
     """report.md and result.json of the whole run (tables and figures of each section too); ``sections``: the
@@ -855,7 +855,7 @@ def write_outputs(out: Path, macro: dict, split: dict, timings: dict, contact: d
     }
     head = ([QUICK_BANNER, ""] if quick else []) + ["# Cam gear walk-off: spur redesign of the timing train", ""]
     if recommendation is not None:
-        summary = build_summary(recommendation, quick=quick, **summary_inputs(data or load_default_data(), dynamics,
+        summary = build_summary(recommendation, quick=quick, **summary_inputs(system or go.load_system(), dynamics,
                                                                               out))
         result = {"summary": summary, "recommendation": recommendation, **result}
         head += [summary_markdown(summary, recommendation),
@@ -883,13 +883,13 @@ def write_sections(out: Path, contact: dict | None, ratings: dict | None, joints
 KEY_FIGURES = ("te_crank_cam", "te_torques_crank_cam", "harris_crank_cam", "dynamics_crank_cam_force", "campbell_spur")
 
 
-def summary_inputs(data: dict, dynamics: dict | None, out: Path) -> dict:
+def summary_inputs(system: go.System, dynamics: dict | None, out: Path) -> dict:
     """Load basis and key figures of the verdict-first summary (:func:`gearopt.cases.timing_train.summary.build_summary`)
     from the data's ``[design_loads]`` and what the run drew."""
-    values = data_values(data)
+    values = data_values(system.data)
     loads = values["design_loads"]
     basis = {"rating": ("ISO 6336 method B at the static design torques ("
-                        + ", ".join(f"{m} {t:g} N m" for m, t in system_from_data(data).design_torques_Nm().items()
+                        + ", ".join(f"{m} {t:g} N m" for m, t in system.design_torques_Nm().items()
                                     if m in RATED_MESHES)
                         + f"), K_A {loads['application_factor_K_A']:g}; K_v, K_Hbeta, K_Fbeta, K_Halpha, K_Falpha and the "
                           "life, lubrication, roughness and size factors computed (gearopt.rating.rate_iso6336) "
@@ -914,12 +914,12 @@ def summary_inputs(data: dict, dynamics: dict | None, out: Path) -> dict:
     return {"load_basis": basis, "figures": figures}
 
 
-def trade_off_stage(data: dict, trains: dict, quick: bool = False):
+def trade_off_stage(system: go.System, trains: dict, quick: bool = False):
     """Stage 7: the headline trade-off of the spur crank-cam tip relief over the design torque range -- PPTE against
     loaded contact ratio -- with the sensitivity report and the Monte Carlo robustness of the optimised design."""
     from gearopt.studies import relief_scene_from_data, scene_study
 
-    scene = relief_scene_from_data(data, trains["spur"], "crank-cam", positions=24 if quick else None,
+    scene = relief_scene_from_data(system, trains["spur"], "crank-cam", positions=24 if quick else None,
                                    ltca_options={"max_refinements": 1} if quick else None)
     return scene_study(scene, "loaded_contact_ratio", "crank-cam", points=4 if quick else 9,
                        samples=64 if quick else 2000, starts=1 if quick else 4,
@@ -992,13 +992,13 @@ def _side_stage(stage: str, run):
             "compile_cache": {k: v - before.get(k, 0) for k, v in after.items() if isinstance(v, (int, float))}}
 
 
-def side_failure(data: dict, out: Path, quick: bool = False) -> dict:
+def side_failure(system: go.System, out: Path, quick: bool = False) -> dict:
     """Side-process stage: the failure reproduction and its report section (tables written here); the creep map is
     handed back (``plot_later``: builder, path, arguments) for the main process's figure writer to draw, off the
     side process's time (:func:`plot_side_figures`)."""
     later: list = []
     done = _side_stage("failure_reproduction",
-                       lambda: write_failure(out, failure_reproduction_stage(data, quick=quick), figures=later))
+                       lambda: write_failure(out, failure_reproduction_stage(system, quick=quick), figures=later))
     return {**done, "plot_later": later}
 
 
@@ -1012,18 +1012,18 @@ def plot_side_figures(side_runs: dict, plotted: set) -> None:
                 plot_later(builder, path, *args)
 
 
-def side_codesign(data: dict, out: Path, quick: bool = False) -> dict:
+def side_codesign(system: go.System, out: Path, quick: bool = False) -> dict:
     """Side-process stage: the co-design study; its report lines and ``result.json`` entry (plain data)."""
     def run():
-        study = codesign_stage(data, quick=quick)
+        study = codesign_stage(system, quick=quick)
         return study.report_lines(), json.loads(json.dumps(study.to_json(), default=float))
     return _side_stage("codesign_nlp", run)
 
 
-def side_trade_off(data: dict, out: Path, quick: bool = False) -> dict:
+def side_trade_off(system: go.System, out: Path, quick: bool = False) -> dict:
     """Side-process stage: the trade-off study (tables and figure written here); its report section and entry."""
     return _side_stage("trade_off_study", lambda: trade_off_outputs(
-        out, trade_off_stage(data, {"spur": train_from_data(data, "spur")}, quick=quick)))
+        out, trade_off_stage(system, {"spur": train_from_data(system.data, "spur")}, quick=quick)))
 
 
 SIDE_STAGES = {"failure_reproduction": side_failure, "codesign_nlp": side_codesign,
@@ -1060,7 +1060,7 @@ def main(argv: list[str] | None = None) -> int:
 
     wall0, stats0 = time.perf_counter(), cache_stats()      # counters of this run only (main() may run twice)
     timings = StageTimings()
-    data, thesis = load_default_data(args.data), load_thesis_tables()
+    system, thesis = go.load_system(args.data), load_thesis_tables()
     args.out.mkdir(parents=True, exist_ok=True)
     # the stages that need only the data run in a side process beside the others; figures render in a third
     # a full run: the co-design (minutes) in a process of its own; --quick: one side process (a second one made
@@ -1070,27 +1070,27 @@ def main(argv: list[str] | None = None) -> int:
     with children_die_with_this_process(), one_thread_per_process(args.quick), \
             side_process(enabled=not args.serial, workers=workers) as side, \
             background_figures(dpi=QUICK_DPI if args.quick else None):
-        side_runs = {stage: side.submit(fn, data, args.out, quick=args.quick) for stage, fn in SIDE_STAGES.items()}
+        side_runs = {stage: side.submit(fn, system, args.out, quick=args.quick) for stage, fn in SIDE_STAGES.items()}
         plotted: set = set()                     # side stages whose figures went to the figure writer
 
         with timings.stage("macro_design"):
-            macro = macro_design(data, thesis)
+            macro = macro_design(system, thesis)
 
         with timings.stage("tooth_counts"):
-            teeth = tooth_count_stage(data, macro["trains"]["spur"])
+            teeth = tooth_count_stage(system, macro["trains"]["spur"])
 
         with timings.stage("shift_split_nlp"):
             split = shift_split_study(macro["trains"]["spur"])
 
         with timings.stage("dynamics"):
-            dynamics = dynamics_stage(data, quick=args.quick)
-            design_torques = dynamic_design_torques(data, dynamics)
+            dynamics = dynamics_stage(system, quick=args.quick)
+            design_torques = dynamic_design_torques(system, dynamics)
         with timings.stage("write_dynamics"):    # each section written as its stage ends: its figures render now
             sections = {"dynamics": write_dynamics(args.out, dynamics, design_torques)}
         plot_side_figures(side_runs, plotted)
 
         with timings.stage("joint_sizing_nlp"):
-            sizing = joint_sizing_stage(data, macro["trains"], dynamics)
+            sizing = joint_sizing_stage(system, macro["trains"], dynamics)
 
         LOG.info("stage %-36s started (%s)", "contact_ltca_and_microgeometry_nlp", time.strftime("%H:%M:%S"))
         t0, written = time.perf_counter(), {}
@@ -1100,7 +1100,7 @@ def main(argv: list[str] | None = None) -> int:
             written[mesh] = write_contact_mesh(args.out, mesh, study, every_figure=not args.quick or not written)
             written[mesh] += (time.perf_counter() - t1,)
 
-        contact = contact_stage(data, macro["trains"], quick=args.quick, on_study=write_mesh)
+        contact = contact_stage(system, macro["trains"], quick=args.quick, on_study=write_mesh)
         write_s = sum(w[2] for w in written.values())
         timings["contact_ltca_and_microgeometry_nlp"] = time.perf_counter() - t0 - write_s
         timings["write_contact"] = write_s
@@ -1109,11 +1109,11 @@ def main(argv: list[str] | None = None) -> int:
         plot_side_figures(side_runs, plotted)
 
         with timings.stage("rating"):
-            ratings = rating_stage(data, macro["trains"])
-            ratings.update(rating_at_dynamic_peaks(data, macro["trains"], design_torques))
+            ratings = rating_stage(system, macro["trains"])
+            ratings.update(rating_at_dynamic_peaks(system, macro["trains"], design_torques))
 
         with timings.stage("joints_blanks_webs"):
-            joints = joint_stage(data)
+            joints = joint_stage(system)
         plot_side_figures(side_runs, plotted)
 
         with timings.stage("write_rating_joints"):
@@ -1127,12 +1127,12 @@ def main(argv: list[str] | None = None) -> int:
 
         with timings.stage("recommendation"):
             calibration = side_results["failure_reproduction"]["section"][1].get("calibration") or {}
-            recommendation = recommendation_stage(data, side_results["codesign_nlp"]["section"][1],
+            recommendation = recommendation_stage(system, side_results["codesign_nlp"]["section"][1],
                                                   design_torques, dynamics, calibration.get("calibrated_inputs"))
 
         t0 = time.perf_counter()
         write_outputs(args.out, macro, split, timings, contact, ratings, joints, dynamics, design_torques, teeth,
-                      sizing, data=data, codesign=CodesignOutputs(*side_results["codesign_nlp"]["section"]),
+                      sizing, system=system, codesign=CodesignOutputs(*side_results["codesign_nlp"]["section"]),
                       sections={**sections, "failure": side_results["failure_reproduction"]["section"]},
                       recommendation=recommendation, quick=args.quick)
         write_trade_off(args.out, *side_results["trade_off_study"]["section"])

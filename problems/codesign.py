@@ -18,7 +18,7 @@ from pathlib import Path
 import numpy as np
 
 from gearopt.cli import run_script
-from gearopt.data import load_default_data
+from gearopt.data import load_system
 from gearopt.cases.timing_train import CONTACT_STRESS_ALLOWANCE, CodesignStudy, codesign_study
 
 DEFAULT_OUT = Path("out") / "codesign"
@@ -27,7 +27,7 @@ DEFAULT_OUT = Path("out") / "codesign"
 def run(quick: bool = False, data_file: Path | None = None,
         contact_stress_allowance: float = CONTACT_STRESS_ALLOWANCE) -> CodesignStudy:
     """The study on the packaged data, or on ``data_file`` (your own train)."""
-    return codesign_study(load_default_data(data_file), quick=quick,
+    return codesign_study(load_system(data_file), quick=quick,
                           options=("spur",) if quick else ("spur", "low_helix"),
                           contact_stress_allowance=contact_stress_allowance)
 
@@ -77,7 +77,6 @@ def recommend_among(study: CodesignStudy, result: dict, data_file: Path | None, 
     written to ``result.json["recommendation"]`` and the report."""
     from gearopt.cases.timing_train.recommendation import timing_recommendation
     from gearopt.cases.timing_train.summary import build_summary, summary_markdown
-    from gearopt.data import load_system
 
     rec = json.loads(json.dumps(timing_recommendation(load_system(data_file), result,
                                                       contact_meshes=tuple(study.flanks)).as_json(), default=_json))

@@ -22,7 +22,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from gearopt.data import load_default_data
+from gearopt.data import System, load_system
 from gearopt.cases.timing_train import default_timing_model
 from gearopt.dynamics.walk_off_envelope import (
     DAMPER_STATES,
@@ -36,13 +36,13 @@ from gearopt.cli import run_script
 DEFAULT_OUT = Path("out") / "failure_reproduction"
 
 
-def creep_statistics(data: dict, speed_rpm: float, cycles: int, damper_states, levels: int = 4,
+def creep_statistics(system: System, speed_rpm: float, cycles: int, damper_states, levels: int = 4,
                      joints=("cam", "crank")) -> pd.DataFrame:
     """Envelope rows of both trains at one speed with ``cycles`` recorded cycles after one run-in cycle, plus the
     minutes to walk :data:`WALK_OFF_DISTANCE_MM` at the mean creep (inf when it does not creep off the nose)."""
     frames = []
     for kind in ("helical", "spur"):
-        frames.append(joint_envelope(default_timing_model(kind, data=data), joints, speeds_rpm=[speed_rpm],
+        frames.append(joint_envelope(default_timing_model(kind, system=system), joints, speeds_rpm=[speed_rpm],
                                      damper_states=damper_states, levels=levels, cycles=cycles, run_in_cycles=1))
     df = pd.concat(frames, ignore_index=True)
     for col in ("axial_creep_um_per_cycle", "axial_creep_um_cycle_std", "max_cycle_axial_creep_um"):
@@ -65,10 +65,10 @@ def main(argv: list[str] | None = None) -> int:
                         help="your own engine and train data file (TOML; default: the packaged data)")
     args = parser.parse_args(argv)
     t0 = time.perf_counter()
-    data = load_default_data(args.data)
+    system = load_system(args.data)
     cycles = 2 if args.quick else args.cycles
     states = ("degraded",) if args.quick else tuple(DAMPER_STATES)
-    df = creep_statistics(data, args.speed, cycles, states, levels=1 if args.quick else 4,
+    df = creep_statistics(system, args.speed, cycles, states, levels=1 if args.quick else 4,
                           joints=("cam",) if args.quick else ("cam", "crank"))
     args.out.mkdir(parents=True, exist_ok=True)
     write_table(df, args.out, "creep_statistics")

@@ -4,7 +4,7 @@ The source study's helical cam gear walked off its shaft; the spur replacement w
 angle lowers the transmission error (more overlap) but raises the axial thrust on every helical gear (F_a = F_t
 tan beta, summed over the gear's meshes by :func:`gearopt.joints.walk_off.walk_off`). This script traces that
 trade-off with :func:`gearopt.studies.pareto_front` on a train-level co-design scene over the default data
-(:func:`gearopt.data.load_default_data`, :func:`gearopt.data.train_from_data`, or ``--data FILE``):
+(:func:`gearopt.load_system`, :func:`gearopt.data.train_from_data`, or ``--data FILE``):
 
 - variables: the train's helix angle (0 to 8 deg, the low-helix bound of ``problems/codesign.py``) and root-gear
   profile shift (0 to 0.6; every mesh follows at its fixed centre distance), and the tip relief (amount, start roll
@@ -57,7 +57,7 @@ matplotlib.use("Agg")
 import numpy as np
 import pandas as pd
 
-from gearopt.data import load_default_data, system_from_data, train_from_data, values
+from gearopt.data import System, load_system, train_from_data, values
 from gearopt.design.scene import DesignVariable, Limit, LoadCase, Objective, Scene
 from gearopt.cases.timing_train import GEOMETRY_LIMITS, MESHES
 from gearopt.studies import pareto_front, verify_front
@@ -69,15 +69,16 @@ MAX_HELIX_ANGLE_DEG = 8.0
 DEFAULT_OUT = Path("out") / "helix_front"
 
 
-def build_scene(data: dict, quick: bool) -> tuple[Scene, dict]:
-    """The train-level scene of the module docstring and its settings (JSON-ready)."""
+def build_scene(system: System, quick: bool) -> tuple[Scene, dict]:
+    """The train-level scene of the module docstring on ``system`` and its settings (JSON-ready)."""
+    data = system.data
     v = values(data)
     loads = v["design_loads"]
     train = train_from_data(data, "spur")
     speed, overspeed = float(loads["speed_rpm"]), float(v["engine"]["overspeed_test_speed_rpm"])
     fractions = [1.0] if quick else [float(f) for f in loads["torque_range_fractions"]]
     top = max(float(f) for f in loads["torque_range_fractions"])
-    design = system_from_data(data).design_torques_Nm()
+    design = system.design_torques_Nm()
     cases = [LoadCase(f"{f:g}x", {m: design[m] * f for m in MESHES}, speed_rpm=speed) for f in fractions]
     over = LoadCase("overspeed", {m: design[m] * top for m in MESHES}, speed_rpm=overspeed)
     names = tuple(c.name for c in cases)
@@ -89,7 +90,7 @@ def build_scene(data: dict, quick: bool) -> tuple[Scene, dict]:
     ltca_options = {"positions": 24 if quick else 40, "helical_slices": 7}
     scene = Scene("helix angle front", train=train, load_cases=[*cases, over], variables=variables,
                   objectives=[Objective("ppte_um", MESH, aggregate="max", load_cases=names)], limits=limits,
-                  ltca_options=ltca_options, data=data)
+                  ltca_options=ltca_options, data=system)
     settings = {"load_cases_Nm": {c.name: dict(c.torque_Nm) for c in cases}, "speed_rpm": speed,
                 "overspeed_rpm": overspeed, "overspeed_torques_Nm": dict(over.torque_Nm),
                 "max_helix_angle_deg": MAX_HELIX_ANGLE_DEG,
@@ -99,8 +100,7 @@ def build_scene(data: dict, quick: bool) -> tuple[Scene, dict]:
 
 def run(quick: bool = False, data_file: Path | None = None, points: int | None = None, executor: str = "serial"):
     """Trace and verify the front; returns (front, verification table, merged table, settings)."""
-    data = load_default_data(data_file)
-    scene, settings = build_scene(data, quick)
+    scene, settings = build_scene(load_system(data_file), quick)
     points = points or (4 if quick else 9)
     front = pareto_front(scene, QUANTITY, JOINT, points=points, starts=3 if quick else 4, executor=executor)
     check = verify_front(front, scene, executor,

@@ -52,7 +52,7 @@ def build_scene(quick: bool, data_file: Path | None = None, mesh: str | None = N
     system = load_system(data_file)
     mesh = mesh or system.default_mesh("spur")
     system.mesh(mesh)
-    scene = relief_scene_from_data(system.data, system.train("spur"), mesh, positions=24 if quick else None)
+    scene = relief_scene_from_data(system, system.train("spur"), mesh, positions=24 if quick else None)
     return scene, {"mesh": mesh, "torques_Nm": [lc.torque_Nm for lc in scene.load_cases],
                    "max_contact_stress_limit_MPa": scene.limits[0].upper,
                    "min_loaded_contact_ratio": scene.limits[1].lower}

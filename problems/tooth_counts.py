@@ -71,7 +71,7 @@ def main(argv: list[str] | None = None) -> int:
     # the original helical train's ratios where the data state the spur counts' error against it, else the teeth
     reference = "helical_original" if len(stated) == len(meshes) else "teeth"
     t0 = time.perf_counter()
-    enumeration = enumerate_tooth_counts(train, reference=reference, data=data, span=span,
+    enumeration = enumerate_tooth_counts(train, reference=reference, system=system, span=span,
                                          default_tolerance_percent=args.tolerance,
                                          ratio_tolerance_percent=tolerances)
     t_enum = time.perf_counter() - t0

@@ -28,6 +28,7 @@ from pathlib import Path
 
 import pytest
 
+import gearopt as go
 from gearopt.data import default_data_path
 from gearopt.errors import GearoptInputError
 
@@ -85,7 +86,7 @@ def test_scene_file_matches_the_python_scene():
     scenes = tomllib.loads((ROOT / "docs" / "scene-example.toml").read_text())
     with pytest.raises(GearoptInputError, match="did you mean 'crank_cam_ppte'"):
         scene_from_data(scenes, "crank_cam_pte")
-    scene = scene_from_data(scenes, "crank_cam_ppte", train_data=tomllib.loads(default_data_path().read_text()))
+    scene = scene_from_data(scenes, "crank_cam_ppte", train_data=go.load_system())
     assert [lc.mesh_torque_Nm("crank-cam") for lc in scene.load_cases] == [150.0, 300.0, 450.0]
     assert scene.limits[0] == Limit("max_contact_stress_MPa", "crank-cam", upper=1150.0)
 

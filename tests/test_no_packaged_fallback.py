@@ -1,7 +1,7 @@
 """The library never reads the packaged data behind the caller's back: every engine model and report table takes its
-data (a System or the validated dict of a file) as a required argument, no data is an error naming the argument,
-data without the section it needs raise MissingSectionError naming the file and section, and with explicit data no
-function touches the packaged file."""
+data (the System of a file) as a required argument, no data is an error naming the argument, a raw dict is an error
+naming the conversion, data without the section it needs raise MissingSectionError naming the file and section, and
+with explicit data no function touches the packaged file."""
 
 from __future__ import annotations
 
@@ -13,7 +13,7 @@ import pytest
 import gearopt as go
 from gearopt import data as data_pkg
 from gearopt.cases.timing_train import quasi_static_load_case
-from gearopt.data import data_of, load_default_data, require_section, system_from_data
+from gearopt.data import load_system, require_section, system_from_data
 from gearopt.design.tooth_counts import enumerate_tooth_counts, reference_speed_ratios
 from gearopt.engine import (AccessoryTorque, CylinderPressure, EngineExcitation, air_compressor_torque_Nm,
                             camshaft_torque_Nm, fuel_pump_torque_Nm, ideal_compressor_cycle, lube_pump_torque_Nm,
@@ -22,9 +22,10 @@ from gearopt.engine.pressure import double_wiebe_cycle
 from gearopt.errors import GearoptInputError, MissingSectionError
 from gearopt.report.joint_tables import blank_table, joint_table, web_table
 
-DATA = load_default_data()
+SYSTEM = load_system()
+DATA = SYSTEM.data
 
-# name -> (function, call with data d); the data-first functions whose `data` has no default
+# name -> (function, call with data d); the data-first functions whose `system` has no default
 ENGINE_CALLS = {
     "EngineExcitation.from_data": (EngineExcitation.from_data, lambda d: EngineExcitation.from_data(d, speed_rpm=2000.0)),
     "AccessoryTorque.camshaft": (AccessoryTorque.camshaft, lambda d: AccessoryTorque.camshaft(d)),
@@ -50,8 +51,8 @@ ALL_CALLS = {**ENGINE_CALLS, **REPORT_CALLS}
 @pytest.mark.parametrize("name", sorted(ALL_CALLS))
 def test_signature_requires_data(name):
     fun, _ = ALL_CALLS[name]
-    param = inspect.signature(fun).parameters["data"]
-    assert param.default is inspect.Parameter.empty, f"{name}: data must be required"
+    param = inspect.signature(fun).parameters["system"]
+    assert param.default is inspect.Parameter.empty, f"{name}: system must be required"
 
 
 @pytest.mark.parametrize("name", sorted(ALL_CALLS))
@@ -68,15 +69,13 @@ def test_missing_engine_names_file_and_section(name):
     system = system_from_data(no_engine, source="no_engine.toml")
     with pytest.raises(MissingSectionError, match=r"no_engine\.toml: \[engine\] is missing: " + re.escape(name)):
         call(system)
-    with pytest.raises(MissingSectionError, match=r"\[engine\] is missing"):
-        call(no_engine)
 
 
 def test_missing_joints_and_engine_of_the_report_tables():
     no_joints = system_from_data({k: v for k, v in DATA.items() if k != "joints"}, source="no_joints.toml")
     with pytest.raises(MissingSectionError, match=r"no_joints\.toml: \[joints\] is missing: joint_table"):
         joint_table(no_joints, "spur")
-    no_engine = {k: v for k, v in DATA.items() if k != "engine"}
+    no_engine = system_from_data({k: v for k, v in DATA.items() if k != "engine"})
     with pytest.raises(MissingSectionError, match=r"\[engine\] is missing: the quasi-static accessory load case"):
         quasi_static_load_case(no_engine, "spur")   # the timing case's accessory peaks come from [engine]
 
@@ -90,41 +89,33 @@ def test_double_wiebe_without_data_needs_every_argument():
     full = dict(args, bore_mm=e["bore_mm"], stroke_mm=e["stroke_mm"], rod_length_mm=e["connecting_rod_length_mm"],
                 compression_ratio=e["compression_ratio"], samples=1024)
     assert double_wiebe_cycle(**full)["peak_bar"] == pytest.approx(
-        double_wiebe_cycle(data=DATA, samples=1024)["peak_bar"], rel=1e-12)
+        double_wiebe_cycle(system=SYSTEM, samples=1024)["peak_bar"], rel=1e-12)
 
 
 def test_reference_speed_ratios_need_data_for_data_references():
     train = go.load_default_train("spur")
     for ref in ("data", "helical_original"):
-        with pytest.raises(GearoptInputError, match=rf"reference='{ref}' reads the data file: pass data="):
+        with pytest.raises(GearoptInputError, match=rf"reference='{ref}' reads the data file: pass system="):
             reference_speed_ratios(train, ref)
-        with pytest.raises(GearoptInputError, match="pass data="):
+        with pytest.raises(GearoptInputError, match="pass system="):
             enumerate_tooth_counts(train, reference=ref, span=1, precheck=False)
     assert reference_speed_ratios(train, "teeth")["cam"] == 0.5          # "teeth" needs none
-    system = go.load_system()
-    assert reference_speed_ratios(train, "helical_original", system) == reference_speed_ratios(
-        train, "helical_original", DATA)
+    assert reference_speed_ratios(train, "helical_original", SYSTEM)["lpi"] == pytest.approx(37 / 24, rel=1e-6)
 
 
-def test_a_system_gives_the_same_numbers_as_its_dict():
-    system = go.load_system()
-    assert float(peak_pressure_bar(2500.0, 0.7, system)) == float(peak_pressure_bar(2500.0, 0.7, DATA))
-    assert AccessoryTorque.fuel_pump(system).max_Nm == AccessoryTorque.fuel_pump(DATA).max_Nm
-    a = EngineExcitation.from_data(system, speed_rpm=2500.0, harmonics=16)
-    b = EngineExcitation.from_data(DATA, speed_rpm=2500.0, harmonics=16)
-    assert a.mean_torque_Nm() == b.mean_torque_Nm()
+@pytest.mark.parametrize("name", sorted(ALL_CALLS))
+def test_a_raw_dict_names_the_function_and_the_conversion(name):
+    _, call = ALL_CALLS[name]
+    with pytest.raises(GearoptInputError, match=re.escape(name) + r": got a dict .*gearopt\.load_system\(path\).*"
+                                                 r"gearopt\.data\.system_from_data\(d\)"):
+        call(DATA)
 
 
 def test_data_access_helpers():
-    system = go.load_system()
-    assert data_of(DATA) is DATA
-    assert data_of(system)["engine"]["bore_mm"] == DATA["engine"]["bore_mm"]
-    with pytest.raises(GearoptInputError, match="my_fun: data is required"):
-        data_of(None, "my_fun")
-    with pytest.raises(GearoptInputError, match="must be a System"):
-        data_of(3.0, "my_fun")
-    assert require_section(system, "lubrication")["oil_temperature_C"] == 100.0
+    assert require_section(SYSTEM, "lubrication")["oil_temperature_C"] == 100.0
     with pytest.raises(MissingSectionError, match=r"<data>: \[excitation\] is missing: my study"):
+        require_section(system_from_data(DATA), "excitation", "my study")
+    with pytest.raises(GearoptInputError, match="my study: got a dict"):
         require_section(DATA, "excitation", "my study")
 
 
@@ -137,9 +128,9 @@ def test_explicit_data_never_touches_the_packaged_file(monkeypatch):
     monkeypatch.setattr(data_pkg, "load_default_data", forbidden)
     monkeypatch.setattr(data_pkg, "load_default_train", forbidden)
     for name, (_, call) in ALL_CALLS.items():
-        call(DATA)
+        call(SYSTEM)
     train = data_pkg.train_from_data(DATA, "spur")
-    reference_speed_ratios(train, "data", DATA)
+    reference_speed_ratios(train, "data", SYSTEM)
     # the rating layer's defaults are library constants, not reads of the file
     from gearopt.rating import default_lubricant, flash_temperature_pair_K
     assert default_lubricant().oil_temperature_C == 100.0

@@ -21,8 +21,7 @@ DEFAULT_RIM_THICKNESS_MODULES = 3.5
 def blank_from_data(system: System, train: GearTrain, gear: str) -> tuple[GearBlank, list[str]]:
     """The :class:`GearBlank` of one gear of ``system`` (``system.gear(gear).entries``, bore and hub from
     ``system.joint_of(gear)``, density from its ``system.materials`` entry; tip/root diameters from ``train``) and
-    the list of assumed inputs. ``system``: the :class:`~gearopt.data.System` of the data file (during the
-    transition its validated dict is accepted too, :func:`gearopt.data.system_of`)."""
+    the list of assumed inputs. ``system``: the :class:`~gearopt.data.System` of the data file."""
     system = system_of(system, "blank_from_data")
     if gear not in system.gears:
         raise GearoptInputError(f"gear={gear!r} is not in [gears] ({sorted(system.gears)})")

@@ -19,7 +19,7 @@ from ..geometry.train import GearSpec, GearTrain, MeshSpec, RackSpec
 from .schema import parse_data_file, schema_markdown, validate_data
 from .system import (DesignLimits, DesignLoads, DrivingTorque, Gear, Joint, Lubrication, Mesh, System, TrainVariant,
                      load_system, system_from_data)
-from .access import data_of, joint_record, material_record, require_section, system_of
+from .access import joint_record, material_record, require_section, system_of
 from .requirements import Requirements
 
 DEFAULT_FILE = "default_train.toml"
@@ -156,4 +156,4 @@ __all__ = ["Gear", "Mesh", "TrainVariant", "Joint", "DesignLoads", "DesignLimits
            "system_from_data", "validate_data", "parse_data_file", "schema_markdown", "default_data_path",
            "load_thesis_tables", "train_from_data", "values",
            "missing_provenance", "provenance_tags", "TRAIN_KINDS"]
-__all__ += ["data_of", "system_of", "joint_record", "material_record", "require_section", "Requirements"]
+__all__ += ["system_of", "joint_record", "material_record", "require_section", "Requirements"]

@@ -1,48 +1,42 @@
-"""Data access for library functions: a :class:`~gearopt.data.system.System` or its validated dict, never the
-packaged file behind the caller's back.
+"""Data access for library functions: a :class:`~gearopt.data.system.System`, never the raw dict of a data file
+and never the packaged file behind the caller's back.
 
-Library functions that read whole section trees (the engine models, the joint/blank/web tables) take ``data``: a
-:class:`System` (``gearopt.load_system(path)``) or the validated dict of a data file
-(``gearopt.load_default_data(path)``). :func:`data_of` returns the dict of either and raises when the caller gave
-none; :func:`require_section` returns one top-level section and raises
-:class:`~gearopt.errors.MissingSectionError` naming the file (when known), the section and what needs it.
+Library functions take ``system``: the :class:`System` of a data file (``gearopt.load_system(path)``; a validated
+dict converts with ``gearopt.data.system_from_data(d)``). :func:`system_of` checks the argument (no data, a raw dict
+or another type raise :class:`~gearopt.errors.GearoptInputError` naming the function and the fix);
+:func:`require_section` returns one top-level section and raises :class:`~gearopt.errors.MissingSectionError`
+naming the file, the section and what needs it.
 """
 
 from __future__ import annotations
 
+import copy
 from collections.abc import Mapping
 from typing import Any
 
-from ..errors import DataFileError, GearoptInputError, MissingSectionError
-from .schema_keys import SECTION_USES
-from .system import Joint, System, system_from_data
+from ..errors import DataFileError, GearoptInputError
+from .system import Joint, System
 
 
-def data_of(source: System | Mapping[str, Any] | None, needed_by: str = "this function") -> dict[str, Any]:
-    """The validated data dict of ``source``: ``system.data`` of a :class:`System` (a deep copy), or the mapping
-    itself. ``None`` (no data given) raises :class:`~gearopt.errors.GearoptInputError` naming the argument and
-    ``needed_by``: the library never falls back to the packaged data."""
+def system_of(source: System, needed_by: str = "this function") -> System:
+    """``source`` itself when it is a :class:`System`: the check of every library function that takes one.
+
+    ``None`` (no data given), a dict (the raw data of a file) or any other type raise
+    :class:`~gearopt.errors.GearoptInputError` naming ``needed_by``, the type received and the fix
+    (``gearopt.load_system(path)``, or ``gearopt.data.system_from_data(d)`` for a validated dict): the library
+    never falls back to the packaged data."""
     if isinstance(source, System):
-        return source.data
+        return source
     if source is None:
         raise GearoptInputError(
             f"{needed_by}: data is required (got None): pass the System of your data file "
-            f"(gearopt.load_system(path)) or its validated dict (gearopt.load_default_data(path)); the library does "
-            f"not read the packaged default data on its own")
-    if not isinstance(source, Mapping):
-        raise GearoptInputError(f"{needed_by}: data={type(source).__name__} must be a System "
-                                f"(gearopt.load_system(path)) or the dict of a data file")
-    return source if isinstance(source, dict) else dict(source)
-
-
-def system_of(source: System | Mapping[str, Any] | None, needed_by: str = "this function") -> System:
-    """The :class:`System` of ``source``: the system itself, or the :class:`System` of a validated data dict
-    (:func:`~gearopt.data.system.system_from_data`; validation is cached by content, so a dict already validated
-    costs a few ms). The one conversion point of the library functions that take a System (during the transition
-    they still accept the validated dict). ``None`` or a non-mapping raises as :func:`data_of`."""
-    if isinstance(source, System):
-        return source
-    return system_from_data(data_of(source, needed_by))
+            f"(gearopt.load_system(path)); the library does not read the packaged default data on its own")
+    if isinstance(source, Mapping):
+        raise GearoptInputError(
+            f"{needed_by}: got a {type(source).__name__} (the raw data of a file); library functions take a System: "
+            f"pass gearopt.load_system(path), or convert a validated dict with gearopt.data.system_from_data(d)")
+    raise GearoptInputError(f"{needed_by}: got a {type(source).__name__}; it must be a System "
+                            f"(gearopt.load_system(path), or gearopt.data.system_from_data(d) for a data dict)")
 
 
 def joint_record(system: System, joint: str, needed_by: str = "this function") -> Joint:
@@ -67,28 +61,15 @@ def material_record(system: System, name: str, needed_by: str = "this function",
     return system.materials[name]
 
 
-def source_name(source: System | Mapping[str, Any] | None) -> str:
-    """The file name of a :class:`System`, ``"<data>"`` for a plain dict (messages)."""
-    return source.source if isinstance(source, System) else "<data>"
+def require_section(source: System, section: str, needed_by: str = "this function") -> Any:
+    """The top-level ``section`` of the :class:`System` ``source`` (a copy, provenance strings included).
+
+    Anything but a System raises as :func:`system_of`; a file without the section raises
+    :class:`~gearopt.errors.MissingSectionError` naming the file, ``[section]`` and ``needed_by``
+    (:meth:`System.require`)."""
+    system = system_of(source, needed_by)
+    system.require(section, needed_by)
+    return copy.deepcopy(system._data[section])          # the section only (System.data copies the whole file)
 
 
-def require_section(source: System | Mapping[str, Any] | None, section: str,
-                    needed_by: str = "this function") -> Any:
-    """The top-level ``section`` of ``source`` (a :class:`System` or a data dict; provenance strings included).
-
-    No data raises as :func:`data_of`; data without the section raise
-    :class:`~gearopt.errors.MissingSectionError` naming the file (``"<data>"`` for a plain dict), ``[section]``
-    and ``needed_by`` (the same message as :meth:`System.require`)."""
-    if isinstance(source, System):
-        source.require(section, needed_by)
-        return source.data[section]
-    data = data_of(source, needed_by)
-    if section not in data:
-        use = SECTION_USES.get(section)
-        raise MissingSectionError(
-            f"{source_name(source)}: [{section}] is missing: {needed_by} needs it"
-            + (f" ({section} holds {use})" if use else "") + "; add the section (docs/data-schema.md)")
-    return data[section]
-
-
-__all__ = ["data_of", "system_of", "joint_record", "material_record", "require_section", "source_name"]
+__all__ = ["system_of", "joint_record", "material_record", "require_section"]

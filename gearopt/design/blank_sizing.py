@@ -95,7 +95,7 @@ class BlankSpec:
     def from_data(cls, system: System, train: GearTrain, gear: str) -> "BlankSpec":
         """The webbed blank of ``gear`` (:func:`gearopt.blank.blank_from_data`) with its material
         (``system.materials`` of ``system.gear(gear).material``). ``system``: the :class:`~gearopt.data.System` of
-        the data file (during the transition its validated dict is accepted too, :func:`gearopt.data.system_of`)."""
+        the data file."""
         system = system_of(system, "BlankSpec.from_data")
         blank, _ = blank_from_data(system, train, gear)
         if blank.web_thickness_mm is None:
@@ -138,10 +138,10 @@ def web_demand_from_loads(system: System, train: GearTrain, gear: str, torques_N
     design_torque_Nm``: torque on each mesh's driving gear), as the main job's web table takes them: joint torque (:func:`gearopt.joints.walk_off`), the
     in-plane force bounded by the sum of the transverse mesh-force magnitudes F_t / cos(alpha_wt), the net axial
     force. ``system``: the :class:`~gearopt.data.System` of the data file (read only for its design torques when
-    ``torques_Nm`` is None; during the transition its validated dict is accepted too,
-    :func:`gearopt.data.system_of`)."""
+    ``torques_Nm`` is None)."""
+    system = system_of(system, "web_demand_from_loads")
     if torques_Nm is None:
-        torques_Nm = system_of(system, "web_demand_from_loads").design_torques_Nm()
+        torques_Nm = system.design_torques_Nm()
         if not torques_Nm:
             raise GearoptInputError("the data state no design torque ([meshes.<name>] design_torque_Nm); pass "
                                     "torques_Nm")

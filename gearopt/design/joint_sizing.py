@@ -349,9 +349,8 @@ def size_joint(system: System, joint: str, demands, *, proof_strength_MPa: float
                **options: Any) -> JointSizing:
     """Size the joint ``joint`` of ``system`` (``system.joints[joint]``): :func:`size_press_fit` or
     :func:`size_taper_fit` by its type (``proof_strength_MPa`` for taper nuts; ``options`` go to the sizing
-    function). ``system``: the :class:`~gearopt.data.System` of the data file (during the transition its validated
-    dict is accepted too, :func:`gearopt.data.system_of`); a joint the file lacks raises naming the file and
-    ``joints.<joint>``."""
+    function). ``system``: the :class:`~gearopt.data.System` of the data file; a joint the file lacks raises naming
+    the file and ``joints.<joint>``."""
     system = system_of(system, "size_joint")
     kind = joint_record(system, joint, "size_joint").joint_type
     if kind == "press_fit":

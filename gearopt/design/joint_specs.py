@@ -100,9 +100,8 @@ class PressFitSpec:
     @classmethod
     def from_data(cls, system: System, joint: str) -> "PressFitSpec":
         """The spec of the joint ``joint`` of ``system`` (``system.joints[joint]``, a ``press_fit``) with its
-        ``system.materials``. ``system``: the :class:`~gearopt.data.System` of the data file (during the transition
-        its validated dict is accepted too, :func:`gearopt.data.system_of`)."""
-        j, shaft, hub = _joint_entry(system, joint, "press_fit")
+        ``system.materials``. ``system``: the :class:`~gearopt.data.System` of the data file."""
+        j, shaft, hub = _joint_entry(system_of(system, "PressFitSpec.from_data"), joint, "press_fit")
         return cls(shaft_diameter_mm=j["shaft_diameter_mm"], shaft_bore_mm=j["shaft_bore_diameter_mm"],
                    hub_outer_diameter_mm=j["hub_outer_diameter_mm"], length_mm=j["fit_length_mm"],
                    friction=j["friction_coefficient"], shaft_E_MPa=shaft["E_MPa"], shaft_nu=shaft["poisson_ratio"],
@@ -154,7 +153,7 @@ class TaperFitSpec:
         """The spec of the joint ``joint`` of ``system`` (``system.joints[joint]``, a ``taper_nut``; ``system`` as
         :meth:`PressFitSpec.from_data`). The data hold no bolt property class, so the proof strength is an argument
         (e.g. 830 MPa for class 10.9, ISO 898-1, as the data's nut-torque notes use)."""
-        j, _, hub = _joint_entry(system, joint, "taper_nut")
+        j, _, hub = _joint_entry(system_of(system, "TaperFitSpec.from_data"), joint, "taper_nut")
         return cls(large_diameter_mm=j["taper_large_diameter_mm"], small_diameter_mm=j["taper_small_diameter_mm"],
                    half_angle_deg=j["taper_half_angle_deg"], friction=j["friction_coefficient"],
                    thread_diameter_mm=j["nut_thread_diameter_mm"], nut_factor_min=j["nut_factor_min"],

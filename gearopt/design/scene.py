@@ -66,7 +66,7 @@ import numpy as np
 import pandas as pd
 
 from ..contact.microgeometry import Microgeometry
-from ..data import data_of, values
+from ..data import System, system_of
 from ..errors import GearoptInputError
 from ..geometry.pair import GearPair
 from ..geometry.train import GearTrain
@@ -96,10 +96,10 @@ class Scene:
         variables, objectives, limits: :class:`DesignVariable`, :class:`Objective`, :class:`Limit` lists.
         microgeometry: fixed modifications per mesh (free ones come from ``variables``).
         driving_gear: 1 or 2, per mesh (mapping) or for all.
-        data: the scene's data set: a :class:`~gearopt.data.System` (``gearopt.load_system(path)``) or the
-            validated dict of a data file; joint, blank and rating-material quantities need it (an error names a
-            missing one), and its ``[lubrication]`` sets the oil temperature and friction coefficient of contact
-            temperatures unless ``ltca_options`` give them.
+        data: the scene's data set: a :class:`~gearopt.data.System` (``gearopt.load_system(path)``; a validated
+            dict converts with ``gearopt.data.system_from_data(d)``) or None; joint, blank and rating-material
+            quantities need it (an error names a missing one), and its ``[lubrication]`` sets the oil temperature
+            and friction coefficient of contact temperatures unless ``ltca_options`` give them.
         ltca_options: flat overrides of the LTCA options (:class:`~gearopt.design.scene_options.LTCAOptions`,
             defaults :data:`DEFAULT_LTCA_OPTIONS`), e.g. ``{"positions": 24, "max_refinements": 0}``; an unknown
             key or a bad value raises naming it; iso6336_options: keyword arguments of
@@ -121,7 +121,7 @@ class Scene:
     limits: Sequence[Limit] = ()
     microgeometry: Mapping[str, Microgeometry] = field(default_factory=dict)
     driving_gear: int | Mapping[str, int] = 1
-    data: Any = None
+    data: System | None = None
     ltca_options: Mapping[str, Any] = field(default_factory=dict)
     iso6336_options: Mapping[str, Any] = field(default_factory=dict)
     objective_aggregate: str = "sum"
@@ -154,16 +154,17 @@ class Scene:
         return BuiltScene(self, positions=positions, initial=initial, parametric=parametric)
 
 
-def _lubrication_options(data) -> dict[str, float]:
-    """The LTCA options the data's ``[lubrication]`` sets: the oil (bulk) temperature and the mean friction
-    coefficient of the contact temperatures (none without data or the section)."""
-    if data is None:
+def _lubrication_options(system: System | None) -> dict[str, float]:
+    """The LTCA options the ``[lubrication]`` of the :class:`~gearopt.data.System` ``system`` sets: the oil (bulk)
+    temperature [degC] and the mean friction coefficient of the contact temperatures (none without a system or the
+    section)."""
+    if system is None:
         return {}
-    lub = values(data_of(data, "Scene")).get("lubrication")
-    if not lub:
+    lub = system_of(system, "Scene(data=...)").lubrication
+    if lub is None:
         return {}
-    return {"bulk_temperature_C": float(lub["oil_temperature_C"]),
-            "friction_coefficient": float(lub["mean_friction_coefficient"])}
+    return {"bulk_temperature_C": float(lub.oil_temperature_C),
+            "friction_coefficient": float(lub.mean_friction_coefficient)}
 
 
 class BuiltScene:

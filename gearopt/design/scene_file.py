@@ -18,7 +18,7 @@ import difflib
 from dataclasses import fields
 from typing import Any, Mapping
 
-from ..data import system_from_data, train_from_data
+from ..data import System, system_from_data, system_of, train_from_data
 from ..errors import GearoptInputError
 from ..validation import check_range
 from .scene import Scene
@@ -56,9 +56,11 @@ def scene_names(data: Mapping[str, Any]) -> list[str]:
     return list((data.get("scenes") or {}).keys())
 
 
-def scene_from_data(data: Mapping[str, Any], name: str, *, train_data: Mapping[str, Any] | None = None) -> Scene:
-    """The :class:`Scene` declared as ``[scenes.<name>]`` in ``data``; its train (and the joints and blanks the
-    scene's targets name) come from ``train_data`` (default: ``data`` itself, which must then hold the train)."""
+def scene_from_data(data: Mapping[str, Any], name: str, *, train_data: System | None = None) -> Scene:
+    """The :class:`Scene` declared as ``[scenes.<name>]`` in ``data`` (the parsed scene file); its train (and the
+    joints and blanks the scene's targets name) come from ``train_data``, the :class:`~gearopt.data.System` of the
+    train's data file (default: ``data`` itself, which must then hold the train: its tables besides ``[scenes]``
+    are validated into a System, :func:`~gearopt.data.system_from_data`). The scene's ``data`` is that System."""
     scenes = data.get("scenes") or {}
     if name not in scenes:
         near = difflib.get_close_matches(name, list(scenes), n=1)
@@ -67,11 +69,17 @@ def scene_from_data(data: Mapping[str, Any], name: str, *, train_data: Mapping[s
     spec = scenes[name]
     where = f"[scenes.{name}]"
     _check_keys(where, spec, _SCENE_KEYS)
-    source = dict(train_data if train_data is not None else data)
     kind = spec.get("train", "spur")
-    if kind not in (source.get("trains") or {}):
+    if train_data is not None:
+        system = system_of(train_data, "scene_from_data(train_data=...)")
+    elif not data.get("trains"):
+        raise GearoptInputError(f"{where} train={kind!r} is not a train of the data (it has no [trains.*]; give "
+                                f"train_data=gearopt.load_system(path))")
+    else:
+        system = system_from_data({k: v for k, v in data.items() if k != "scenes"})
+    if kind not in system.trains:
         raise GearoptInputError(f"{where} train={kind!r} is not a train of the data ([trains.*] holds "
-                                f"{list(source.get('trains') or {})})")
+                                f"{list(system.trains)})")
     load_cases = []
     for i, lc in enumerate(spec.get("load_cases", [])):
         if "dynamics" in lc:
@@ -87,7 +95,7 @@ def scene_from_data(data: Mapping[str, Any], name: str, *, train_data: Mapping[s
                 raise GearoptInputError(f"{where} load_cases[{i}]: give torque_Nm or design_torque_fraction, not both")
             f = lc["design_torque_fraction"]
             check_range(f"{where} load_cases[{i}].design_torque_fraction", f, 0.0, None, low_inclusive=False)
-            design = system_from_data(source).design_torques_Nm()
+            design = system.design_torques_Nm()
             if not design:
                 raise GearoptInputError(f"{where} load_cases[{i}]: design_torque_fraction needs the meshes' "
                                         "design_torque_Nm in the data ([meshes.<name>])")
@@ -101,13 +109,13 @@ def scene_from_data(data: Mapping[str, Any], name: str, *, train_data: Mapping[s
         LTCAOptions.from_mapping(ltca_options)
     except GearoptInputError as exc:
         raise GearoptInputError(f"{where} {exc}") from None
-    return Scene(name=name, train=train_from_data(source, kind), load_cases=load_cases,
+    return Scene(name=name, train=train_from_data(system.data, kind), load_cases=load_cases,
                  variables=[_make(DesignVariable, f"{where} variables[{i}]", v)
                             for i, v in enumerate(spec.get("variables", []))],
                  objectives=[_make(Objective, f"{where} objectives[{i}]", o)
                              for i, o in enumerate(spec.get("objectives", []))],
                  limits=[_make(Limit, f"{where} limits[{i}]", lim) for i, lim in enumerate(spec.get("limits", []))],
-                 driving_gear=spec.get("driving_gear", 1), data=source,
+                 driving_gear=spec.get("driving_gear", 1), data=system,
                  ltca_options=ltca_options,
                  iso6336_options=dict(spec.get("iso6336_options", {})))
 

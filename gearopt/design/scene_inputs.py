@@ -1,12 +1,11 @@
 """The inputs of a built scene: every read of the scene's data set goes through :class:`SceneInputs`.
 
-The data set (``Scene.data``; the packaged default data when it is ``None``) gives the shaft-hub joints
-(``[joints.*]``: their entries and capacities), the gear blanks, the gear materials of the ISO 6336 rating; a
-dynamic load case (:meth:`~gearopt.design.scene_spec.LoadCase.from_dynamics`) becomes a given one by one simulation
-of the default timing model. In a parametric build (``Scene.build(parametric=True)``) the data a quantity uses
-enters the NLP as a :class:`~gearopt.nlp.problem.Problem` parameter (:meth:`SceneInputs.datum`, listed in
-``data_parameters``). Only this class reads the data set, so a typed system record can replace the raw data dict in
-one place.
+The data set (``Scene.data``, a :class:`~gearopt.data.System`; required by the quantities below) gives the
+shaft-hub joints (``[joints.*]``: their entries and capacities), the gear blanks, the gear materials of the ISO 6336
+rating; a dynamic load case (:meth:`~gearopt.design.scene_spec.LoadCase.from_dynamics`) becomes a given one by one
+simulation of the scene's ``dynamics_model``. In a parametric build (``Scene.build(parametric=True)``) the data a
+quantity uses enters the NLP as a :class:`~gearopt.nlp.problem.Problem` parameter (:meth:`SceneInputs.datum`,
+listed in ``data_parameters``). Only this class reads the data set.
 """
 
 from __future__ import annotations
@@ -18,7 +17,7 @@ import numpy as np
 
 from .. import numerics as nm
 from ..blank import blank_from_data
-from ..data import data_of, values
+from ..data import System, system_of
 from ..dynamics import walk_off_history
 from ..errors import GearoptInputError
 from ..geometry.forces import mesh_torque_Nm
@@ -37,11 +36,11 @@ joint's capacity depends on most (friction, interference or preload, fit geometr
 
 
 class SceneInputs:
-    """The data set of a scene (``scene.data``: a :class:`~gearopt.data.System` or a validated data dict; required
-    by joint, blank and rating-material quantities), the dynamic load cases resolved against it, and the data that
-    enter a parametric NLP.
+    """The data set of a scene (``scene.data``: a :class:`~gearopt.data.System`; required by joint, blank and
+    rating-material quantities), the dynamic load cases resolved against it, and the data that enter a parametric
+    NLP.
 
-    Public interface: :meth:`data`, :meth:`values`, :meth:`joint_names`, :meth:`joint_entry`,
+    Public interface: :meth:`system`, :meth:`joint_names`, :meth:`joint_entry`,
     :meth:`joint_overrides`, :meth:`joint_capacity`, :meth:`blank`, :meth:`rating_materials`,
     :meth:`resolve_load_case`, :meth:`datum` and :attr:`data_parameters` (name -> value, unit, symbol).
     """
@@ -55,30 +54,27 @@ class SceneInputs:
 
     # -- the data set ----------------------------------------------------------------------------------------------
 
-    def data(self) -> dict:
-        """The scene's data set (a :class:`~gearopt.data.System` or the validated dict of a data file); a scene
-        without one raises naming what needs it (the packaged data are never read behind the caller's back)."""
+    def system(self) -> System:
+        """The scene's data set (``scene.data``, a :class:`~gearopt.data.System`); a scene without one raises
+        naming what needs it (the packaged data are never read behind the caller's back), a raw dict raises naming
+        the conversion."""
         if self.scene.data is None:
             raise GearoptInputError(f"scene {self.scene.name!r} needs a data set for its joints, blanks or rating "
                                     "materials: give Scene(data=gearopt.load_system(path)) (or the packaged timing "
                                     "train's gearopt.load_system())")
-        return self.cache.get("data:validated", lambda: data_of(self.scene.data, f"scene {self.scene.name!r}"),
+        return self.cache.get("data:validated", lambda: system_of(self.scene.data, f"scene {self.scene.name!r}"),
                               "the scene's data set")
-
-    def values(self) -> dict:
-        """The data set's values (units stripped, :func:`gearopt.data.values`)."""
-        return values(self.data())
 
     def joint_names(self) -> list[str]:
         """The ``[joints.*]`` entries of the data set."""
-        return sorted(self.values().get("joints", {}))
+        return sorted(self.system().joints)
 
     def has_joint(self, joint: str) -> bool:
-        return joint in self.values().get("joints", {})
+        return joint in self.system().joints
 
     def joint_entry(self, joint: str) -> dict:
-        """The ``[joints.<joint>]`` record (values)."""
-        return self.values()["joints"][joint]
+        """The entries of the ``[joints.<joint>]`` record (values, units in the key names)."""
+        return dict(self.system().joints[joint].entries)
 
     def joint_overrides(self, joint: str, overrides: dict[str, Any]) -> dict[str, Any]:
         """``overrides`` (the joint's free variables, by data key) plus, in a parametric build, the joint data of
@@ -93,11 +89,11 @@ class SceneInputs:
     def joint_capacity(self, joint: str, speed_rpm: float, overrides: dict[str, Any]) -> dict:
         """Capacity of ``joint`` at ``speed_rpm`` with the data entries of ``overrides`` replaced
         (:func:`gearopt.joints.joint_capacity`)."""
-        return joint_capacity(self.data(), joint, speed_rpm=speed_rpm, overrides=overrides)
+        return joint_capacity(self.system(), joint, speed_rpm=speed_rpm, overrides=overrides)
 
     def blank(self, gear: str):
         """The :class:`~gearopt.blank.GearBlank` of ``gear`` of the scene's train from the data set."""
-        blank, _ = blank_from_data(self.data(), self.scene.train, gear)
+        blank, _ = blank_from_data(self.system(), self.scene.train, gear)
         return blank
 
     def rating_materials(self, names: Sequence[str], materials) -> tuple:

@@ -16,6 +16,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
+from ..data import System, system_of
 from ..errors import GearoptInputError
 from ..geometry.forces import mesh_torque_Nm
 from ..validation import check_range
@@ -56,11 +57,12 @@ def simulation_statistics(sim, shafts=()) -> pd.DataFrame:
     return pd.DataFrame(rows)
 
 
-def _gear_inertia_kgm2(data: dict, gear: str) -> tuple[float, str]:
-    """Own inertia of a gear lumped into a larger network node: ``gears.<gear>.inertia_kgm2`` if the data give it,
-    else the data's solid-disc estimate ``solid_disc_inertia_kgm2``; raises if neither exists."""
-    from ..data import values
-    spec = values(data).get("gears", {}).get(gear, {})
+def _gear_inertia_kgm2(system: System, gear: str) -> tuple[float, str]:
+    """Own inertia [kg m^2] of a gear lumped into a larger network node and its source: ``gears.<gear>.inertia_kgm2``
+    of the :class:`~gearopt.data.System` if the file gives it, else the file's solid-disc estimate
+    ``solid_disc_inertia_kgm2``; raises if neither exists."""
+    system = system_of(system, "the gear inertia of a walk-off history")
+    spec = system.gears[gear].entries if gear in system.gears else {}
     for key in ("inertia_kgm2", "solid_disc_inertia_kgm2"):
         if key in spec:
             return float(spec[key]), f"gears.{gear}.{key}"
@@ -70,10 +72,11 @@ def _gear_inertia_kgm2(data: dict, gear: str) -> tuple[float, str]:
 
 def _model_gear_inertia_kgm2(model, gear: str) -> tuple[float, str]:
     """Own inertia of ``gear`` [kg m^2] and its source: what the model provides (``model.gear_inertia_kgm2``, e.g.
-    :class:`~gearopt.dynamics.train_model.TrainModel`), else the data's (:func:`_gear_inertia_kgm2`)."""
+    :class:`~gearopt.dynamics.train_model.TrainModel`), else the model's system's (:func:`_gear_inertia_kgm2` of
+    ``model.system``)."""
     if hasattr(model, "gear_inertia_kgm2"):
         return model.gear_inertia_kgm2(gear)
-    return _gear_inertia_kgm2(model.data, gear)
+    return _gear_inertia_kgm2(model.system, gear)
 
 
 def walk_off_history(model, sim, joint: str = "cam", interference: str = "nominal",
@@ -112,11 +115,11 @@ def walk_off_history(model, sim, joint: str = "cam", interference: str = "nomina
     from ..joints import joint_capacity, margin_history, walk_off
     from .simulate import node_accelerations
 
-    data = model.data
-    joints = data.get("joints", {})
+    system = system_of(model.system, "walk_off_history")
+    joints = system.joints
     if joint not in joints:
         raise GearoptInputError(f"joint={joint!r} is not in [joints] ({sorted(joints)})")
-    gear = joints[joint]["gear"]
+    gear = joints[joint].gear
     node = getattr(model, "gear_nodes", {}).get(gear, gear)
     torques = {mesh: mesh_torque_Nm(sim.mesh_force_N[mesh].to_numpy(), sim.mesh_base_radii_mm[mesh][0])
                for mesh in sim.mesh_force_N.columns}
@@ -150,7 +153,7 @@ def walk_off_history(model, sim, joint: str = "cam", interference: str = "nomina
         torque = np.asarray(res.joint_torque_Nm[gear], dtype=float) * np.ones(len(sim.time_s))
         extra.update(joint_torque_method="mesh_sum", gear_inertia_kgm2=j_g, gear_inertia_source=source)
     axial = np.asarray(res.axial_force_N[gear], dtype=float) * np.ones(len(sim.time_s))
-    cap = joint_capacity(data, joint, interference=interference, speed_rpm=sim.speed_rpm)
+    cap = joint_capacity(system, joint, interference=interference, speed_rpm=sim.speed_rpm)
     hist = margin_history(cap.type, torque, axial, cap.torque_capacity_Nm, cap.axial_capacity_N)
     summary = {k: v for k, v in hist.items() if k.startswith(("min_", "max_", "argmin_"))}
     margins = {k: np.atleast_1d(hist[k]) * np.ones(len(sim.time_s)) for k in ("torque_margin", "axial_margin")}

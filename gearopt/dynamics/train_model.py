@@ -77,6 +77,7 @@ import numpy as np
 import pandas as pd
 
 from .. import numerics as nm
+from ..data import System, system_of
 from ..errors import GearoptInputError
 from ..rating.stiffness import THESIS_DAMPING_RATIO, mesh_stiffness_table
 from ..validation import check_range
@@ -105,12 +106,12 @@ class TrainModel:
     the gear's own inertia [kg m^2] and its source, the shaft inertia added to its node, the node inertia, the
     load's mean torque [N m] and slope [N m s/rad]; ``gear_nodes`` gear -> node (every gear its own node);
     ``drive_gear``; ``speed_rpm`` the rated speed of the driving gear [rpm] (default of :meth:`simulate`);
-    ``min_speed_rpm`` the lowest speed the default simulator is built for (lower speeds get their own);
-    ``data`` the system's validated file (``[joints]``/``[materials]`` for the joint capacities); ``notes``.
+    ``min_speed_rpm`` the lowest speed the default simulator is built for (lower speeds get their own; the joint
+    capacities read ``[joints]``/``[materials]`` of ``system``); ``notes``.
     """
 
     kind: str
-    system: object
+    system: System
     network: TorsionalNetwork
     train: object
     mesh_table: pd.DataFrame
@@ -118,7 +119,6 @@ class TrainModel:
     drive_gear: str
     speed_rpm: float
     min_speed_rpm: float
-    data: dict = field(repr=False, default_factory=dict)
     notes: list = field(default_factory=list)
     gear_nodes: dict = field(default_factory=dict)
 
@@ -327,9 +327,9 @@ def add_gear_mesh(net: TorsionalNetwork, name: str, pair, nodes: tuple[str, str]
             "iso6336_validity": iso6336_validity}
 
 
-def train_model(system, kind: str = "spur", *, speed_rpm: float | None = None, min_speed_rpm: float | None = None,
-                damping_ratio: float | None = None, shaft_inertias_kgm2: dict | None = None,
-                load_shares: dict | None = None, backlash: str = "data",
+def train_model(system: System, kind: str = "spur", *, speed_rpm: float | None = None,
+                min_speed_rpm: float | None = None, damping_ratio: float | None = None,
+                shaft_inertias_kgm2: dict | None = None, load_shares: dict | None = None, backlash: str = "data",
                 stiffness_harmonics: int = DEFAULT_HARMONICS, stiffness_variation: float = 1.0,
                 contact_width_um: float = DEFAULT_CONTACT_WIDTH_M * 1e6,
                 damping_width_um: float = DEFAULT_DAMPING_WIDTH_M * 1e6,
@@ -353,6 +353,7 @@ def train_model(system, kind: str = "spur", *, speed_rpm: float | None = None, m
     """
     from ..data.system import DrivingTorque
 
+    system = system_of(system, "train_model")
     if kind not in KINDS:
         raise GearoptInputError(f"kind={kind!r} must be one of {KINDS}")
     if excitation_angle not in ("nominal", "actual"):
@@ -504,7 +505,7 @@ def train_model(system, kind: str = "spur", *, speed_rpm: float | None = None, m
     if leaves:
         notes.append(f"load shares: {share_source}")
     return TrainModel(kind=kind, system=system, network=net, train=train, mesh_table=mesh_df, gear_table=gear_df,
-                      drive_gear=drive, speed_rpm=rated, min_speed_rpm=float(min_speed), data=system.data,
+                      drive_gear=drive, speed_rpm=rated, min_speed_rpm=float(min_speed),
                       notes=notes, gear_nodes={g: g for g in order})
 
 

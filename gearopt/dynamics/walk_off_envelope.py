@@ -97,8 +97,7 @@ def fit_capacity_N(system: System, joint: str, *, interference_um: float | None 
     """Friction capacity mu p pi d l [N] of the joint ``joint`` of ``system`` (``system.joints[joint]``, a press
     fit, with its ``system.materials``) for a given diametral interference [um] (default the fit's mean), friction
     coefficient (default the data's) and smoothing loss [um], at ``speed_rpm`` (centrifugal loss):
-    :func:`gearopt.joints.press_fit`. ``system``: a :class:`~gearopt.data.System` (during the transition its
-    validated dict is accepted too, :func:`gearopt.data.system_of`)."""
+    :func:`gearopt.joints.press_fit`. ``system``: the :class:`~gearopt.data.System` of the data file."""
     from ..joints import press_fit
     system = system_of(system, "fit_capacity_N")
     j = joint_record(system, joint, "fit_capacity_N").entries
@@ -139,13 +138,12 @@ def model_joints(model, joint: str, levels: int = 1, *, thrust_scale: float = 1.
                  key_clearance_um: float | None = None, root_rotation: str = "cw",
                  label: str | None = None) -> list[FrictionJoint]:
     """``levels`` copies ``<label>#<i>`` (label default ``joint``) of the friction element of ``[joints.<joint>]``
-    on ``model`` (a
-    :class:`~gearopt.cases.timing_train.TimingModel`), to be given different capacities per run (the copies
-    do not interact). Gear inertia: the whole node for a gear that is its own node (cam), else the data's gear
-    inertia (crank: ``gears.crank.inertia_kgm2`` or its solid-disc estimate), as
-    :func:`~gearopt.dynamics.sweep.walk_off_history`."""
+    on ``model`` (a :class:`~gearopt.cases.timing_train.TimingModel`; its joints from ``model.system``), to be
+    given different capacities per run (the copies do not interact). Gear inertia: the whole node for a gear that
+    is its own node (cam), else the data's gear inertia (crank: ``gears.crank.inertia_kgm2`` or its solid-disc
+    estimate), as :func:`~gearopt.dynamics.sweep.walk_off_history`."""
     from .sweep import _model_gear_inertia_kgm2
-    system = system_of(model.data, "model_joints")
+    system = system_of(model.system, "model_joints")
     spec = joint_record(system, joint, "model_joints").entries
     check_range("levels", levels, 1, None)
     gear = spec["gear"]
@@ -207,7 +205,7 @@ def envelope_speeds_rpm(system: System) -> dict:
 def capacity_levels_N(system: System, joint: str, speed_rpm: float, levels: int) -> np.ndarray:
     """``levels`` capacities [N] spread geometrically from the weakest to the strongest fit case at the speed
     (the grid over which the Monte Carlo interpolates the creep). ``system``: as :func:`fit_capacity_N`."""
-    cases = fit_cases(system, joint, speed_rpm)
+    cases = fit_cases(system_of(system, "capacity_levels_N"), joint, speed_rpm)
     lo, hi = max(cases["weakest"], 1.0), max(cases["strongest"], 2.0)
     return np.geomspace(lo, hi, levels) if levels > 1 else np.array([cases["nominal"]])
 
@@ -244,8 +242,7 @@ def joint_envelope(model, joints=("cam", "crank"), speeds_rpm=None, damper_state
     ``max_off_nose_thrust_N``, ``run_time_s``.
     """
     from ..compile_cache import auto_jit
-    data = model.data
-    system = system_of(data, "joint_envelope")
+    system = system_of(model.system, "joint_envelope")
     speeds = [v for v, _ in envelope_speeds_rpm(system).values()] if speeds_rpm is None else \
         [float(s) for s in np.atleast_1d(speeds_rpm)]
     states = list(DAMPER_STATES) if damper_states is None else list(damper_states)
@@ -267,7 +264,7 @@ def joint_envelope(model, joints=("cam", "crank"), speeds_rpm=None, damper_state
     _REGISTRY[key] = (model, sim)  # forked workers inherit it; spawned ones rebuild from the spec
     points = [(s, st) for s in speeds for st in states]
     try:
-        rows = list(executor_map(_envelope_point, [(key, spec, data, pt) for pt in points]))
+        rows = list(executor_map(_envelope_point, [(key, spec, system, pt) for pt in points]))
     finally:
         _REGISTRY.pop(key, None)  # the simulator lives as long as its envelope (no growth over repeated calls)
     return pd.DataFrame([row for r in rows for row in r])
@@ -279,13 +276,14 @@ _REGISTRY: dict = {}
 
 
 def _envelope_point(task) -> list[dict]:
-    """Rows of one (speed, damper state) point of :func:`joint_envelope`: ``task = (key, spec, data, point)``."""
-    key, spec, data, (speed, state) = task
+    """Rows of one (speed, damper state) point of :func:`joint_envelope`: ``task = (key, spec, system, point)``
+    (``system`` the model's :class:`~gearopt.data.System`)."""
+    key, spec, system, (speed, state) = task
     if key not in _REGISTRY:  # a spawned worker: rebuild the model and simulator from the spec
         import importlib
         where, kwargs = spec["factory"]
         module, function = where.split(":")
-        model = getattr(importlib.import_module(module), function)(data=data, **kwargs)
+        model = getattr(importlib.import_module(module), function)(system=system, **kwargs)
         elements = []
         for label, (joint, scale) in spec["labels"].items():
             elements += model_joints(model, joint, spec["levels"] + len(BELOW_TOLERANCE_FRACTIONS),
@@ -293,7 +291,7 @@ def _envelope_point(task) -> list[dict]:
         _REGISTRY[key] = (model, joint_simulator(model.network, elements, lash=spec["lash"], rtol=spec["rtol"],
                                                  jit=spec["jit"], min_speed_rpm=spec["min_speed_rpm"]))
     model, sim = _REGISTRY[key]
-    system = system_of(data, "joint_envelope")
+    system = system_of(system, "joint_envelope")
     levels = spec["levels"]
     p = model.parameters_at(speed)
     p.update(spec["parameters"])

@@ -8,7 +8,7 @@ Angles are the accessory shaft's own rotation [rad] in its direction of rotation
 
 Every map is an :class:`AccessoryTorque`: a truncated Fourier series over one shaft revolution (C-infinity,
 dual-typed: floats, numpy, CasADi SX/MX; see :mod:`gearopt.engine.fourier`) with its fit error against the
-underlying model recorded. For repeated evaluation build the map once (``AccessoryTorque.camshaft(data)``) and call
+underlying model recorded. For repeated evaluation build the map once (``AccessoryTorque.camshaft(system)``) and call
 it; the module-level functions rebuild it from the data on every call.
 
 Phase conventions [E]: cam angle 0 when the crank is at cylinder 1's firing TDC (cam = crank / 2); fuel-pump angle 0
@@ -89,7 +89,7 @@ class AccessoryTorque:
 
     # ------------------------------------------------------------------------------------------------------------
     @classmethod
-    def camshaft(cls, data: System | dict, harmonics: int = 48) -> AccessoryTorque:
+    def camshaft(cls, system: System, harmonics: int = 48) -> AccessoryTorque:
         """Valve-train load torque on the camshaft over the cam angle [rad] (6 cylinders, 12 lobes).
 
         Model [E]: each lobe lifts its tappet ``h = H ((1 + cos(pi psi / beta)) / 2)^2`` (C2 profile) over
@@ -103,7 +103,7 @@ class AccessoryTorque:
         ``valve_train_torque_mean_Nm + valve_train_torque_amplitude_Nm`` and the mean set to
         ``valve_train_torque_mean_Nm`` (friction).
         """
-        e = _engine(data, "AccessoryTorque.camshaft")
+        e = _engine(system, "AccessoryTorque.camshaft")
         cam = e["camshaft"]
         order = list(e["firing_order"])
         interval = float(e["firing_interval_deg"])
@@ -136,7 +136,7 @@ class AccessoryTorque:
                               max_Nm=mean + float(cam["valve_train_torque_amplitude_Nm"]))
 
     @classmethod
-    def fuel_pump(cls, data: System | dict, harmonics: int = 48) -> AccessoryTorque:
+    def fuel_pump(cls, system: System, harmonics: int = 48) -> AccessoryTorque:
         """Common-rail pump load torque over the pump angle [rad] (``engine.fuel_pump``: plungers, mean, peak).
 
         Model [E]: each of the n plungers delivers once per revolution, its torque pulse a periodic von Mises bump
@@ -147,7 +147,7 @@ class AccessoryTorque:
         from scipy.optimize import brentq
         from scipy.special import i0e
 
-        fp = _engine(data, "AccessoryTorque.fuel_pump")["fuel_pump"]
+        fp = _engine(system, "AccessoryTorque.fuel_pump")["fuel_pump"]
         n = int(fp["plungers"])
         mean, peak = float(fp["torque_mean_Nm"]), float(fp["torque_peak_Nm"])
         check_values("fuel_pump.plungers", n, 1)
@@ -170,7 +170,7 @@ class AccessoryTorque:
                               "mean and peak")
 
     @classmethod
-    def air_compressor(cls, data: System | dict, loaded: bool = True, harmonics: int = 48) -> AccessoryTorque:
+    def air_compressor(cls, system: System, loaded: bool = True, harmonics: int = 48) -> AccessoryTorque:
         """Single-cylinder air-compressor load torque over its crank angle [rad] (0 = piston TDC).
 
         Loaded [E]: ideal pV cycle (``engine.air_compressor`` bore, stroke, discharge pressure; suction 1 bar abs,
@@ -183,7 +183,7 @@ class AccessoryTorque:
         Unloaded [E]: the compressor's reciprocating-inertia shape ``-(s'/r)(s''/r)`` (zero mean) scaled to
         +-``torque_amplitude_unloaded_Nm``.
         """
-        ac = _engine(data, "AccessoryTorque.air_compressor")["air_compressor"]
+        ac = _engine(system, "AccessoryTorque.air_compressor")["air_compressor"]
         r = 0.5 * float(ac["stroke_mm"])
         rod = COMPRESSOR_ROD_TO_CRANK_RATIO * r
         if not loaded:
@@ -197,22 +197,22 @@ class AccessoryTorque:
                 return -amp * kk["ds_dtheta_mm"] * kk["d2s_dtheta2_mm"] / norm
             return cls.from_model("air_compressor_unloaded", unloaded, harmonics,
                                   "[E] reciprocating-inertia shape scaled to engine.air_compressor unloaded amplitude")
-        ideal = ideal_compressor_cycle(data)["torque_Nm"]
+        ideal = ideal_compressor_cycle(system)["torque_Nm"]
         return cls.from_model("air_compressor", ideal, harmonics,
                               "[E] ideal pV cycle, scaled to engine.air_compressor loaded mean and peak",
                               mean_Nm=float(ac["torque_mean_loaded_Nm"]), max_Nm=float(ac["torque_peak_Nm"]))
 
     @classmethod
-    def lube_pump(cls, data: System | dict) -> AccessoryTorque:
+    def lube_pump(cls, system: System) -> AccessoryTorque:
         """Gerotor lube-pump load torque over the pump angle [rad]: ``engine.lube_pump.torque_mean_Nm`` with a
         +-5 % ripple at the 7-tooth inner-rotor order [E] ("low ripple", docs/default-data.md sec. 2.6)."""
-        mean = float(_engine(data, "AccessoryTorque.lube_pump")["lube_pump"]["torque_mean_Nm"])
+        mean = float(_engine(system, "AccessoryTorque.lube_pump")["lube_pump"]["torque_mean_Nm"])
         z = LUBE_PUMP_ROTOR_TEETH
         return cls.from_model("lube_pump", lambda x: mean * (1.0 + LUBE_PUMP_RIPPLE_FRACTION * np.sin(z * x)), z,
                               "[E] mean from engine.lube_pump, 5 % ripple at the rotor-tooth order")
 
 
-def ideal_compressor_cycle(data: System | dict) -> dict:
+def ideal_compressor_cycle(system: System) -> dict:
     """Ideal pV cycle of the single-cylinder air compressor (numeric; the shape behind
     :meth:`AccessoryTorque.air_compressor`).
 
@@ -223,7 +223,7 @@ def ideal_compressor_cycle(data: System | dict) -> dict:
     [rad], 0 = TDC), ``swept_volume_mm3``, ``clearance_volume_mm3``, ``suction_pressure_bar``,
     ``discharge_pressure_bar``, ``polytropic_exponent``, ``crank_radius_mm``, ``rod_length_mm``, ``area_mm2``.
     """
-    ac = _engine(data, "ideal_compressor_cycle")["air_compressor"]
+    ac = _engine(system, "ideal_compressor_cycle")["air_compressor"]
     bore, stroke = float(ac["bore_mm"]), float(ac["stroke_mm"])
     r = 0.5 * stroke
     rod = COMPRESSOR_ROD_TO_CRANK_RATIO * r
@@ -247,38 +247,38 @@ def ideal_compressor_cycle(data: System | dict) -> dict:
             "area_mm2": area}
 
 
-def _engine(data, needed_by: str):
-    """The ``[engine]`` table of ``data`` (a System or a data dict): no data, or data without ``[engine]``, raise
-    naming the argument or the file and section (never the packaged data)."""
-    return require_section(data, "engine", needed_by)
+def _engine(system: System, needed_by: str):
+    """The ``[engine]`` table of the :class:`~gearopt.data.System` ``system``: no System (None, a raw dict), or a
+    file without ``[engine]``, raise naming the argument or the file and section (never the packaged data)."""
+    return require_section(system, "engine", needed_by)
 
 
 # --------------------------------------------------------------------------------------------------------------------
 # convenience functions (rebuild the map from the data on every call)
 # --------------------------------------------------------------------------------------------------------------------
 
-def camshaft_torque_Nm(cam_angle_rad, data: System | dict):
+def camshaft_torque_Nm(cam_angle_rad, system: System):
     """Valve-train load torque [N m] at the cam angle [rad] (see :meth:`AccessoryTorque.camshaft`). Dual-typed."""
-    _engine(data, "camshaft_torque_Nm")
-    return AccessoryTorque.camshaft(data)(cam_angle_rad)
+    _engine(system, "camshaft_torque_Nm")
+    return AccessoryTorque.camshaft(system)(cam_angle_rad)
 
 
-def fuel_pump_torque_Nm(pump_angle_rad, data: System | dict):
+def fuel_pump_torque_Nm(pump_angle_rad, system: System):
     """Common-rail pump load torque [N m] at the pump angle [rad] (:meth:`AccessoryTorque.fuel_pump`)."""
-    _engine(data, "fuel_pump_torque_Nm")
-    return AccessoryTorque.fuel_pump(data)(pump_angle_rad)
+    _engine(system, "fuel_pump_torque_Nm")
+    return AccessoryTorque.fuel_pump(system)(pump_angle_rad)
 
 
-def air_compressor_torque_Nm(angle_rad, data: System | dict, loaded: bool = True):
+def air_compressor_torque_Nm(angle_rad, system: System, loaded: bool = True):
     """Air-compressor load torque [N m] at its crank angle [rad] (:meth:`AccessoryTorque.air_compressor`)."""
-    _engine(data, "air_compressor_torque_Nm")
-    return AccessoryTorque.air_compressor(data, loaded=loaded)(angle_rad)
+    _engine(system, "air_compressor_torque_Nm")
+    return AccessoryTorque.air_compressor(system, loaded=loaded)(angle_rad)
 
 
-def lube_pump_torque_Nm(angle_rad, data: System | dict):
+def lube_pump_torque_Nm(angle_rad, system: System):
     """Lube-pump load torque [N m] at the pump angle [rad] (:meth:`AccessoryTorque.lube_pump`)."""
-    _engine(data, "lube_pump_torque_Nm")
-    return AccessoryTorque.lube_pump(data)(angle_rad)
+    _engine(system, "lube_pump_torque_Nm")
+    return AccessoryTorque.lube_pump(system)(angle_rad)
 
 
 __all__ = [

@@ -23,7 +23,7 @@ import math
 from dataclasses import dataclass, field
 
 from .. import numerics as nm
-from ..data import System, data_of, require_section
+from ..data import System, require_section
 from ..errors import GearoptInputError
 from .fourier import harmonic_basis
 from .kinematics import (
@@ -132,31 +132,30 @@ class EngineExcitation:
 
     # ------------------------------------------------------------------------------------------------------------
     @classmethod
-    def from_data(cls, data: System | dict, speed_rpm: float | None = None, load: float = 1.0,
+    def from_data(cls, system: System, speed_rpm: float | None = None, load: float = 1.0,
                   pressure: str = "table", harmonics: int = DEFAULT_HARMONICS, scale_to_map: bool = True,
                   crankcase_pressure_bar: float = 1.0) -> EngineExcitation:
-        """The engine of ``data`` (its ``[engine]`` table; ``data`` a :class:`~gearopt.data.System` or its validated
-        dict, required: a file without ``[engine]`` raises :class:`~gearopt.errors.MissingSectionError`) at
+        """The engine of ``system`` (its ``[engine]`` table; ``system`` the :class:`~gearopt.data.System` of the
+        data file, required: a file without ``[engine]`` raises :class:`~gearopt.errors.MissingSectionError`) at
         ``speed_rpm`` (default the engine's rated speed) and ``load`` (0..1).
 
         ``pressure="table"``: the Mendes 2008 measured trace; ``"wiebe"``: the double-Wiebe model of
         ``engine.combustion``. With ``scale_to_map`` the trace is scaled to :func:`peak_pressure_bar` of the
         speed and load; otherwise the raw trace (152 bar measured, 180 bar Wiebe) is used at every speed.
         """
-        e = require_section(data, "engine", "EngineExcitation.from_data")
-        data = data_of(data, "EngineExcitation.from_data")
+        e = require_section(system, "engine", "EngineExcitation.from_data")
         speed = e["rated_speed_rpm"] if speed_rpm is None else speed_rpm
         check_values("speed_rpm", speed, 0.0, low_inclusive=False, unit="rpm")
         check_values("load", load, 0.0, 1.0)
         speed = float(speed)
         if pressure == "table":
-            p = CylinderPressure.from_data(data, harmonics=harmonics)
+            p = CylinderPressure.from_data(system, harmonics=harmonics)
         elif pressure == "wiebe":
-            p = CylinderPressure.from_double_wiebe(harmonics=harmonics, data=data)
+            p = CylinderPressure.from_double_wiebe(harmonics=harmonics, system=system)
         else:
             raise GearoptInputError(f"pressure={pressure!r} must be 'table' or 'wiebe'")
         if scale_to_map:
-            p = p.scaled_to_peak(float(peak_pressure_bar(speed, load, data)))
+            p = p.scaled_to_peak(float(peak_pressure_bar(speed, load, system)))
         return cls(bore_mm=float(e["bore_mm"]), stroke_mm=float(e["stroke_mm"]),
                    rod_length_mm=float(e["connecting_rod_length_mm"]),
                    reciprocating_mass_kg=float(e["reciprocating_mass_kg"]), pressure=p,

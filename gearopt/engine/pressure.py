@@ -120,22 +120,23 @@ class CylinderPressure:
         return out if peak_bar is None else out.scaled_to_peak(peak_bar)
 
     @classmethod
-    def from_data(cls, data: System | dict, peak_bar: float | None = None,
+    def from_data(cls, system: System, peak_bar: float | None = None,
                   harmonics: int = DEFAULT_HARMONICS) -> CylinderPressure:
-        """The measured trace of the data's engine (``engine.pressure_trace_*``; the packaged file's is Mendes et al.
-        2008 via openTorsion). ``data``: a :class:`~gearopt.data.System` or its validated dict (required; a file
+        """The measured trace of the system's engine (``engine.pressure_trace_*``; the packaged file's is Mendes et
+        al. 2008 via openTorsion). ``system``: the :class:`~gearopt.data.System` of the data file (required; a file
         without ``[engine]`` raises :class:`~gearopt.errors.MissingSectionError`)."""
-        e = _engine(data, "CylinderPressure.from_data")
+        e = _engine(system, "CylinderPressure.from_data")
         return cls.from_table(e["pressure_trace_crank_deg"], 10.0 * np.asarray(e["pressure_trace_MPa"], dtype=float),
                               peak_bar=peak_bar, harmonics=harmonics,
                               source="Mendes, Meirelles, Zampieri 2008 measured trace (engine.pressure_trace_MPa)")
 
     @classmethod
     def from_double_wiebe(cls, peak_bar: float | None = None, harmonics: int = DEFAULT_HARMONICS,
-                          data: System | dict | None = None, **combustion) -> CylinderPressure:
+                          system: System | None = None, **combustion) -> CylinderPressure:
         """Fit the single-zone double-Wiebe cycle of :func:`double_wiebe_cycle` (``**engine.combustion`` keys;
-        those not given come from ``data``'s engine, see :func:`double_wiebe_cycle`)."""
-        cyc = double_wiebe_cycle(data=data, **combustion)
+        those not given come from the engine of ``system``, a :class:`~gearopt.data.System`, see
+        :func:`double_wiebe_cycle`)."""
+        cyc = double_wiebe_cycle(system=system, **combustion)
         series = FourierSeries.fit_samples(cyc["pressure_bar"], CYCLE_DEG, harmonics)
         err = np.asarray(series(cyc["crank_deg"])) - cyc["pressure_bar"]
         out = cls._finish(series, "single-zone double-Wiebe model (engine.combustion)",
@@ -161,10 +162,10 @@ def _periodic_pchip(x, y, period):
     return lambda t: f(x0 + np.mod(np.asarray(t, dtype=float) - x0, period))
 
 
-def _engine(data, needed_by: str):
-    """The ``[engine]`` table of ``data`` (a System or a data dict): no data, or data without ``[engine]``, raise
-    naming the argument or the file and section (never the packaged data)."""
-    return require_section(data, "engine", needed_by)
+def _engine(system: System, needed_by: str):
+    """The ``[engine]`` table of the :class:`~gearopt.data.System` ``system``: no System (None, a raw dict), or a
+    file without ``[engine]``, raise naming the argument or the file and section (never the packaged data)."""
+    return require_section(system, "engine", needed_by)
 
 
 # ----------------------------------------------------------------------------------------------------------------
@@ -183,7 +184,7 @@ def double_wiebe_cycle(start_of_combustion_deg_atdc: float | None = None, premix
                        rod_length_mm: float | None = None, compression_ratio: float | None = None,
                        intake_valve_closing_deg_atdc: float = -180.0, exhaust_valve_opening_deg_atdc: float = 180.0,
                        blowdown_duration_deg: float = 60.0, exhaust_pressure_bar: float | None = None,
-                       samples: int = _DENSE_SAMPLES, data: System | dict | None = None, **extra) -> dict:
+                       samples: int = _DENSE_SAMPLES, system: System | None = None, **extra) -> dict:
     """Single-zone closed-cycle pressure with double-Wiebe heat release, closed by a simple gas exchange.
 
     Model (docs/default-data.md sec. 2.5; Heywood, *Internal Combustion Engine Fundamentals*, ch. 9 single-zone
@@ -195,8 +196,9 @@ def double_wiebe_cycle(start_of_combustion_deg_atdc: float | None = None, premix
     to ``exhaust_pressure_bar`` along a C1 cosine ramp over ``blowdown_duration_deg``; exhaust stroke at the
     exhaust pressure, intake stroke at ``pressure_at_ivc_bar`` (boost), joined by a cosine ramp of 40 deg around
     the gas-exchange TDC if the two differ. Default IVC and EVO at BDC (the closed cycle of the data's expected
-    values). Arguments not given come from ``engine.combustion`` and ``engine`` of ``data`` (a System or a data
-    dict); with ``data=None`` every model argument must be given (a missing one raises naming it).
+    values). Arguments not given come from ``engine.combustion`` and ``engine`` of ``system`` (a
+    :class:`~gearopt.data.System`); with ``system=None`` every model argument must be given (a missing one raises
+    naming it).
 
     Returns dict: ``crank_deg`` (uniform cycle grid, firing TDC at 360 deg), ``pressure_bar`` (abs),
     ``closed_cycle_imep_bar`` (integral of p dV from IVC to EVO over V_d), ``imep_bar`` (whole cycle),
@@ -206,13 +208,13 @@ def double_wiebe_cycle(start_of_combustion_deg_atdc: float | None = None, premix
     unknown = {k for k in extra if not k.endswith("_source") and k not in _IGNORED_COMBUSTION_KEYS}
     if unknown:
         raise GearoptInputError(f"double_wiebe_cycle: unknown parameters {sorted(unknown)}")
-    e = {} if data is None else _engine(data, "double_wiebe_cycle")
+    e = {} if system is None else _engine(system, "double_wiebe_cycle")
     c = e.get("combustion", {})
     def pick(v, key, table=c):
         if v is not None:
             return float(v)
         if key not in table:
-            where = "no data given" if data is None else "not in the data"
+            where = "no data given" if system is None else "not in the data"
             raise GearoptInputError(f"double_wiebe_cycle: {key} not given and {where}")
         return float(table[key])
     soc = pick(start_of_combustion_deg_atdc, "start_of_combustion_deg_atdc")
@@ -343,10 +345,10 @@ def imep_bar(pressure: CylinderPressure, bore_mm: float, stroke_mm: float, rod_l
 _MENDES_DERATE_START_RPM = 2200.0
 
 
-def peak_pressure_bar(speed_rpm, load, data: System | dict):
-    """Peak cylinder pressure [bar abs] of the data's engine over speed [rpm] and load (0 = motored, 1 = full).
-    ``data``: a :class:`~gearopt.data.System` or its validated dict (required: the map is the data's ``[engine]``);
-    the numbers below are the packaged file's.
+def peak_pressure_bar(speed_rpm, load, system: System):
+    """Peak cylinder pressure [bar abs] of the system's engine over speed [rpm] and load (0 = motored, 1 = full).
+    ``system``: the :class:`~gearopt.data.System` of the data file (required: the map is its ``[engine]``); the
+    numbers below are the packaged file's.
 
     Full load: ``engine.peak_cylinder_pressure_bar`` (170 bar [E]) up to ``engine.peak_pressure_derate_above_rpm``
     (2200 rpm); above it the governor's fuel derate follows the Mendes et al. (2008) measured full-load peak pressure
@@ -361,7 +363,7 @@ def peak_pressure_bar(speed_rpm, load, data: System | dict):
     """
     check_values("speed_rpm", speed_rpm, 0.0, low_inclusive=False, unit="rpm")
     check_values("load", load, 0.0, 1.0)
-    e = _engine(data, "peak_pressure_bar")
+    e = _engine(system, "peak_pressure_bar")
     p_full = float(e["peak_cylinder_pressure_bar"])
     n0 = float(e["peak_pressure_derate_above_rpm"])
     n_hi = float(e["high_idle_speed_rpm"])

@@ -72,8 +72,8 @@ def joint_capacity(system: System, joint: str, *, interference: str = "nominal",
     """Capacity of the joint ``joint`` of ``system`` (``system.joints[joint]`` with its hub and shaft
     ``system.materials``) as a :class:`JointCapacity` record.
 
-    ``system``: the :class:`~gearopt.data.System` of the data file (``gearopt.load_system(path)``; during the
-    transition its validated dict is accepted too, :func:`gearopt.data.system_of`). A joint or material the file
+    ``system``: the :class:`~gearopt.data.System` of the data file (``gearopt.load_system(path)``; a raw dict raises
+    :class:`~gearopt.errors.GearoptInputError` naming the conversion). A joint or material the file
     lacks raises :class:`~gearopt.errors.DataFileError` naming the file and the key path (``joints.<name>``,
     ``materials.<name>``).
 

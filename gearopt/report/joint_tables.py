@@ -18,17 +18,17 @@ import pandas as pd
 from ..blank.blank import rim_thickness_factor
 from ..blank.catalogue import blank_from_data
 from ..blank.web import web_fatigue, web_stress
-from ..data import System, material_record, require_section, system_of, train_from_data
+from ..data import System, material_record, system_of, train_from_data
 from ..errors import GearoptInputError
 from ..geometry.train import GearTrain
 from ..joints.catalogue import joint_capacity
 from ..joints.walk_off import joint_margins, walk_off
 
 
-def design_load_torques_Nm(data: System | Mapping[str, Any]) -> dict[str, float]:
-    """Per-mesh design torques of the data (``[meshes.<name>] design_torque_Nm``, torque on the driving gear): the
-    static design case. ``data``: a :class:`~gearopt.data.System` (or its validated dict)."""
-    torques = system_of(data, "design_load_torques_Nm").design_torques_Nm()
+def design_load_torques_Nm(system: System) -> dict[str, float]:
+    """Per-mesh design torques [N m] of ``system`` (a :class:`~gearopt.data.System`; ``[meshes.<name>]
+    design_torque_Nm``, torque on the driving gear): the static design case."""
+    torques = system_of(system, "design_load_torques_Nm").design_torques_Nm()
     if not torques:
         raise GearoptInputError("the data state no design torque ([meshes.<name>] design_torque_Nm)")
     return torques
@@ -51,16 +51,16 @@ def _min(x) -> float:
     return float(np.min(np.atleast_1d(np.asarray(x, dtype=float))))
 
 
-def joint_table(data: System | dict, train: str | GearTrain = "spur",
+def joint_table(system: System, train: str | GearTrain = "spur",
                 torques_Nm: Mapping[str, Any] | str | tuple[Mapping[str, Any], str] | None = None, *,
                 root_rotation: str = "cw",
                 inertia_torques_Nm: Mapping[str, Any] | None = None, interference: str = "nominal",
                 nut_factor: str = "nominal", smoothing: bool = False, speed_rpm: float = 0.0) -> pd.DataFrame:
     """One row per joint of the data (``system.joints``): capacity, demand and margins.
 
-    ``data``: a :class:`~gearopt.data.System` or its validated dict (required; its ``[joints]``, else
+    ``system``: the :class:`~gearopt.data.System` of the data file (required; its ``[joints]``, else
     :class:`~gearopt.errors.MissingSectionError`).
-    ``train``: ``"spur"``/``"helical"`` (built from ``data``) or a :class:`GearTrain`. ``torques_Nm`` (the load
+    ``train``: ``"spur"``/``"helical"`` (built from ``system``) or a :class:`GearTrain`. ``torques_Nm`` (the load
     case, required): {mesh: torque on the mesh's first gear [N m], + when it drives}, floats or arrays of one
     torque history (meshes left out carry none); ``"design"`` the data's design torques
     (:func:`design_load_torques_Nm`); or a ``(torques, description)`` pair, e.g. a case's load case such as the
@@ -76,8 +76,8 @@ def joint_table(data: System | dict, train: str | GearTrain = "spur",
     history of the slip margin under torque and axial load together), ``hub_von_mises_MPa``, ``hub_yield_safety``,
     ``note``. ``df.attrs`` holds the load case and conventions.
     """
-    require_section(data, "joints", "joint_table")
-    system = system_of(data, "joint_table")
+    system = system_of(system, "joint_table")
+    system.require("joints", "joint_table")
     tr = _train(system, train)
     torques_Nm, case = _load_case(tr, torques_Nm, system)
     result = walk_off(tr, torques_Nm, root_rotation=root_rotation, inertia_torques_Nm=inertia_torques_Nm)
@@ -119,12 +119,12 @@ def joint_table(data: System | dict, train: str | GearTrain = "spur",
     return df
 
 
-def blank_table(data: System | dict, train: str | GearTrain = "spur") -> pd.DataFrame:
+def blank_table(system: System, train: str | GearTrain = "spur") -> pd.DataFrame:
     """One row per gear: blank kind, ``mass_kg``, ``inertia_kgm2``, ``solid_inertia_kgm2`` (same teeth and bore,
     no web), ``inertia_reduction_percent``, ``data_inertia_kgm2`` (the data file's value, for comparison),
-    ``backup_ratio``, ``rim_thickness_factor`` (AGMA K_B) and ``assumed`` inputs. ``data``: a
-    :class:`~gearopt.data.System` or its validated dict (required)."""
-    system = system_of(data, "blank_table")
+    ``backup_ratio``, ``rim_thickness_factor`` (AGMA K_B) and ``assumed`` inputs. ``system``: the
+    :class:`~gearopt.data.System` of the data file (required)."""
+    system = system_of(system, "blank_table")
     tr = _train(system, train)
     rows = []
     for gear in tr.gears:
@@ -162,7 +162,7 @@ def _load_case(tr: GearTrain, torques_Nm, system: System):
     return torques_Nm, "given per-mesh torques"
 
 
-def web_table(data: System | dict, train: str | GearTrain = "spur",
+def web_table(system: System, train: str | GearTrain = "spur",
               torques_Nm: Mapping[str, Any] | str | tuple[Mapping[str, Any], str] | None = None, *,
               root_rotation: str = "cw",
               inertia_torques_Nm: Mapping[str, Any] | None = None, stress_concentration: float = 1.0) -> pd.DataFrame:
@@ -175,12 +175,12 @@ def web_table(data: System | dict, train: str | GearTrain = "spur",
     positive value, the reverse stress the largest negative magnitude. A single load case is also applied reversed
     (thesis: every tooth force forward, then reverse), so its forward-reverse case is fully reversed. Material: the
     gear's ``[materials.*]`` endurance, ultimate and yield strengths. ``stress_concentration`` K_t at the pockets.
-    ``data``: a :class:`~gearopt.data.System` or its validated dict (required). ``torques_Nm``: the load case, as
+    ``system``: the :class:`~gearopt.data.System` of the data file (required). ``torques_Nm``: the load case, as
     :func:`joint_table` takes it (required).
     Columns: loads, ``forward_stress_MPa``, ``reverse_stress_MPa`` and per case ``<case>_efr_MPa``,
     ``<case>_fatigue_margin`` (S_e/EFR), and ``yield_margin``.
     """
-    system = system_of(data, "web_table")
+    system = system_of(system, "web_table")
     tr = _train(system, train)
     torques, case = _load_case(tr, torques_Nm, system)
     result = walk_off(tr, torques, root_rotation=root_rotation, inertia_torques_Nm=inertia_torques_Nm)

@@ -72,8 +72,7 @@ def sample_inputs(system: System, joint: str, samples: int, seed: int = 0, *, sp
     """The Monte Carlo inputs (module docstring) as a DataFrame: ``interference_um``, ``friction_coefficient``,
     ``smoothing_loss_um``, ``damper_state`` and ``hours_<band>`` per sample. ``interference_shift_um`` moves the
     whole fit (a stronger fit class). ``system``: the :class:`~gearopt.data.System` of the data file (its
-    ``system.joints[joint]`` fit range and roughness, ``[engine]`` speeds; during the transition its validated dict is
-    accepted too, :func:`gearopt.data.system_of`)."""
+    ``system.joints[joint]`` fit range and roughness, ``[engine]`` speeds)."""
     from ..dynamics.walk_off_envelope import JOINT_FRICTION_DATA, envelope_speeds_rpm
     check_range("samples", samples, 1, None)
     system = system_of(system, "sample_inputs")

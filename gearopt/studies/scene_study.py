@@ -16,6 +16,7 @@ from typing import Any, Sequence
 
 import numpy as np
 
+from ..data import System, system_of
 from ..design.scene import DesignVariable, Limit, LoadCase, Objective, Scene, SceneResult
 from ..nlp import InitialGuessWarning
 from .monte_carlo import MonteCarloResult, monte_carlo
@@ -145,19 +146,19 @@ def scene_study(scene: Scene, quantity: str, target: str, *, points: int = 9, sa
     return SceneStudy(front, optimum, report, mc, error)
 
 
-def relief_scene_from_data(data: dict, train, mesh: str, *, positions: int | None = None,
+def relief_scene_from_data(system: System, train, mesh: str, *, positions: int | None = None,
                            ltca_options: dict | None = None) -> Scene:
-    """The data's tip-relief scene of ``mesh``: the four relief variables, the largest PPTE over the design torque
-    range (``[meshes.<mesh>] design_torque_Nm`` x ``[design_loads] torque_range_fractions``) minimised, the loaded contact ratio
-    >= the requirement's ``min_loaded_contact_ratio`` and the largest contact stress not above the unmodified pair's
-    own maximum over the range (exact LTCA). ``positions``: NLP positions of the smooth LTCA (default 40);
-    ``ltca_options``: further scene LTCA options (e.g. ``max_refinements``, :data:`gearopt.design.scene.DEFAULT_LTCA_OPTIONS`)."""
+    """The tip-relief scene of ``mesh`` of ``system`` (a :class:`~gearopt.data.System`; ``train`` a
+    :class:`~gearopt.geometry.GearTrain` holding the mesh): the four relief variables, the largest PPTE over the
+    design torque range (``[meshes.<mesh>] design_torque_Nm`` x ``[design_loads] torque_range_fractions``)
+    minimised, the loaded contact ratio >= the requirement's ``min_loaded_contact_ratio`` and the largest contact
+    stress not above the unmodified pair's own maximum over the range (exact LTCA). ``positions``: NLP positions of
+    the smooth LTCA (default 40); ``ltca_options``: further scene LTCA options (e.g. ``max_refinements``,
+    :data:`gearopt.design.scene.DEFAULT_LTCA_OPTIONS`)."""
     from ..contact.ltca import ltca
-    from ..data import system_from_data, values
 
-    d = values(data)
-    loads = d["design_loads"]
-    system = system_from_data(data)
+    system = system_of(system, "relief_scene_from_data")
+    loads = system.section("design_loads", "relief_scene_from_data")
     design = system.design_torque_Nm(mesh)
     torques = [design * f for f in loads["torque_range_fractions"]]
     stress = max(ltca(train.pairs[mesh], t).max_contact_stress_MPa for t in torques)

@@ -9,7 +9,6 @@ import pytest
 
 import gearopt as go
 from gearopt.blank import GearBlank, annulus_inertia_kgm2, annulus_mass_kg, blank_from_data, rim_thickness_factor
-from gearopt.data import load_default_data
 from gearopt.errors import GearoptInputError
 
 
@@ -85,13 +84,13 @@ def test_round_holes_against_numerical_integration_over_the_web():
 
 def test_train_blanks_near_the_data_values():
     # tip diameters of the train are shortened a little (tip shortening), so allow a few per cent
-    data, train = load_default_data(), go.load_default_train("spur")
+    system, train = go.load_system(), go.load_default_train("spur")
     expected = {"crank": (0.00373, 0.01), "cam": (0.0305, 0.01), "ac": (0.0033, 0.02), "lpi": (0.00043, 0.04),
                 "lpg": (0.00052, 0.04)}
     for gear, (j, rel) in expected.items():
-        blank, _ = blank_from_data(data, train, gear)
+        blank, _ = blank_from_data(system, train, gear)
         assert blank.inertia_kgm2() == pytest.approx(j, rel=rel), gear
-    fp, _ = blank_from_data(data, train, "fp")
+    fp, _ = blank_from_data(system, train, "fp")
     assert 0.031 <= fp.inertia_kgm2() <= 0.032  # the fp [C] check: 0.031-0.032
 
 

@@ -1,60 +1,112 @@
-"""Library functions take a System (the validated dict still converts, once, through gearopt.data.system_of): the
-same numbers from either, and a joint or material the file lacks names the file and the key path."""
+"""Library functions take a System, never the raw dict of a data file: ``gearopt.data.system_of`` is the check of
+every one of them (a dict, None or another type raises naming the function, the type and the conversion), and a
+joint or material the file lacks names the file and the key path."""
 
 from __future__ import annotations
 
 import copy
+import re
 
 import numpy as np
 import pytest
 
 import gearopt as go
 from gearopt.blank import blank_from_data
-from gearopt.cases.timing_train import accessory_load_torques_Nm, quasi_static_load_case
-from gearopt.data import data_of, system_from_data, system_of
+from gearopt.cases.timing_train import (accessory_load_torques_Nm, codesign_study, default_timing_model,
+                                        failure_reproduction, quasi_static_load_case, timing_model)
+from gearopt.data import system_from_data, system_of
+from gearopt.design import DesignVariable, Objective, Scene
 from gearopt.design.blank_sizing import BlankSpec, web_demand_from_loads
-from gearopt.design.joint_sizing import PressFitSpec, TaperFitSpec
+from gearopt.design.joint_sizing import JointDemand, PressFitSpec, TaperFitSpec, size_joint
+from gearopt.design.scene_file import scene_from_data
+from gearopt.design.tooth_counts import enumerate_tooth_counts, reference_speed_ratios
+from gearopt.dynamics import train_model
 from gearopt.dynamics.walk_off_envelope import (capacity_levels_N, damper_coefficient, envelope_speeds_rpm,
                                                 fit_capacity_N, fit_cases)
+from gearopt.engine import EngineExcitation
 from gearopt.errors import DataFileError, GearoptInputError
 from gearopt.joints import joint_capacities, joint_capacity
-from gearopt.report.joint_tables import joint_table
+from gearopt.report.joint_tables import design_load_torques_Nm, joint_table
+from gearopt.studies import relief_scene_from_data
+from gearopt.studies.calibration import calibrated_system, field_record
 from gearopt.studies.failure import sample_inputs, sampled_capacity_N
 
 SYSTEM = go.load_system()
-DATA = go.load_default_data()
+DATA = SYSTEM.data                                  # the validated dict of the same file
+TRAIN = go.load_default_train("spur")
+
+# the name each function gives in its message -> a call of it with data ``d``
+DICT_CALLS = {
+    "joint_capacity": lambda d: joint_capacity(d, "cam"),
+    "joint_capacities": lambda d: joint_capacities(d),
+    "blank_from_data": lambda d: blank_from_data(d, TRAIN, "cam"),
+    "fit_capacity_N": lambda d: fit_capacity_N(d, "cam"),
+    "fit_cases": lambda d: fit_cases(d, "cam", 2500.0),
+    "capacity_levels_N": lambda d: capacity_levels_N(d, "cam", 2500.0, 3),
+    "damper_coefficient": lambda d: damper_coefficient(d, "seized"),
+    "envelope_speeds_rpm": lambda d: envelope_speeds_rpm(d),
+    "sample_inputs": lambda d: sample_inputs(d, "cam", 10),
+    "sampled_capacity_N": lambda d: sampled_capacity_N(d, "cam", 2500.0, 50.0, 0.0, 0.1),
+    "PressFitSpec.from_data": lambda d: PressFitSpec.from_data(d, "cam"),
+    "TaperFitSpec.from_data": lambda d: TaperFitSpec.from_data(d, "ac"),
+    "size_joint": lambda d: size_joint(d, "cam", JointDemand(100.0)),
+    "BlankSpec.from_data": lambda d: BlankSpec.from_data(d, TRAIN, "cam"),
+    "web_demand_from_loads": lambda d: web_demand_from_loads(d, TRAIN, "cam"),
+    "accessory_load_torques_Nm": lambda d: accessory_load_torques_Nm(d),
+    "quasi_static_load_case": lambda d: quasi_static_load_case(d, "spur"),
+    "design_load_torques_Nm": lambda d: design_load_torques_Nm(d),
+    "joint_table": lambda d: joint_table(d, "spur", "design"),
+    "EngineExcitation.from_data": lambda d: EngineExcitation.from_data(d),
+    "default_timing_model": lambda d: default_timing_model("spur", system=d),
+    "timing_model": lambda d: timing_model(d),
+    "train_model": lambda d: train_model(d),
+    "codesign_study": lambda d: codesign_study(d),
+    "failure_reproduction": lambda d: failure_reproduction(d),
+    "field_record": lambda d: field_record(d),
+    "calibrated_system": lambda d: calibrated_system(d, {}),
+    "relief_scene_from_data": lambda d: relief_scene_from_data(d, TRAIN, "crank-cam"),
+    "reference_speed_ratios": lambda d: reference_speed_ratios(TRAIN, "data", d),
+    "enumerate_tooth_counts": lambda d: enumerate_tooth_counts(TRAIN, reference="data", system=d, span=1),
+    "Scene(data=...)": lambda d: Scene("s", train=TRAIN, data=d, variables=[DesignVariable("profile_shift_1",
+                                       "crank-cam")], objectives=[Objective("min_tip_thickness_mm", "crank-cam",
+                                                                            sense="max")]).build(),
+    "scene_from_data(train_data=...)": lambda d: scene_from_data({"scenes": {"s": {"train": "spur"}}}, "s",
+                                                                 train_data=d),
+}
+#: the name a function's message gives where it differs from the function's (the check it delegates to)
+NAMED = {"enumerate_tooth_counts": "reference_speed_ratios(reference='data')",
+         "reference_speed_ratios": "reference_speed_ratios(reference='data')"}
 
 
-def test_system_of_is_the_one_conversion_point():
+def test_system_of_takes_a_system_only():
     assert system_of(SYSTEM) is SYSTEM
-    converted = system_of(DATA)
-    assert set(converted.joints) == set(SYSTEM.joints) and converted.materials == SYSTEM.materials
-    with pytest.raises(GearoptInputError, match=r"joint_capacity: data is required"):
+    with pytest.raises(GearoptInputError, match=r"joint_capacity: data is required \(got None\)"):
         system_of(None, "joint_capacity")
-    with pytest.raises(GearoptInputError, match="must be a System"):
+    with pytest.raises(GearoptInputError, match=r"joint_capacity: got a float; it must be a System"):
         system_of(3.0, "joint_capacity")
+    with pytest.raises(GearoptInputError) as err:
+        system_of(DATA, "joint_capacity")
+    assert str(err.value) == ("joint_capacity: got a dict (the raw data of a file); library functions take a System: "
+                              "pass gearopt.load_system(path), or convert a validated dict with "
+                              "gearopt.data.system_from_data(d)")
 
 
-def test_system_and_dict_give_identical_numbers():
-    train = go.load_default_train("spur")
+@pytest.mark.parametrize("name", sorted(DICT_CALLS))
+def test_a_raw_dict_names_the_function_and_how_to_convert_it(name):
+    with pytest.raises(GearoptInputError, match=re.escape(NAMED.get(name, name)) + r": got a dict .*"
+                                                r"gearopt\.load_system\(path\).*gearopt\.data\.system_from_data\(d\)"):
+        DICT_CALLS[name](DATA)
+
+
+def test_the_converted_dict_gives_the_systems_numbers():
+    converted = system_from_data(DATA)
     rows = {k: c.as_row() for k, c in joint_capacities(SYSTEM, speed_rpm=2500.0).items()}
-    assert rows == {k: c.as_row() for k, c in joint_capacities(DATA, speed_rpm=2500.0).items()}
+    assert rows == {k: c.as_row() for k, c in joint_capacities(converted, speed_rpm=2500.0).items()}
     assert list(rows) == list(SYSTEM.joints)
-    assert blank_from_data(SYSTEM, train, "cam")[0] == blank_from_data(DATA, train, "cam")[0]
-    assert fit_capacity_N(SYSTEM, "cam", speed_rpm=3000.0) == fit_capacity_N(DATA, "cam", speed_rpm=3000.0)
-    assert fit_cases(SYSTEM, "crank", 2500.0) == fit_cases(DATA, "crank", 2500.0)
-    np.testing.assert_array_equal(capacity_levels_N(SYSTEM, "cam", 2500.0, 5), capacity_levels_N(DATA, "cam", 2500.0, 5))
-    assert damper_coefficient(SYSTEM, "seized") == damper_coefficient(DATA, "seized")
-    assert envelope_speeds_rpm(SYSTEM) == envelope_speeds_rpm(DATA)
-    assert sample_inputs(SYSTEM, "cam", 50, 3).equals(sample_inputs(DATA, "cam", 50, 3))
-    x = np.array([40.0, 60.0])
-    np.testing.assert_array_equal(sampled_capacity_N(SYSTEM, "cam", 2500.0, x, 0.0 * x, 0.1 + 0 * x),
-                                  sampled_capacity_N(DATA, "cam", 2500.0, x, 0.0 * x, 0.1 + 0 * x))
-    assert PressFitSpec.from_data(SYSTEM, "cam") == PressFitSpec.from_data(DATA, "cam")
-    assert TaperFitSpec.from_data(SYSTEM, "ac") == TaperFitSpec.from_data(DATA, "ac")
-    assert BlankSpec.from_data(SYSTEM, train, "cam") == BlankSpec.from_data(DATA, train, "cam")
-    assert web_demand_from_loads(SYSTEM, train, "cam") == web_demand_from_loads(DATA, train, "cam")
-    assert accessory_load_torques_Nm(SYSTEM, "mean") == accessory_load_torques_Nm(DATA, "mean")
+    assert fit_cases(SYSTEM, "crank", 2500.0) == fit_cases(converted, "crank", 2500.0)
+    np.testing.assert_array_equal(capacity_levels_N(SYSTEM, "cam", 2500.0, 5),
+                                  capacity_levels_N(converted, "cam", 2500.0, 5))
+    assert accessory_load_torques_Nm(SYSTEM, "mean") == accessory_load_torques_Nm(converted, "mean")
 
 
 def test_missing_joint_and_material_name_file_and_key_path():
@@ -62,7 +114,7 @@ def test_missing_joint_and_material_name_file_and_key_path():
         joint_capacity(SYSTEM, "nope")
     with pytest.raises(DataFileError, match=r"joints\.nope is missing"):
         fit_capacity_N(SYSTEM, "nope")
-    data = copy.deepcopy(data_of(SYSTEM))
+    data = SYSTEM.data                                  # a deep copy
     data["materials"]["Unobtainium"] = copy.deepcopy(data["materials"][data["joints"]["cam"]["hub_material"]])
     data["joints"]["cam"]["hub_material"] = "Unobtainium"
     system = system_from_data(data, source="renamed.toml")

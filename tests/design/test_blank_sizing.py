@@ -7,8 +7,8 @@ import casadi as ca
 import numpy as np
 import pytest
 
+import gearopt as go
 from gearopt.blank import GearBlank, blank_from_data, web_fatigue, web_stress
-from gearopt.data import load_default_data, train_from_data
 from gearopt.design.blank_sizing import (BlankSpec, WebDemand, blank_sizing_expressions, size_blank,
                                          web_demand_from_loads)
 from gearopt.errors import GearoptInputError
@@ -33,7 +33,7 @@ def annulus_j(D, d, L):
 
 @pytest.fixture(scope="module")
 def data():
-    return load_default_data()
+    return go.load_system()
 
 
 def test_without_fatigue_rim_goes_to_backup_bound_web_to_lower_bound_pockets_to_upper():
@@ -121,7 +121,7 @@ def test_inertia_floor_is_met_exactly_when_active():
 
 
 def test_default_data_cam_gear(data):
-    train = train_from_data(data, "spur")
+    train = data.train("spur")
     s = BlankSpec.from_data(data, train, "cam")
     present, _ = blank_from_data(data, train, "cam")
     demand = web_demand_from_loads(data, train, "cam")
@@ -152,7 +152,7 @@ def test_blank_expression_derivatives_match_finite_differences():
 
 
 def test_bad_inputs_raise_named_errors(data):
-    train = train_from_data(data, "spur")
+    train = data.train("spur")
     with pytest.raises(GearoptInputError, match="solid blank"):
         BlankSpec.from_data(data, train, "crank")
     with pytest.raises(GearoptInputError, match="needs at least one WebDemand"):

@@ -7,7 +7,7 @@ import casadi as ca
 import numpy as np
 import pytest
 
-from gearopt.data import load_default_data
+from gearopt.data import load_system
 from gearopt.design.joint_sizing import (JointDemand, PressFitSpec, TaperFitSpec, default_tolerance_band_um,
                                          press_fit_sizing_margins, size_joint, size_press_fit, size_taper_fit,
                                          suggest_fit, taper_fit_sizing_margins)
@@ -28,7 +28,7 @@ def plain_spec(**kw):
 
 @pytest.fixture(scope="module")
 def data():
-    return load_default_data()
+    return load_system()
 
 
 # ---------------------------------------------------------------------------------------------------------- press fit

@@ -126,7 +126,7 @@ def test_joint_and_blank_scene_reaches_the_analytic_optimum(train):
     h_t = float(train.gear_table().loc["cam", "tip_diameter_mm"] - train.gear_table().loc["cam", "root_diameter_mm"])
     assert v["cam.rim_thickness_mm"] == pytest.approx(1.2 * h_t / 2.0, rel=1e-6)
     # least capacity meeting the margin: re-evaluated with the numeric joint model at 2500 rpm
-    cap = joint_capacity(go.load_default_data(), "cam", speed_rpm=2500.0,
+    cap = joint_capacity(go.load_system(), "cam", speed_rpm=2500.0,
                          overrides={"diametral_interference_um": v["cam.interference_um"]})
     assert cap.torque_capacity_Nm == pytest.approx(target * demand_Nm, rel=1e-6)
 

@@ -8,7 +8,6 @@ import numpy as np
 import pytest
 
 import gearopt as go
-from gearopt.data import load_default_data
 from gearopt.design.scene import DesignVariable, Limit, LoadCase, Objective, Scene
 from gearopt.joints import joint_capacity
 from gearopt.joints.walk_off import walk_off
@@ -26,7 +25,7 @@ def _scene(limits, objective_sense="max", upper=8.0):
 
 def test_axial_utilisation_is_the_thrust_over_the_capacity():
     built = _scene([Limit("axial_utilisation", "cam", upper=1.0), Limit("axial_margin", "cam", lower=1.0)]).build()
-    cap = joint_capacity(load_default_data(), "cam", speed_rpm=3000.0).axial_capacity_N
+    cap = joint_capacity(go.load_system(), "cam", speed_rpm=3000.0).axial_capacity_N
     for beta in (0.0, 2.0, 6.0):
         table = built.quantities_at({"train.helix_angle_deg": beta})
         value = table.query("quantity == 'axial_utilisation'")["value"].iloc[0]

@@ -10,7 +10,6 @@ import pytest
 import gearopt as go
 from gearopt.contact.layout import default_slices
 from gearopt.contact.ltca import ltca
-from gearopt.data import load_default_data
 from gearopt.design.scene import DesignVariable, Limit, LoadCase, Objective, Scene
 from gearopt.design.scene_refine import ppte_disagreement
 from gearopt.errors import GearoptInputError
@@ -124,12 +123,12 @@ def test_walk_off_margin_limits_the_helix_angle_in_the_same_nlp(train):
     """The crank-cam transverse contact ratio grows with the helix angle at the fixed centre distance, the cam
     joint's axial margin falls: with the margin limited to its value at 8 deg (thrust from the mesh forces by
     walk_off, capacity by joint_capacity at the load case's speed) the optimum sits at 8 deg."""
-    data = load_default_data()
+    system = go.load_system()
     loads = {"cam": 80.0, "ac": 60.0, "fp": 50.0}
     torques = quasi_static_mesh_torques_Nm(train, loads)
     helical8 = dataclasses.replace(train, helix_angle_deg=8.0)
     axial = walk_off(helical8, torques).axial_force_N["cam"]
-    cap = joint_capacity(data, "cam", speed_rpm=2500.0).axial_capacity_N
+    cap = joint_capacity(system, "cam", speed_rpm=2500.0).axial_capacity_N
     case = LoadCase("overspeed", {m: t for m, t in torques.items() if m in ("crank-cam", "cam-ac", "cam-fp")},
                     speed_rpm=2500.0)
     scene = Scene("helix", train=train, data=go.load_system(), load_cases=[case],

@@ -2,12 +2,12 @@
 flat dict, flat keys map onto the records and back, bad values and unknown keys raise naming them, and a build's
 options layer the defaults, the data's ``[lubrication]``, the scene's ``ltca_options`` and the build's overrides."""
 
-import copy
 import dataclasses
 
 import pytest
 
 import gearopt as go
+from gearopt.data import system_from_data
 from gearopt.design import (ContactModelOptions, ContactTemperatureOptions, ExactCheckOptions, LTCAOptions,
                             RefinementOptions, SearchOptions)
 from gearopt.design.scene import DEFAULT_LTCA_OPTIONS, BuiltScene, DesignVariable, Objective, Scene
@@ -142,10 +142,10 @@ def test_scene_ltca_options_are_checked_when_built():
 
 
 def test_build_options_layer_defaults_lubrication_scene_and_overrides():
-    data = copy.deepcopy(go.load_default_data())
+    data = go.load_system().data                            # a deep copy of the validated file
     data["lubrication"]["oil_temperature_C"] = 90.0
     data["lubrication"]["mean_friction_coefficient"] = 0.05
-    scene = Scene("layers", train=go.load_default_train("spur"), data=data,
+    scene = Scene("layers", train=go.load_default_train("spur"), data=system_from_data(data),
                   variables=[DesignVariable("profile_shift_1", MESH)],
                   objectives=[Objective("min_tip_thickness_mm", MESH, sense="max")])
     built = scene.build()
@@ -168,7 +168,7 @@ def test_scene_file_ltca_options_errors_name_the_scene():
     data = {"scenes": {"s": spec}}
     with pytest.raises(GearoptInputError, match=r"\[scenes\.s\] ltca_options: unknown option 'positons' "
                                                 r"\(did you mean 'positions'\?\)"):
-        scene_from_data(data, "s", train_data=go.load_default_data())
+        scene_from_data(data, "s", train_data=go.load_system())
     spec["ltca_options"] = {"positions": 24, "max_refinements": 0}
-    scene = scene_from_data(data, "s", train_data=go.load_default_data())
+    scene = scene_from_data(data, "s", train_data=go.load_system())
     assert scene.ltca_options == {"positions": 24, "max_refinements": 0}

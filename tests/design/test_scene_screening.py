@@ -45,14 +45,14 @@ def test_screening_on_a_pair_of_other_names(tmp_path):
     ends at the optimum of every spring's NLP with at most a fifth of its rows."""
     import re
 
-    from gearopt.data import default_data_path, load_default_data, train_from_data
+    from gearopt.data import default_data_path, load_system, train_from_data
 
     text = (default_data_path().parent / "minimal_train.toml").read_text(encoding="utf-8")
     for old, new in {"pinion": "sun_gear", "wheel": "drum_gear"}.items():
         text = re.sub(rf"\b{old}\b", new, text)
     (tmp_path / "renamed.toml").write_text(text, encoding="utf-8")
-    data = load_default_data(tmp_path / "renamed.toml")
-    train = dataclasses.replace(train_from_data(data), helix_angle_deg=8.0)
+    system = load_system(tmp_path / "renamed.toml")
+    train = dataclasses.replace(train_from_data(system.data), helix_angle_deg=8.0)
     mesh = "sun_gear-drum_gear"
     limit = 1.01 * ltca(train.pairs[mesh], 100.0).max_contact_stress_MPa
     built, results = {}, {}
@@ -60,7 +60,7 @@ def test_screening_on_a_pair_of_other_names(tmp_path):
         scene = Scene("renamed", train=train, load_cases=[LoadCase("design", 100.0)],
                       variables=[DesignVariable(v, mesh) for v in ("tip_relief_1_um", "tip_relief_2_um")],
                       objectives=[Objective("ppte_um", mesh)],
-                      limits=[Limit("max_contact_stress_MPa", mesh, upper=limit)], data=data,
+                      limits=[Limit("max_contact_stress_MPa", mesh, upper=limit)], data=system,
                       ltca_options={"max_refinements": 0, "positions": 80, "spring_limit_screen": screen})
         built[screen] = scene.build()
         results[screen] = built[screen].solve()

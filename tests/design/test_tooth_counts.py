@@ -20,7 +20,7 @@ import casadi as ca
 import numpy as np
 import pytest
 
-from gearopt.data import load_default_data, load_default_train
+from gearopt.data import load_default_train, load_system
 from gearopt.design.tooth_counts import (OBJECTIVES, _iso_limits_relaxed, _train_with_teeth, bonmin_cross_check,
                                          candidate_model, enumerate_tooth_counts, gear_shift_limits,
                                          mesh_sum_of_shifts, reference_speed_ratios, tooth_count_study)
@@ -81,13 +81,13 @@ def test_thesis_tooth_counts_are_admissible_at_zero_tolerance(exact):
 def test_thesis_2_7027_percent_row_needs_a_crank_lpi_tolerance(train):
     # thesis Table 3.1: against the original helical pair, the spur crank-LPI ratio is off by 2.7027 % (= 1/37)
     strict = enumerate_tooth_counts(train, reference="helical_original", ratio_tolerance_percent={"crank-lpi": 0.0},
-                                    span=1, data=load_default_data())
+                                    span=1, system=load_system())
     assert _rows_with(strict.admissible, THESIS_TEETH).empty
     why = _rows_with(strict.rejected, {"crank": 38, "cam": 76, "lpi": 24})
     assert (why["stage"] == "speed_ratio").all() and why["reason"].str.contains(r"\+2\.7027 %").any()
 
     loose = enumerate_tooth_counts(train, reference="helical_original", ratio_tolerance_percent={"crank-lpi": 2.75},
-                                   span=1, data=load_default_data())
+                                   span=1, system=load_system())
     row = _rows_with(loose.admissible, THESIS_TEETH)
     assert len(row) == 1
     assert row["ratio_error_crank-lpi_percent"].iloc[0] == pytest.approx(100.0 / 37.0, abs=1e-3)  # data: 4 decimals
@@ -100,8 +100,8 @@ def test_thesis_2_7027_percent_row_needs_a_crank_lpi_tolerance(train):
 def test_reference_ratios(train):
     teeth = reference_speed_ratios(train, "teeth")
     assert teeth["cam"] == 0.5 and teeth["lpi"] == pytest.approx(38 / 24, rel=1e-15)
-    assert reference_speed_ratios(train, "data", load_default_data()) == pytest.approx(teeth, rel=1e-12)  # 1.5833 -> 19/12
-    helical = reference_speed_ratios(train, "helical_original", load_default_data())
+    assert reference_speed_ratios(train, "data", load_system()) == pytest.approx(teeth, rel=1e-12)  # 1.5833 -> 19/12
+    helical = reference_speed_ratios(train, "helical_original", load_system())
     assert helical["lpi"] == pytest.approx(37 / 24, rel=1e-6) and helical["cam"] == 0.5
     with pytest.raises(GearoptInputError, match="miss gears"):
         reference_speed_ratios(train, {"crank": 1.0, "cam": 0.5})

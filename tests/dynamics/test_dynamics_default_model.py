@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 from dynamics_networks import J1, R1, forced_pair
 
-from gearopt.data import load_default_data
+from gearopt.data import load_system
 from gearopt.cases.timing_train import default_timing_model
 from gearopt.dynamics.mesh import MeshStiffnessShape
 from gearopt.dynamics.sensitivity import response_sensitivities
@@ -47,7 +47,7 @@ def test_acceptance_interface(spur, spur_run):
 def test_mesh_table_matches_the_data_backlash(spur):
     # default_train.toml [meshes.*] backlash_min/max_mm are [C] circumferential backlash at the working circle of the
     # spur train (computed there independently); along the line of action j_bt = j_wt cos(alpha_wt)
-    data = load_default_data()
+    data = load_system().data
     for mesh in MESHES:
         m = data["meshes"][mesh]
         pair = spur.train.pairs[mesh]
@@ -60,7 +60,7 @@ def test_mesh_table_matches_the_data_backlash(spur):
 def test_cylinder_and_accessory_torques_are_the_engine_models(spur):
     # the network's torques along the nominal motion against gearopt.engine at the same operating point
     speed = 2500.0
-    exc = EngineExcitation.from_data(load_default_data(), speed_rpm=speed)             # pressure scaled to the speed-load map
+    exc = EngineExcitation.from_data(load_system(), speed_rpm=speed)             # pressure scaled to the speed-load map
     eq = spur.network.equations(lash=False)
     pvec = spur.network.parameter_vector(speed, spur.parameters_at(speed))
     tau = np.radians(np.arange(0.0, 720.0, 7.5))
@@ -70,10 +70,10 @@ def test_cylinder_and_accessory_torques_are_the_engine_models(spur):
     ref = np.array(exc.cylinder_torques_Nm(tau, omega))
     for i in range(6):
         np.testing.assert_allclose(torques[free.index(f"throw_{i + 1}")], ref[i], rtol=1e-9, atol=1e-6)
-    valve = AccessoryTorque.camshaft(load_default_data())
+    valve = AccessoryTorque.camshaft(load_system())
     np.testing.assert_allclose(torques[free.index("cam_station_3")], valve(0.5 * tau) / 6.0, rtol=1e-12)
     # absolute sign convention: the cam turns backwards, its load torque is positive in absolute terms
-    pump = AccessoryTorque.fuel_pump(load_default_data())
+    pump = AccessoryTorque.fuel_pump(load_system())
     np.testing.assert_allclose(torques[free.index("fp_pump")], -pump(0.5 * tau), rtol=1e-12)
 
 
@@ -83,8 +83,8 @@ def test_mean_torque_balance(spur, spur_run):
     # the cam gear (valve train and fuel pump at cam speed, air compressor at twice it), gearopt.engine's means
     sim = spur_run
     ext = sim.external_torque_Nm.mean()
-    valve, pump = AccessoryTorque.camshaft(load_default_data()), AccessoryTorque.fuel_pump(load_default_data())
-    comp, lube = AccessoryTorque.air_compressor(load_default_data()), AccessoryTorque.lube_pump(load_default_data())
+    valve, pump = AccessoryTorque.camshaft(load_system()), AccessoryTorque.fuel_pump(load_system())
+    comp, lube = AccessoryTorque.air_compressor(load_system()), AccessoryTorque.lube_pump(load_system())
     r_cam = spur.mesh_table.loc["crank-cam", "base_radius_2_mm"] * 1e-3
     cam_load = valve.mean_Nm + pump.mean_Nm + 2.0 * comp.mean_Nm
     assert sim.mesh_force_N["crank-cam"].mean() * r_cam == pytest.approx(cam_load, rel=5e-3)
@@ -93,7 +93,7 @@ def test_mean_torque_balance(spur, spur_run):
     assert cylinders - crank_load + sim.boundary_torque_Nm["flywheel"].mean() == pytest.approx(0.0, abs=0.5)
     # the applied cylinder torques include the reciprocating masses' response to the vibration (-m s'^2 theta'' and
     # the speed-dependent term): their mean differs from the constant-speed indicated torque by under 1 %
-    nominal = EngineExcitation.from_data(load_default_data(), speed_rpm=2500.0).mean_torque_Nm()
+    nominal = EngineExcitation.from_data(load_system(), speed_rpm=2500.0).mean_torque_Nm()
     assert cylinders == pytest.approx(nominal, rel=0.01)
 
 
@@ -198,15 +198,15 @@ def test_crank_joint_torque_is_the_mesh_torque_sum_minus_the_gear_inertia_torque
     assert bare["joint_torque_method"] == "mesh_sum"
     np.testing.assert_allclose(bare["joint_torque_Nm"], mesh_sum, rtol=1e-12)      # exact without gear inertia
     full = walk_off_history(spur, sim, "crank")
-    j_g = load_default_data()["gears"]["crank"]["solid_disc_inertia_kgm2"]
+    j_g = load_system().data["gears"]["crank"]["solid_disc_inertia_kgm2"]
     assert full["gear_inertia_kgm2"] == j_g
     alpha = node_accelerations(spur.network, sim)["crank_gear_node"].to_numpy()
     np.testing.assert_allclose(full["joint_torque_Nm"], mesh_sum - j_g * alpha, rtol=1e-12)
     assert np.max(np.abs(j_g * alpha)) > 1.0                                        # a real correction (N m)
     # rigid-body balance of the mean (thesis-free): the crank gear supplies half the cam-gear load plus the lube
     # pump load referred to the crank (gearopt.engine means), as the crank-cam mean in test_mean_torque_balance
-    valve, pump = AccessoryTorque.camshaft(load_default_data()), AccessoryTorque.fuel_pump(load_default_data())
-    comp, lube = AccessoryTorque.air_compressor(load_default_data()), AccessoryTorque.lube_pump(load_default_data())
+    valve, pump = AccessoryTorque.camshaft(load_system()), AccessoryTorque.fuel_pump(load_system())
+    comp, lube = AccessoryTorque.air_compressor(load_system()), AccessoryTorque.lube_pump(load_system())
     demand = 0.5 * (valve.mean_Nm + pump.mean_Nm + 2.0 * comp.mean_Nm) + 38.0 / 24.0 * lube.mean_Nm
     assert -full["joint_torque_Nm"].mean() == pytest.approx(demand, rel=1e-2)
     with pytest.raises(GearoptInputError, match="gear_inertia_kgm2"):
@@ -223,10 +223,10 @@ def test_crank_joint_torque_is_quasi_static_at_low_speed(spur):
     joint = walk_off_history(spur, sim, "crank")["joint_torque_Nm"]
     tau = np.radians(sim.crank_angle_deg) + sim.angle_offset_rad
     r = spur.network.speed_ratios()
-    loads = {"cam": AccessoryTorque.camshaft(load_default_data())(abs(r["cam"]) * tau),
-             "fp": AccessoryTorque.fuel_pump(load_default_data())(abs(r["fp"]) * tau),
-             "ac": AccessoryTorque.air_compressor(load_default_data())(abs(r["ac"]) * tau),
-             "lpg": AccessoryTorque.lube_pump(load_default_data())(abs(r["lpg"]) * tau)}
+    loads = {"cam": AccessoryTorque.camshaft(load_system())(abs(r["cam"]) * tau),
+             "fp": AccessoryTorque.fuel_pump(load_system())(abs(r["fp"]) * tau),
+             "ac": AccessoryTorque.air_compressor(load_system())(abs(r["ac"]) * tau),
+             "lpg": AccessoryTorque.lube_pump(load_system())(abs(r["lpg"]) * tau)}
     expected = walk_off(spur.train, quasi_static_mesh_torques_Nm(spur.train, loads)).joint_torque_Nm["crank"]
     late = sim.crank_angle_deg > 360.0
     assert np.ptp(expected) > 100.0                                                 # a real load history (N m)

@@ -8,7 +8,7 @@ import pandas as pd
 import pytest
 from scipy.stats import norm
 
-from gearopt.data import load_default_data, train_from_data
+from gearopt.data import load_system
 from gearopt.dynamics.walk_off_envelope import (
     damper_coefficient,
     fit_capacity_N,
@@ -19,11 +19,11 @@ from gearopt.errors import GearoptInputError
 from gearopt.joints import walk_off
 from gearopt.studies.failure import walk_off_probability
 
-DATA = load_default_data()
+DATA = load_system()
 
 
 def test_thrust_signs_follow_walk_off_and_vanish_for_spur():
-    helical, spur = train_from_data(DATA, "helical"), train_from_data(DATA, "spur")
+    helical, spur = DATA.train("helical"), DATA.train("spur")
     signs = dict(thrust_signs(helical, "cam"))
     assert set(signs) == {"crank-cam", "cam-ac", "cam-fp"}
     for mesh, sign in signs.items():
@@ -114,7 +114,7 @@ def test_regularisation_converges_at_the_envelopes_overstress():
         model_joints,
     )
 
-    model = default_timing_model("helical", data=DATA)
+    model = default_timing_model("helical", system=DATA)
     base = model_joints(model, "crank", 2)
     assert 2.0 < base[0].gear_mass_kg == gear_mass_kg(model, "crank") < 3.0
     joints = base + [dataclasses.replace(j, name=f"fast#{i}", slip_speed_m_s=100.0) for i, j in enumerate(base)]
@@ -157,7 +157,7 @@ def test_envelope_rows_per_level_and_no_simulator_left_behind():
     from gearopt.cases.timing_train import default_timing_model
     from gearopt.dynamics import walk_off_envelope as env
 
-    model = default_timing_model("spur", data=DATA)
+    model = default_timing_model("spur", system=DATA)
     rows = env.joint_envelope(model, joints=("cam",), speeds_rpm=[2500.0], damper_states=["nominal"], levels=3,
                               cycles=1, run_in_cycles=0)
     assert len(rows) == 3 + len(env.BELOW_TOLERANCE_FRACTIONS) and set(rows["joint"]) == {"cam"}

@@ -8,19 +8,20 @@ import casadi as ca
 import numpy as np
 import pytest
 
-from gearopt.data import load_default_data
+from gearopt.data import load_system
 from gearopt.engine import AccessoryTorque
 from gearopt.engine.accessories import ideal_compressor_cycle
 
-DATA = load_default_data()
+SYSTEM = load_system()
+DATA = SYSTEM.data
 E = DATA["engine"]
 
 
 @pytest.fixture(scope="module")
 def maps():
-    return {"cam": AccessoryTorque.camshaft(DATA), "fp": AccessoryTorque.fuel_pump(DATA),
-            "ac": AccessoryTorque.air_compressor(DATA), "ac0": AccessoryTorque.air_compressor(DATA, loaded=False),
-            "lp": AccessoryTorque.lube_pump(DATA)}
+    return {"cam": AccessoryTorque.camshaft(SYSTEM), "fp": AccessoryTorque.fuel_pump(SYSTEM),
+            "ac": AccessoryTorque.air_compressor(SYSTEM), "ac0": AccessoryTorque.air_compressor(SYSTEM, loaded=False),
+            "lp": AccessoryTorque.lube_pump(SYSTEM)}
 
 
 def _grid_stats(m, n=36000):
@@ -82,7 +83,7 @@ def test_compressor_ideal_cycle_work_matches_closed_form():
     # indicated work per revolution of the ideal reciprocating compressor with clearance (Rogers & Mayhew,
     # Engineering Thermodynamics, ch. 16; Eastop & McConkey, Applied Thermodynamics, ch. 9):
     # W = n/(n-1) p_s (V_1 - V_4) [(p_d/p_s)^((n-1)/n) - 1], V_1 = V_c + V_s, V_4 = V_c (p_d/p_s)^(1/n)
-    c = ideal_compressor_cycle(DATA)
+    c = ideal_compressor_cycle(SYSTEM)
     n = c["polytropic_exponent"]
     ps, pd = c["suction_pressure_bar"] * 1e5, c["discharge_pressure_bar"] * 1e5
     vc, vs = c["clearance_volume_mm3"] * 1e-9, c["swept_volume_mm3"] * 1e-9

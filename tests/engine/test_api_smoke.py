@@ -7,14 +7,14 @@ import numpy as np
 import pytest
 
 from gearopt import engine as eng
-from gearopt.data import load_default_data
+from gearopt.data import load_system
 
-DATA = load_default_data()
+SYSTEM = load_system()
 
 
 @pytest.fixture(scope="module")
 def excitation():
-    return eng.EngineExcitation.from_data(DATA, speed_rpm=2500.0)
+    return eng.EngineExcitation.from_data(SYSTEM, speed_rpm=2500.0)
 
 
 def test_total_torque_same_value_for_float_array_sx_mx(excitation):
@@ -43,9 +43,9 @@ def test_accessory_maps_symbolic_equals_numeric():
     for fun in (eng.camshaft_torque_Nm, eng.fuel_pump_torque_Nm, eng.air_compressor_torque_Nm,
                 eng.lube_pump_torque_Nm):
         x = ca.SX.sym("x")
-        f = ca.Function("f", [x], [fun(x, DATA)])
-        assert float(f(1.234)) == pytest.approx(float(fun(1.234, DATA)), rel=1e-12, abs=1e-12)
-        assert float(fun(1.234 + 2 * math.pi, DATA)) == pytest.approx(float(fun(1.234, DATA)), rel=1e-10, abs=1e-10)
+        f = ca.Function("f", [x], [fun(x, SYSTEM)])
+        assert float(f(1.234)) == pytest.approx(float(fun(1.234, SYSTEM)), rel=1e-12, abs=1e-12)
+        assert float(fun(1.234 + 2 * math.pi, SYSTEM)) == pytest.approx(float(fun(1.234, SYSTEM)), rel=1e-10, abs=1e-10)
 
 
 def test_single_cylinder_api_and_pressure_options(excitation):

@@ -8,18 +8,19 @@ import casadi as ca
 import numpy as np
 import pytest
 
-from gearopt.data import load_default_data
+from gearopt.data import load_system
 from gearopt.engine import EngineExcitation, crank_torque, slider_crank
 from gearopt.errors import GearoptInputError
 
-DATA = load_default_data()
+SYSTEM = load_system()
+DATA = SYSTEM.data
 B, S, L, M = 107.0, 124.0, 192.0, 2.5
 R = S / 2
 
 
 @pytest.fixture(scope="module")
 def ex():
-    return EngineExcitation.from_data(DATA, speed_rpm=2500.0)
+    return EngineExcitation.from_data(SYSTEM, speed_rpm=2500.0)
 
 
 def test_gas_torque_hand_value_and_identity():
@@ -124,11 +125,11 @@ def test_casadi_derivatives_match_finite_differences(ex):
 
 
 def test_wiebe_and_unscaled_options():
-    w = EngineExcitation.from_data(DATA, speed_rpm=1500.0, pressure="wiebe")
+    w = EngineExcitation.from_data(SYSTEM, speed_rpm=1500.0, pressure="wiebe")
     assert w.pressure.peak_bar == pytest.approx(170.0, rel=1e-9)
-    raw = EngineExcitation.from_data(DATA, speed_rpm=1500.0, pressure="wiebe", scale_to_map=False)
+    raw = EngineExcitation.from_data(SYSTEM, speed_rpm=1500.0, pressure="wiebe", scale_to_map=False)
     assert raw.pressure.peak_bar == pytest.approx(180.1, rel=0.005)
-    part = EngineExcitation.from_data(DATA, speed_rpm=1500.0, load=0.5)
+    part = EngineExcitation.from_data(SYSTEM, speed_rpm=1500.0, load=0.5)
     assert part.pressure.peak_bar < w.pressure.peak_bar
     assert w.reciprocating_inertia_kgm2(1, 0.7) == pytest.approx(M * (slider_crank(0.7, R, L)["ds_dtheta_mm"]
                                                                      * 1e-3) ** 2)
@@ -157,8 +158,8 @@ def test_excitation_bad_input(ex):
     with pytest.raises(GearoptInputError, match="firing_interval_deg"):
         EngineExcitation(B, S, L, M, ex.pressure, firing_interval_deg=100.0)
     with pytest.raises(GearoptInputError, match="pressure"):
-        EngineExcitation.from_data(DATA, speed_rpm=2000.0, pressure="measured")
+        EngineExcitation.from_data(SYSTEM, speed_rpm=2000.0, pressure="measured")
     with pytest.raises(GearoptInputError, match="speed_rpm"):
-        EngineExcitation.from_data(DATA, speed_rpm=-1.0)
+        EngineExcitation.from_data(SYSTEM, speed_rpm=-1.0)
     with pytest.raises(GearoptInputError, match="cylinder"):
         ex.firing_tdc_deg(7)

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from gearopt.data import load_default_data
+from gearopt.data import load_system, system_from_data
 from gearopt.engine import AccessoryTorque
 from gearopt.engine.fourier import FourierSeries
 
@@ -22,10 +22,10 @@ def test_constant_series_on_arrays_and_extrema():
 
 
 def test_zero_valve_train_amplitude_gives_the_constant_mean_torque():
-    data = load_default_data()
+    data = load_system().data
     data["engine"]["camshaft"]["valve_train_torque_amplitude_Nm"] = 0.0
     mean = float(data["engine"]["camshaft"]["valve_train_torque_mean_Nm"])
-    valve = AccessoryTorque.camshaft(data)
+    valve = AccessoryTorque.camshaft(system_from_data(data))
     assert valve.max_Nm == valve.min_Nm == valve.mean_Nm == mean
     assert np.allclose(valve.torque_Nm(np.linspace(0.0, 6.0, 7)), mean)
 
@@ -33,8 +33,8 @@ def test_zero_valve_train_amplitude_gives_the_constant_mean_torque():
 def test_zero_valve_train_amplitude_timing_model_simulates():
     from gearopt.cases.timing_train import default_timing_model
 
-    data = load_default_data()
+    data = load_system().data
     data["engine"]["camshaft"]["valve_train_torque_amplitude_Nm"] = 0.0
-    model = default_timing_model("spur", data=data)
+    model = default_timing_model("spur", system=system_from_data(data))
     sim = model.simulate(1500.0, 1, backlash=False, rtol=1e-4, jit=False, output_step_deg=2.0)
     assert np.all(np.isfinite(sim.mesh_force_N.to_numpy()))

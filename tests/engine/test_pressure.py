@@ -7,7 +7,7 @@ import casadi as ca
 import numpy as np
 import pytest
 
-from gearopt.data import load_default_data
+from gearopt.data import load_system
 from gearopt.engine import (
     CylinderPressure,
     FourierSeries,
@@ -20,24 +20,25 @@ from gearopt.engine import (
 )
 from gearopt.errors import GearoptInputError
 
-DATA = load_default_data()
+SYSTEM = load_system()
+DATA = SYSTEM.data
 ENG = DATA["engine"]
 GEOM = (ENG["bore_mm"], ENG["stroke_mm"], ENG["connecting_rod_length_mm"])
 
 
 @pytest.fixture(scope="module")
 def table():
-    return CylinderPressure.from_data(DATA)
+    return CylinderPressure.from_data(SYSTEM)
 
 
 @pytest.fixture(scope="module")
 def wiebe_cycle():
-    return double_wiebe_cycle(data=DATA, **ENG["combustion"])
+    return double_wiebe_cycle(system=SYSTEM, **ENG["combustion"])
 
 
 @pytest.fixture(scope="module")
 def wiebe(wiebe_cycle):
-    return CylinderPressure.from_double_wiebe(data=DATA, **ENG["combustion"])
+    return CylinderPressure.from_double_wiebe(system=SYSTEM, **ENG["combustion"])
 
 
 # ----------------------------------------------------------------------------------------------------------------
@@ -72,7 +73,7 @@ def test_table_fit_error_against_raw_points(table):
 
 
 def test_more_harmonics_converge():
-    fits = [CylinderPressure.from_data(DATA, harmonics=h) for h in (24, 48, 96, 160)]
+    fits = [CylinderPressure.from_data(SYSTEM, harmonics=h) for h in (24, 48, 96, 160)]
     rms = [f.fit_rms_error_bar for f in fits]
     assert rms == sorted(rms, reverse=True)
     assert rms[0] > 2.0 * rms[-1]
@@ -81,7 +82,7 @@ def test_more_harmonics_converge():
 
 
 def test_peak_scaling_is_exact_and_proportional(table):
-    p = CylinderPressure.from_data(DATA, peak_bar=170.0)
+    p = CylinderPressure.from_data(SYSTEM, peak_bar=170.0)
     assert p.peak_bar == pytest.approx(170.0, rel=1e-12)
     _, _, smax, _ = p.series.extrema(samples=72000)
     assert smax == pytest.approx(170.0, rel=1e-6)
@@ -129,14 +130,14 @@ def test_wiebe_solution_satisfies_the_single_zone_equation(wiebe_cycle):
 def test_wiebe_limits_motored_and_constant_volume(wiebe_cycle):
     # no heat release: isentropic compression and expansion, p_TDC = p_IVC CR^gamma exactly, zero net work
     c = dict(ENG["combustion"], heat_release_per_cylinder_kJ=0.0)
-    m = double_wiebe_cycle(data=DATA, **c)
+    m = double_wiebe_cycle(system=SYSTEM, **c)
     gamma, cr = c["ratio_of_specific_heats"], ENG["compression_ratio"]
     assert m["peak_bar"] == pytest.approx(c["pressure_at_ivc_bar"] * cr ** gamma, rel=1e-7)
     assert m["peak_angle_deg_atdc"] == pytest.approx(0.0, abs=0.05)
     assert m["closed_cycle_imep_bar"] == pytest.approx(0.0, abs=1e-6)
     # near-instant combustion at TDC approaches the constant-volume (Otto) cycle: efficiency 1 - CR^(1-gamma)
     fast = dict(ENG["combustion"], start_of_combustion_deg_atdc=-0.5, premixed_fraction=1.0, premixed_duration_deg=1.0)
-    o = double_wiebe_cycle(data=DATA, **fast)
+    o = double_wiebe_cycle(system=SYSTEM, **fast)
     v_d = math.pi / 4 * ENG["bore_mm"] ** 2 * ENG["stroke_mm"] * 1e-9
     eta = o["closed_cycle_imep_bar"] * 1e5 * v_d / (fast["heat_release_per_cylinder_kJ"] * 1e3)
     assert eta == pytest.approx(1.0 - cr ** (1.0 - gamma), rel=0.01)
@@ -174,28 +175,28 @@ def test_pressure_symbolic_equals_numeric_and_derivative(wiebe):
 # ----------------------------------------------------------------------------------------------------------------
 def test_peak_pressure_map():
     # full load 170 bar [E] up to 2200 rpm, Mendes derate shape stretched to high idle, held beyond
-    assert float(peak_pressure_bar(750.0, 1.0, DATA)) == pytest.approx(170.0)
-    assert float(peak_pressure_bar(2200.0, 1.0, DATA)) == pytest.approx(170.0)
+    assert float(peak_pressure_bar(750.0, 1.0, SYSTEM)) == pytest.approx(170.0)
+    assert float(peak_pressure_bar(2200.0, 1.0, SYSTEM)) == pytest.approx(170.0)
     mendes = DATA["engine"]["mendes_2008"]
     ratio_end = mendes["peak_pressure_MPa"][-1] / 15.1
-    assert float(peak_pressure_bar(2850.0, 1.0, DATA)) == pytest.approx(170.0 * ratio_end)
-    assert float(peak_pressure_bar(3000.0, 1.0, DATA)) == pytest.approx(170.0 * ratio_end)
+    assert float(peak_pressure_bar(2850.0, 1.0, SYSTEM)) == pytest.approx(170.0 * ratio_end)
+    assert float(peak_pressure_bar(3000.0, 1.0, SYSTEM)) == pytest.approx(170.0 * ratio_end)
     # the Mendes 2300 rpm point (13.5/15.1) maps to 2200 + 100 * 650/350 rpm
-    assert float(peak_pressure_bar(2200.0 + 100.0 * 650.0 / 350.0, 1.0, DATA)) == pytest.approx(170.0 * 13.5 / 15.1)
+    assert float(peak_pressure_bar(2200.0 + 100.0 * 650.0 / 350.0, 1.0, SYSTEM)) == pytest.approx(170.0 * 13.5 / 15.1)
     n = np.linspace(500, 3200, 271)
-    p = peak_pressure_bar(n, 1.0, DATA)
+    p = peak_pressure_bar(n, 1.0, SYSTEM)
     assert np.all(np.diff(p) <= 1e-12)                       # non-increasing with speed at full load
     # part load: motored peak at load 0, linear in load
     p_mot = motored_peak_pressure_bar(17.3, 1.34)
     assert p_mot == pytest.approx(17.3 ** 1.34)
-    assert float(peak_pressure_bar(1500.0, 0.0, DATA)) == pytest.approx(p_mot)
-    assert float(peak_pressure_bar(1500.0, 0.5, DATA)) == pytest.approx(0.5 * (p_mot + 170.0))
+    assert float(peak_pressure_bar(1500.0, 0.0, SYSTEM)) == pytest.approx(p_mot)
+    assert float(peak_pressure_bar(1500.0, 0.5, SYSTEM)) == pytest.approx(0.5 * (p_mot + 170.0))
     # dual-typed: same numbers from SX, derivative -> slope of the active segment
     s = ca.SX.sym("n")
-    f = ca.Function("f", [s], [peak_pressure_bar(s, 1.0, DATA), ca.jacobian(peak_pressure_bar(s, 1.0, DATA), s)])
+    f = ca.Function("f", [s], [peak_pressure_bar(s, 1.0, SYSTEM), ca.jacobian(peak_pressure_bar(s, 1.0, SYSTEM), s)])
     v, d = f(2500.0)
-    assert float(v) == pytest.approx(float(peak_pressure_bar(2500.0, 1.0, DATA)))
-    fd = (float(peak_pressure_bar(2501.0, 1.0, DATA)) - float(peak_pressure_bar(2499.0, 1.0, DATA))) / 2.0
+    assert float(v) == pytest.approx(float(peak_pressure_bar(2500.0, 1.0, SYSTEM)))
+    fd = (float(peak_pressure_bar(2501.0, 1.0, SYSTEM)) - float(peak_pressure_bar(2499.0, 1.0, SYSTEM))) / 2.0
     assert float(d) == pytest.approx(fd, rel=1e-9)
 
 
@@ -204,7 +205,7 @@ def test_peak_pressure_map():
                                           ({"speed_rpm": 1000.0, "load": -0.1}, "load")])
 def test_map_bad_input(kwargs, word):
     with pytest.raises(GearoptInputError, match=word):
-        peak_pressure_bar(**{"load": 1.0, **kwargs}, data=DATA)
+        peak_pressure_bar(**{"load": 1.0, **kwargs}, system=SYSTEM)
 
 
 def test_table_and_wiebe_bad_input():
@@ -219,8 +220,8 @@ def test_table_and_wiebe_bad_input():
     with pytest.raises(GearoptInputError, match="harmonics"):
         CylinderPressure.from_table([0, 100, 500, 700], [1, 2, 3, 4], harmonics=5000)
     with pytest.raises(GearoptInputError, match="unknown"):
-        double_wiebe_cycle(data=DATA, bogus_parameter=1.0)
+        double_wiebe_cycle(system=SYSTEM, bogus_parameter=1.0)
     with pytest.raises(GearoptInputError, match="premixed_fraction"):
-        double_wiebe_cycle(data=DATA, premixed_fraction=1.5)
+        double_wiebe_cycle(system=SYSTEM, premixed_fraction=1.5)
     with pytest.raises(GearoptInputError, match="compression_ratio"):
-        double_wiebe_cycle(data=DATA, compression_ratio=0.8)
+        double_wiebe_cycle(system=SYSTEM, compression_ratio=0.8)

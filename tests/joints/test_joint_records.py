@@ -8,7 +8,7 @@ import casadi as ca
 import pandas as pd
 import pytest
 
-from gearopt.data import load_default_data, values
+from gearopt.data import load_system, values
 from gearopt.joints import (JointCapacity, PressFitResult, TaperFitResult, joint_capacities, joint_capacity,
                             press_fit, taper_fit)
 
@@ -58,8 +58,9 @@ def test_taper_fit_result():
 
 
 def test_joint_capacity_record_and_row_layout():
-    data = load_default_data()
-    caps = joint_capacities(data, speed_rpm=2500.0)
+    system = load_system()
+    data = system.data
+    caps = joint_capacities(system, speed_rpm=2500.0)
     assert set(caps) == set(values(data)["joints"])
     for name, cap in caps.items():
         assert isinstance(cap, JointCapacity) and cap.joint == name
@@ -80,7 +81,7 @@ def test_joint_capacity_record_and_row_layout():
                   shaft_density_kg_m3=shaft["density_kg_m3"], hub_density_kg_m3=hub["density_kg_m3"],
                   hub_yield_MPa=hub["yield_strength_MPa"], shaft_yield_MPa=shaft["yield_strength_MPa"])
     assert cam.torque_capacity_Nm == r.torque_capacity_Nm and cam.interference_um == r.effective_interference_um
-    assert cam == cam and joint_capacity(data, "cam", speed_rpm=2500.0).as_row() == cam.as_row()
+    assert cam == cam and joint_capacity(system, "cam", speed_rpm=2500.0).as_row() == cam.as_row()
     table = pd.DataFrame([c.as_row() for c in caps.values()]).set_index("joint")
     assert table.loc["cam", "axial_capacity_N"] == cam.axial_capacity_N
     assert pd.isna(table.loc["cam", "bolt_preload_N"]) and pd.isna(table.loc["ac", "interference_um"])
@@ -88,5 +89,5 @@ def test_joint_capacity_record_and_row_layout():
 
 def test_joint_capacity_is_symbolic_in_its_overrides():
     x = ca.SX.sym("x")
-    cap = joint_capacity(load_default_data(), "cam", overrides={"diametral_interference_um": x})
+    cap = joint_capacity(load_system(), "cam", overrides={"diametral_interference_um": x})
     assert isinstance(cap.torque_capacity_Nm, ca.SX) and cap.gear == "cam"

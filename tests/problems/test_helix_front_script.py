@@ -103,7 +103,7 @@ def test_failed_points_are_reported_not_dropped(quick_run, tmp_path):
     from gearopt.studies.front_check import verify_front
 
     script, _, (front, _, _, _) = quick_run
-    scene, settings = script.build_scene(go.load_default_data(), quick=True)
+    scene, settings = script.build_scene(go.load_system(), quick=True)
     table = front.table.copy()
     table.loc[[1, 2], "status"] = "InfeasibleProblemError"
     table.loc[[1, 2], "error"] = "injected: the ε point did not solve"

@@ -27,7 +27,7 @@ def test_blank_front_matches_the_blank_model_evaluated_directly(blank_run):
     assert len(front) == 5 and (front["status"] == "ok").all()
     assert (blank_run / "front.png").stat().st_size > 5000
     train = go.load_default_train("spur")
-    base, _ = blank_from_data(go.load_default_data(), train, "cam")
+    base, _ = blank_from_data(go.load_system(), train, "cam")
     for _, row in front.iterrows():
         blank = replace(base, web_thickness_mm=row["cam.web_thickness_mm"],
                         rim_thickness_mm=row["cam.rim_thickness_mm"])

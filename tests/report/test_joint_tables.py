@@ -9,7 +9,7 @@ import pytest
 import gearopt as go
 from gearopt.blank.web import web_stress
 from gearopt.cases.timing_train import quasi_static_load_case
-from gearopt.data import load_default_data
+from gearopt.data import load_system
 from gearopt.errors import GearoptInputError
 from gearopt.joints.walk_off import joint_margins, walk_off
 from gearopt.report.joint_tables import blank_table, design_load_torques_Nm, joint_table, web_table
@@ -56,7 +56,7 @@ def test_spur_table_axial_margins_inf_with_note():
 def test_history_gives_the_minimum_margin_over_time():
     t = np.linspace(0, 2 * np.pi, 40)
     torques = {"crank-cam": 190 + 150 * np.sin(3 * t), "cam-ac": 240 * np.cos(t), "cam-fp": 90 + 60 * np.sin(6 * t)}
-    df = joint_table(load_default_data(), train="helical", torques_Nm=torques)
+    df = joint_table(load_system(), train="helical", torques_Nm=torques)
     r = walk_off(go.load_default_train("helical"), torques)
     T, F = r.joint_torque_Nm["cam"], r.axial_force_N["cam"]
     worst = min(joint_margins("press_fit", T[i], F[i], df.loc["cam", "torque_capacity_Nm"],
@@ -66,7 +66,7 @@ def test_history_gives_the_minimum_margin_over_time():
 
 
 def test_design_loads_and_weakest_tolerances():
-    data = load_default_data()
+    data = load_system()
     loads = design_load_torques_Nm(data)
     assert {k: loads[k] for k in ("crank-cam", "cam-ac", "cam-fp")} == {"crank-cam": 300.0, "cam-ac": 240.0,
                                                                         "cam-fp": 150.0}
@@ -83,7 +83,7 @@ def test_design_loads_and_weakest_tolerances():
 
 
 def test_blank_table():
-    df = blank_table(load_default_data(), train="spur")
+    df = blank_table(load_system(), train="spur")
     assert list(df.index) == ["crank", "cam", "ac", "fp", "lpi", "lpg"]
     assert df.loc["cam", "blank"] == "pocketed" and df.loc["crank", "blank"] == "solid"
     assert df.loc["cam", "inertia_kgm2"] == pytest.approx(0.0305, rel=0.01)
@@ -94,7 +94,7 @@ def test_blank_table():
 
 
 def test_web_table_single_case_and_history():
-    df = web_table(load_default_data(), train="helical", torques_Nm="design")
+    df = web_table(load_system(), train="helical", torques_Nm="design")
     assert list(df.index) == ["cam", "ac", "fp"]  # the webbed gears
     # a single load case is applied forward and reversed: the forward-reverse case is fully reversed
     assert np.allclose(df["forward_stress_MPa"], df["reverse_stress_MPa"])
@@ -103,7 +103,7 @@ def test_web_table_single_case_and_history():
     assert (df["forward_reverse_fatigue_margin"] < df["forward_fatigue_margin"]).all()
     # the cam row is web_stress of its loads: joint torque 210 N m, net thrust, force bound from the three meshes
     train = go.load_default_train("helical")
-    r = walk_off(train, design_load_torques_Nm(load_default_data()))
+    r = walk_off(train, design_load_torques_Nm(load_system()))
     alpha = {m: math.radians(p.geometry()["working_pressure_angle_deg"]) for m, p in train.pairs.items()}
     force = sum(abs(c["tangential_force_N"]) / math.cos(alpha[c["mesh"]]) for c in r.contributions
                 if c["gear"] == "cam")
@@ -116,7 +116,7 @@ def test_web_table_single_case_and_history():
         500.0 / (0.5 * s["von_mises_MPa"] / (1 - 0.5 * s["von_mises_MPa"] / 1000.0)), rel=1e-12)
     # a history that only drives forward has no reverse stress: reverse margin inf, forward-reverse = forward
     t = np.linspace(0.0, 1.0, 20)
-    h = web_table(load_default_data(), train="helical", torques_Nm={"crank-cam": 250 + 100 * t, "cam-ac": 240 + 0 * t,
-                                                "cam-fp": 150 + 0 * t})
+    h = web_table(load_system(), train="helical", torques_Nm={"crank-cam": 250 + 100 * t, "cam-ac": 240 + 0 * t,
+                                          "cam-fp": 150 + 0 * t})
     assert h.loc["cam", "reverse_stress_MPa"] == 0.0 and h.loc["cam", "reverse_fatigue_margin"] == math.inf
     assert h.loc["cam", "forward_reverse_fatigue_margin"] == pytest.approx(h.loc["cam", "forward_fatigue_margin"])

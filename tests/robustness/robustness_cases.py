@@ -249,7 +249,7 @@ def _default_train(kind):
 def call_peak_pressure(**kw):
     from gearopt.engine import peak_pressure_bar
     kw.setdefault("load", 1.0)
-    return peak_pressure_bar(data=go.load_default_data(), **kw)
+    return peak_pressure_bar(system=go.load_system(), **kw)
 
 
 def call_fit_interference(**kw):
@@ -282,7 +282,7 @@ def call_lewis_form_factor(**kw):
 
 def call_excitation(*, speed_rpm, load, pressure, crank_angle_rad):
     from gearopt.engine import EngineExcitation
-    exc = EngineExcitation.from_data(go.load_default_data(), speed_rpm=speed_rpm, load=load, pressure=pressure)
+    exc = EngineExcitation.from_data(go.load_system(), speed_rpm=speed_rpm, load=load, pressure=pressure)
     return {"total_torque_Nm": exc.total_torque_Nm(crank_angle_rad, exc.speed_rpm * math.pi / 30.0),
             "mean_torque_Nm": exc.mean_torque_Nm()}
 

@@ -245,13 +245,13 @@ def test_joint_data_sensitivities_match_re_solves_with_the_data_file_changed():
     # the least interference that holds the torque margin gives the safest hub: the interference needed goes as
     # 1/mu (Lame + Coulomb: capacity ~ mu p, p ~ interference), so the hub's yield safety goes nearly as mu
     # (not exactly: the capacity at speed loses the centrifugal relief, which does not scale with mu)
-    from gearopt.data import load_default_data, values
+    from gearopt.data import system_from_data
 
     def scene(mu: float | None = None) -> Scene:
-        data = values(load_default_data())
+        data = go.load_system().data
         if mu is not None:
             data["joints"]["cam"]["friction_coefficient"] = mu
-        return Scene("joint", train=go.load_default_train("spur"), data=data,
+        return Scene("joint", train=go.load_default_train("spur"), data=system_from_data(data),
                      load_cases=[LoadCase("design", speed_rpm=2500.0, joint_torque_Nm={"cam": 400.0})],
                      variables=[DesignVariable("interference_um", "cam", 10.0, 150.0)],
                      objectives=[Objective("hub_yield_safety", "cam", sense="max")],

@@ -6,10 +6,11 @@ import numpy as np
 import pytest
 from scipy.optimize import minimize_scalar
 
-from gearopt.data import load_default_data
+from gearopt.data import load_system
 from gearopt.engine import EngineExcitation, crank_torque, slider_crank
 
-DATA = load_default_data()
+SYSTEM = load_system()
+DATA = SYSTEM.data
 T35 = DATA["thesis"]["table_3_5"]
 DEG = np.array(T35["crank_deg"], dtype=float)
 
@@ -75,7 +76,7 @@ def test_thesis_table_3_5_gas_column_shape_from_our_pressure(pressure, corr_min,
     # Our single-cylinder gas torque at rated speed (firing TDC at 360 deg as in the table), normalised by its
     # maximum on a 1 deg grid, against the thesis column: the double-Wiebe trace peaks at 384 deg like the table
     # (corr 0.9997, max diff 0.018); the measured Mendes trace (another engine) is broader (corr 0.993, 0.118).
-    ex = EngineExcitation.from_data(DATA, speed_rpm=2500.0, pressure=pressure)
+    ex = EngineExcitation.from_data(SYSTEM, speed_rpm=2500.0, pressure=pressure)
     g = np.array(T35["gas_torque_normalised"])
 
     def gas(deg):

@@ -7,6 +7,7 @@ design tables (:mod:`.macro_design`), its quasi-static accessory load case (:mod
 ``problems/cam_gear_walkoff.py`` runs them.
 """
 
+from ...data import System, system_of
 from .codesign import (CONTACT_STRESS_ALLOWANCE, GEOMETRY_LIMITS, MESHES, WALK_OFF_JOINTS, CodesignOption,
                        CodesignStudy, codesign_study)
 from .failure import FIELD_RATE, HELICAL_ALTERNATIVES, failure_reproduction
@@ -14,10 +15,10 @@ from .loads import QUASI_STATIC_CASE, accessory_load_torques_Nm, quasi_static_lo
 from .model import TimingModel, default_timing_model
 
 
-def timing_model(system, kind: str = "spur", **options) -> TimingModel:
+def timing_model(system: System, kind: str = "spur", **options) -> TimingModel:
     """The timing-system model of a :class:`~gearopt.data.System` of the packaged timing train's layout (an
-    ``[engine]`` section and the timing train's gears): :func:`default_timing_model` on the system's data."""
-    return default_timing_model(kind, data=system.data, **options)
+    ``[engine]`` section and the timing train's gears): :func:`default_timing_model` of the system."""
+    return default_timing_model(kind, system=system_of(system, "timing_model"), **options)
 
 
 __all__ = ["TimingModel", "default_timing_model", "timing_model", "codesign_study", "CodesignStudy",

@@ -33,7 +33,7 @@ import numpy as np
 import pandas as pd
 
 from ...contact.ltca import ltca
-from ...data import load_default_data, system_from_data, train_from_data, values
+from ...data import System, load_system, system_of, train_from_data, values
 from ...errors import GearoptInputError, SolveError
 from ...geometry.train import GearTrain
 from ...joints import joint_capacity
@@ -226,27 +226,28 @@ def unmodified_ppte_limits(train: GearTrain, meshes: Sequence[str], cases: Seque
                   load_cases=(c.name,)) for m in meshes for c in cases]
 
 
-def _axial_margins(data: dict, train: GearTrain, beta: float, torques: dict, speed_rpm: float) -> dict:
+def _axial_margins(system: System, train: GearTrain, beta: float, torques: dict, speed_rpm: float) -> dict:
     helical = dataclasses.replace(train, helix_angle_deg=beta)
     axial = walk_off(helical, torques).axial_force_N
     out = {}
     for joint in WALK_OFF_JOINTS:
         gear = joint
-        cap = joint_capacity(data, joint, speed_rpm=speed_rpm).axial_capacity_N
+        cap = joint_capacity(system, joint, speed_rpm=speed_rpm).axial_capacity_N
         out[joint] = cap / abs(axial[gear]) if abs(axial[gear]) > 0 else np.inf
     return out
 
 
-def macro_first_helix(data: dict, train: GearTrain, torques: dict, speed_rpm: float, max_helix_angle_deg: float,
+def macro_first_helix(system: System, train: GearTrain, torques: dict, speed_rpm: float, max_helix_angle_deg: float,
                       min_axial_margin: float) -> float:
     """The sequential macro choice of the helix angle: the largest angle <= ``max_helix_angle_deg`` whose axial
-    margins all reach ``min_axial_margin`` (bisection; the thrust grows with tan(beta))."""
-    if min(_axial_margins(data, train, max_helix_angle_deg, torques, speed_rpm).values()) >= min_axial_margin:
+    margins all reach ``min_axial_margin`` (bisection; the thrust grows with tan(beta)); the joint capacities from
+    ``system`` (a :class:`~gearopt.data.System`)."""
+    if min(_axial_margins(system, train, max_helix_angle_deg, torques, speed_rpm).values()) >= min_axial_margin:
         return float(max_helix_angle_deg)
     lo, hi = 0.0, float(max_helix_angle_deg)
     for _ in range(40):
         mid = 0.5 * (lo + hi)
-        ok = min(_axial_margins(data, train, mid, torques, speed_rpm).values()) >= min_axial_margin
+        ok = min(_axial_margins(system, train, mid, torques, speed_rpm).values()) >= min_axial_margin
         lo, hi = (mid, hi) if ok else (lo, mid)
     return lo
 
@@ -276,14 +277,15 @@ and ended 6.8 % apart. With the largest PPTE minimised (the study's objective) t
 verifies to 1.7 % after two re-solves."""
 
 
-def codesign_study(data: dict | None = None, *, options: Sequence[str] = ("spur", "low_helix"),
+def codesign_study(system: System | None = None, *, options: Sequence[str] = ("spur", "low_helix"),
                    meshes: Sequence[str] = tuple(MESHES), max_helix_angle_deg: float = 8.0,
                    root_shift_bounds: tuple[float, float] = (0.0, 0.6), min_axial_margin: float = 1.5,
                    quick: bool = False, ltca_options: dict | None = None,
                    contact_stress_allowance: float = CONTACT_STRESS_ALLOWANCE,
                    sequential_options: dict | None = None, codesign_ipopt: dict | None = None,
                    pin_width: float = 0.05) -> CodesignStudy:
-    """Run the study of the module docstring on ``data`` (default: the packaged default data). ``quick``: one load
+    """Run the study of the module docstring on ``system`` (a :class:`~gearopt.data.System` of the timing train's
+    layout; default ``gearopt.load_system()``, the packaged timing train this case studies). ``quick``: one load
     case (the design torque), 16 positions, 5 face slices for a helical option and no refinement (a smoke run for
     tests: every optimum is still checked by the exact LTCA, but not refined to the 2 % agreement).
     ``contact_stress_allowance``: the LTCA contact stress of each mesh may exceed the unmodified mesh's exact
@@ -298,14 +300,14 @@ def codesign_study(data: dict | None = None, *, options: Sequence[str] = ("spur"
     lies inside it, away from the start."""
     check_range("contact_stress_allowance", contact_stress_allowance, 0.0, 0.5)
     check_range("pin_width", pin_width, 0.0, None)
-    data = data or load_default_data()
+    system = load_system() if system is None else system_of(system, "codesign_study")
+    data = system.data
     v = values(data)
     loads, limits = v["design_loads"], v["design_limits"]
     train = train_from_data(data, "spur")
     fractions = [1.0] if quick else list(loads["torque_range_fractions"])
     speed = float(loads["speed_rpm"])
     overspeed = float(v["engine"]["overspeed_test_speed_rpm"])
-    system = system_from_data(data)
     required = system.requirements
     design = system.design_torques_Nm()
     unknown = set(meshes) - set(design)
@@ -344,7 +346,7 @@ def codesign_study(data: dict | None = None, *, options: Sequence[str] = ("spur"
         margins = [Limit("axial_margin", j, lower=min_axial_margin, load_cases=("overspeed",))
                    for j in WALK_OFF_JOINTS] if helical else []
         if helical:
-            macro["helix_angle_deg"] = macro_first_helix(data, train, over_torques, overspeed, max_helix_angle_deg,
+            macro["helix_angle_deg"] = macro_first_helix(system, train, over_torques, overspeed, max_helix_angle_deg,
                                                          min_axial_margin)
         fixed = dataclasses.replace(train, helix_angle_deg=macro["helix_angle_deg"])
         load_cases = cases + ([over] if helical else [])
@@ -355,7 +357,7 @@ def codesign_study(data: dict | None = None, *, options: Sequence[str] = ("spur"
             seq_opts["max_refinements"] = 0
         seq_scene = Scene(f"{option} sequential (micro at fixed macro)", train=fixed, load_cases=load_cases,
                           variables=flank_vars, objectives=objective, limits=ltca_limits + ppte_limits + margins,
-                          ltca_options=seq_opts, data=data, objective_aggregate="max")
+                          ltca_options=seq_opts, data=system, objective_aggregate="max")
         failures = {}
         try:
             seq_built = seq_scene.build()
@@ -380,7 +382,7 @@ def codesign_study(data: dict | None = None, *, options: Sequence[str] = ("spur"
         co_scene = Scene(f"{option} co-design", train=fixed, load_cases=load_cases, variables=train_vars + flank_vars,
                          objectives=objective,
                          limits=ltca_limits + ppte_limits + (geometry if train_vars else []) + margins,
-                         ltca_options=opts, data=data, objective_aggregate="max")
+                         ltca_options=opts, data=system, objective_aggregate="max")
         start = {**(sequential.values if sequential else {}),
                  **{f"train.{v.name}": macro[v.name] for v in train_vars}}
         try:

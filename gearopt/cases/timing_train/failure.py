@@ -5,7 +5,7 @@ alternatives the source study weighed and its field record as the sanity check."
 
 from __future__ import annotations
 
-
+from ...data import System, system_of
 from ...studies.failure import (DAMPER_STATE_PROBABILITIES, DAMPER_STATE_PROBABILITIES_SOURCE, EXPOSURE_HOURS,
                                 EXPOSURE_HOURS_SOURCE, WALK_OFF_DISTANCE_MM, WALK_OFF_DISTANCE_SOURCE,
                                 WARRANTY_MONTHS, creep_summary, walk_off_probability)
@@ -26,7 +26,7 @@ HELICAL_ALTERNATIVES = {
 }
 
 
-def failure_reproduction(data: dict, *, quick: bool = False, joints=("cam", "crank"), samples: int = 20000,
+def failure_reproduction(system: System, *, quick: bool = False, joints=("cam", "crank"), samples: int = 20000,
                          seed: int = 0, distance_mm: float | None = None, executor="serial",
                          workers: int | None = None, alternatives: dict | None = None, calibrate: bool = True,
                          calibration_samples: int = 1000, prior_samples: int = 256) -> dict:
@@ -35,7 +35,8 @@ def failure_reproduction(data: dict, *, quick: bool = False, joints=("cam", "cra
     (:data:`HELICAL_ALTERNATIVES`). ``quick`` (smoke test, not a result): 3300 rpm, degraded damper only (probabilities conditional on it),
     three fit levels, one cycle from the static state (start-up transient included); else all speeds and damper states, recorded cycles after one run-in cycle.
     ``executor`` (``"serial"``, ``"processes"``, an :class:`~gearopt.studies.executor.Executor` ...; ``workers``)
-    runs the envelope's (speed, damper state) points.
+    runs the envelope's (speed, damper state) points. ``system``: the :class:`~gearopt.data.System` of a data file
+    of the timing train's layout (``gearopt.load_system()`` for the packaged one).
 
     The duty (hours per speed band, damper-state shares, walk-off distance) comes from the data's
     ``[field_record]`` when it has one (else the estimates of :mod:`gearopt.studies.failure`; ``distance_mm``
@@ -58,10 +59,9 @@ def failure_reproduction(data: dict, *, quick: bool = False, joints=("cam", "cra
         envelope_speeds_rpm,
         joint_envelope,
     )
-    from ...data import system_of
     from ...studies.calibration import (FLIPPED_PREFIX, WalkOffModel, calibrate_walk_off, default_uncertain_inputs,
                                         field_record)
-    system = system_of(data, "failure_reproduction")
+    system = system_of(system, "failure_reproduction")
     record = field_record(system) if "field_record" in system.sections else None
     if distance_mm is None:
         distance_mm = record.walk_off_distance_mm if record is not None else WALK_OFF_DISTANCE_MM
@@ -70,7 +70,7 @@ def failure_reproduction(data: dict, *, quick: bool = False, joints=("cam", "cra
     calibrate = bool(calibrate and evidence)
     base_damper = record.damper_probabilities if record is not None else DAMPER_STATE_PROBABILITIES
     exposure = record.exposure_hours if record is not None else EXPOSURE_HOURS
-    bands = envelope_speeds_rpm(data)
+    bands = envelope_speeds_rpm(system)
     speeds = [bands["motoring_overspeed"][0]] if quick else [v for v, _ in bands.values()]
     states = ("degraded",) if quick else tuple(DAMPER_STATES)
     total = sum(base_damper[s] for s in states)
@@ -90,7 +90,7 @@ def failure_reproduction(data: dict, *, quick: bool = False, joints=("cam", "cra
         helical_variants.update({FLIPPED_PREFIX + j: (j, -1.0) for j in joints})
     from ...executor import using_executor
     from .model import default_timing_model
-    models = {kind: default_timing_model(kind, data=data) for kind in ("helical", "spur")}
+    models = {kind: default_timing_model(kind, system=system) for kind in ("helical", "spur")}
     def envelope(kind, executor_map):
         return joint_envelope(models[kind], joints, speeds_rpm=speeds, executor_map=executor_map,
                               variants=helical_variants if kind == "helical" else None, **run)
@@ -110,7 +110,7 @@ def failure_reproduction(data: dict, *, quick: bool = False, joints=("cam", "cra
             rows_all = env[env["joint"] == joint]
             is_below = rows_all["fit_case"].str.endswith("x_weakest")
             rows, below = rows_all[~is_below], rows_all[is_below]
-            pr = walk_off_probability(env, data, joint, samples=samples, seed=seed, distance_mm=distance_mm,
+            pr = walk_off_probability(env, system, joint, samples=samples, seed=seed, distance_mm=distance_mm,
                                       interference_shift_um=shift if joint == "cam" else 0.0,
                                       damper_probabilities=damper_probabilities, exposure_hours=exposure,
                                       field_rate=FIELD_RATE,
@@ -173,8 +173,7 @@ def failure_reproduction(data: dict, *, quick: bool = False, joints=("cam", "cra
         "field_rate_source": FIELD_RATE_SOURCE, "alternatives": {k: v["description"] for k, v in alternatives.items()},
         "recorded_cycles": run["cycles"], "run_in_cycles": run["run_in_cycles"], "samples": int(samples),
         "coupling": "one-way: slip states driven by the torsional model, not fed back (bounded by the key)"}
-    from ...data import values
-    c0 = float(values(data)["engine"]["crankshaft"]["damper_viscous_damping_Nms_per_rad"])
+    c0 = float(system.section("engine", "failure_reproduction")["crankshaft"]["damper_viscous_damping_Nms_per_rad"])
     for s in states:
         assumptions["damper_states"][s]["damping_Nms_per_rad"] = c0 * DAMPER_STATES[s]
     return {"envelopes": envelopes, "probabilities": probabilities, "summary": summary, "assumptions": assumptions,

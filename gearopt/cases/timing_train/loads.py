@@ -12,7 +12,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from ...data import System, require_section, system_of, train_from_data
+from ...data import System, system_of, train_from_data
 from ...errors import GearoptInputError
 from ...geometry.train import GearTrain
 from ...joints.walk_off import quasi_static_mesh_torques_Nm
@@ -24,7 +24,7 @@ QUASI_STATIC_CASE = ("quasi-static accessory peaks (valve train mean + amplitude
 
 def accessory_load_torques_Nm(system: System, case: str = "peak") -> dict[str, float]:
     """Shaft load torques [N m] each accessory gear of the timing train delivers to its accessory, from
-    ``[engine.*]`` of ``system`` (all [E] estimates; during the transition its validated dict is accepted too):
+    ``[engine.*]`` of ``system`` (a :class:`~gearopt.data.System`; all [E] estimates):
 
     ``"peak"``: camshaft valve train mean + amplitude, air compressor peak, fuel pump peak, lube pump mean;
     ``"mean"``: the mean values (air compressor loaded mean). Combine with
@@ -53,8 +53,8 @@ def quasi_static_load_case(system: System, train: str | GearTrain = "spur") -> t
     :data:`QUASI_STATIC_CASE`. The pair is a load case of :func:`gearopt.report.joint_tables.joint_table` and
     :func:`~gearopt.report.joint_tables.web_table`. A system without ``[engine]`` raises
     :class:`~gearopt.errors.MissingSectionError` naming the file and this load case."""
-    require_section(system, "engine", "the quasi-static accessory load case (quasi_static_load_case)")
     system = system_of(system, "quasi_static_load_case")
+    system.require("engine", "the quasi-static accessory load case (quasi_static_load_case)")
     tr = train if isinstance(train, GearTrain) else train_from_data(system.data, train)
     return quasi_static_mesh_torques_Nm(tr, accessory_load_torques_Nm(system, "peak")), QUASI_STATIC_CASE
 

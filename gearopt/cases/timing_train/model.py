@@ -47,7 +47,7 @@ import numpy as np
 import pandas as pd
 
 from ...rating.stiffness import mesh_stiffness_table
-from ...data import load_default_data, system_from_data, train_from_data, values
+from ...data import System, load_system, system_of, train_from_data, values
 from ... import compile_cache
 from ...errors import GearoptInputError
 from ...validation import check_range
@@ -67,7 +67,10 @@ PRESSURE_SCALE = "cylinders.pressure_scale"
 
 @dataclass
 class TimingModel:
-    """The default timing-system network with its data, gear train and per-mesh table (see module docstring).
+    """The default timing-system network with its system, gear train and per-mesh table (see module docstring).
+
+    ``system`` the :class:`~gearopt.data.System` the model was built from (its ``[engine]`` sets the pressure map
+    of :meth:`parameters_at`; its ``[joints]``/``[materials]`` give the joint capacities).
 
     ``mesh_table`` (index mesh): gears, base radii [mm], teeth, contact ratios, base helix angle [deg], mean mesh
     stiffness [N/m], damping [N s/m], backlash along the line of action [mm], ISO validity note. ``gear_nodes``:
@@ -79,7 +82,7 @@ class TimingModel:
     network: TorsionalNetwork
     train: object
     mesh_table: pd.DataFrame
-    data: dict
+    system: System
     load: float
     pressure: str
     raw_peak_pressure_bar: float
@@ -88,14 +91,14 @@ class TimingModel:
 
     @property
     def factory(self) -> tuple[str, dict]:
-        """How a spawned worker rebuilds this model from the data: (``"module:function"``, keyword arguments
-        besides ``data``)."""
+        """How a spawned worker rebuilds this model from its system: (``"module:function"``, keyword arguments
+        besides ``system``)."""
         return f"{__name__}:default_timing_model", {"kind": self.kind}
 
     @property
     def default_speeds_rpm(self) -> list[float]:
         """Crank speeds of a default speed sweep [rpm]: the engine's idle and overspeed-test speeds."""
-        e = values(self.data)["engine"]
+        e = self.system.section("engine", "TimingModel.default_speeds_rpm")
         return [float(e["idle_speed_rpm"]), float(e["overspeed_test_speed_rpm"])]
 
     def parameters_at(self, speed_rpm: float, load: float | None = None) -> dict:
@@ -103,7 +106,7 @@ class TimingModel:
         speed-load map's peak pressure (:func:`gearopt.engine.peak_pressure_bar`)."""
         from ...engine import peak_pressure_bar
         load = self.load if load is None else load
-        return {PRESSURE_SCALE: float(peak_pressure_bar(speed_rpm, load, self.data)) / self.raw_peak_pressure_bar}
+        return {PRESSURE_SCALE: float(peak_pressure_bar(speed_rpm, load, self.system)) / self.raw_peak_pressure_bar}
 
     def simulate(self, speed_rpm: float = 2500.0, cycles: int = 10, backlash: bool = True, rtol: float = 1e-6,
                  *, parameters: dict | None = None, load: float | None = None, run_in_cycles: int = 0,
@@ -192,7 +195,7 @@ def _local_damping(loss_factor: float, k: float, j_a: float, j_b: float) -> floa
     return loss_factor * k / omega
 
 
-def default_timing_model(kind: str = "spur", *, data: dict | None = None, load: float = 1.0,
+def default_timing_model(kind: str = "spur", *, system: System | None = None, load: float = 1.0,
                          pressure: str = "table", pressure_harmonics: int = 64,
                          stiffness_harmonics: int = DEFAULT_HARMONICS, stiffness_variation: float = 1.0,
                          contact_width_um: float = DEFAULT_CONTACT_WIDTH_M * 1e6,
@@ -202,7 +205,9 @@ def default_timing_model(kind: str = "spur", *, data: dict | None = None, load: 
                          ltca_options: dict | None = None) -> TimingModel:
     """The default engine timing-system model of ``kind`` ``"spur"`` (the redesign) or ``"helical"`` (the baseline).
 
-    ``data``: parsed data of the default schema (default: the packaged file); ``load`` engine load 0..1;
+    ``system``: the :class:`~gearopt.data.System` of a data file of the timing train's layout (an ``[engine]``
+    section and the timing train's gears); default ``gearopt.load_system()``, the packaged timing train this case
+    models; ``load`` engine load 0..1;
     ``pressure`` ``"table"`` (Mendes measured trace) or ``"wiebe"``; ``pressure_harmonics`` of its Fourier fit;
     ``stiffness_harmonics``/``stiffness_variation`` of the mesh-stiffness shape (0 variation: constant mean
     stiffness); ``contact_width_um`` of the smooth dead zone, ``damping_width_um`` over which the mesh dashpot
@@ -221,7 +226,8 @@ def default_timing_model(kind: str = "spur", *, data: dict | None = None, load: 
 
     _check_kind(kind)
     check_range("load", load, 0.0, 1.0)
-    raw = load_default_data() if data is None else data
+    system = load_system() if system is None else system_of(system, "default_timing_model")
+    raw = system.data
     d = values(raw)
     train = train_from_data(raw, kind)
     crank = d["engine"]["crankshaft"]
@@ -281,7 +287,7 @@ def default_timing_model(kind: str = "spur", *, data: dict | None = None, load: 
     if mesh_stiffness == "ltca":
         from ...dynamics.ltca_stiffness import ltca_mesh_stiffness
         torques = dict(ltca_torques_Nm or {})
-        design = system_from_data(raw).design_torques_Nm()
+        design = system.design_torques_Nm()
         for name in train.pairs:
             if name not in torques:
                 if name not in design:
@@ -318,7 +324,7 @@ def default_timing_model(kind: str = "spur", *, data: dict | None = None, load: 
     # --- excitation ---------------------------------------------------------------------------------------------
     if excitation_angle not in ("nominal", "actual"):
         raise GearoptInputError(f"excitation_angle={excitation_angle!r} must be 'nominal' or 'actual'")
-    exc = EngineExcitation.from_data(raw, speed_rpm=float(d["engine"]["rated_speed_rpm"]), load=load,
+    exc = EngineExcitation.from_data(system, speed_rpm=float(d["engine"]["rated_speed_rpm"]), load=load,
                                      pressure=pressure, harmonics=pressure_harmonics, scale_to_map=False)
     p_cc = float(exc.crankcase_pressure_bar)
     area_mm2, mass = exc.piston_area_mm2, exc.reciprocating_mass_kg
@@ -349,18 +355,18 @@ def default_timing_model(kind: str = "spur", *, data: dict | None = None, load: 
             return lambda t_s, a, w, nominal_angle_rad: -share * shared(nominal_angle_rad)
         return lambda t_s, a, w: -share * shared(a)
 
-    valve = AccessoryTorque.camshaft(raw)
+    valve = AccessoryTorque.camshaft(system)
     for s in stations:
         net.add_torque(s, load_torque(valve, 1.0 / len(stations)), name=f"valve_train@{s}",
                        description="valve train / stations (gearopt.engine camshaft map, [E] equal split)")
-    net.add_torque("fp_pump", load_torque(AccessoryTorque.fuel_pump(raw)), name="fuel_pump",
+    net.add_torque("fp_pump", load_torque(AccessoryTorque.fuel_pump(system)), name="fuel_pump",
                    description="common-rail pump (gearopt.engine)")
-    net.add_torque("ac_crank", load_torque(AccessoryTorque.air_compressor(raw, loaded=air_compressor_loaded)),
+    net.add_torque("ac_crank", load_torque(AccessoryTorque.air_compressor(system, loaded=air_compressor_loaded)),
                    name="air_compressor", description="single-cylinder air compressor (gearopt.engine)")
-    net.add_torque("lpg_rotor", load_torque(AccessoryTorque.lube_pump(raw)), name="lube_pump",
+    net.add_torque("lpg_rotor", load_torque(AccessoryTorque.lube_pump(system)), name="lube_pump",
                    description="lube pump (gearopt.engine)")
 
-    return TimingModel(kind=kind, network=net, train=train, mesh_table=mesh_df, data=raw, load=float(load),
+    return TimingModel(kind=kind, network=net, train=train, mesh_table=mesh_df, system=system, load=float(load),
                        pressure=pressure, raw_peak_pressure_bar=float(exc.pressure.peak_bar), notes=notes,
                        gear_nodes=dict(gear_node))
 

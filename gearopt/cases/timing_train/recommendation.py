@@ -23,7 +23,7 @@ import numpy as np
 import pandas as pd
 
 from ...contact.microgeometry import Microgeometry
-from ...data import System
+from ...data import System, system_from_data
 from ...design.recommendation import Recommendation, recommend
 from ...design.requirements import DynamicPeaks, TrainDesign, evaluate_requirements, with_capacities
 from ...joints.catalogue import joint_capacity
@@ -177,7 +177,7 @@ def design_peak_torques_Nm(system: System, design: TrainDesign, speeds_rpm, *, c
     data["trains"][kind].update(root_profile_shift=float(tr.profile_shifts[tr.root_gear]),
                                 helix_angle_deg=float(tr.helix_angle_deg))
     data["trains"][kind].pop("root_shift_split", None)
-    model = default_timing_model(kind, data=data)
+    model = default_timing_model(kind, system=system_from_data(data, source=f"{system.source} (the design's train)"))
     peaks: dict[str, tuple[float, float]] = {}
     for speed in speeds_rpm:
         sim = model.simulate(speed_rpm=float(speed), backlash=True, cycles=cycles, run_in_cycles=run_in_cycles,

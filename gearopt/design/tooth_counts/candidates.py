@@ -12,7 +12,7 @@ from typing import TYPE_CHECKING, Any, Mapping
 import numpy as np
 
 from ... import numerics as nm
-from ...data import data_of, values
+from ...data import system_of
 from ...errors import GearoptInputError
 from ...validation import check_range
 from ...geometry import involute as inv
@@ -61,7 +61,7 @@ def _ratios_from_teeth(train: GearTrain, teeth: Mapping[str, int]) -> dict[str, 
 
 
 def reference_speed_ratios(train: GearTrain, reference: str | Mapping[str, float] = "teeth",
-                           data: System | Mapping[str, Any] | None = None) -> dict[str, float]:
+                           system: System | None = None) -> dict[str, float]:
     """Reference speed of every gear relative to the train's root gear (magnitudes, dimensionless).
 
     ``reference``:
@@ -75,7 +75,7 @@ def reference_speed_ratios(train: GearTrain, reference: str | Mapping[str, float
       error of the spur tooth counts against the helical pair), propagated from the root;
     - a mapping gear -> ratio (every gear of the train; the root's value is divided out).
 
-    ``data``: a :class:`~gearopt.data.System` or the validated dict of a data file; required for ``"data"`` and
+    ``system``: the :class:`~gearopt.data.System` of the data file; required for ``"data"`` and
     ``"helical_original"`` (``None`` raises naming the argument: the packaged data are never read behind the
     caller's back), unused otherwise.
     """
@@ -93,16 +93,16 @@ def reference_speed_ratios(train: GearTrain, reference: str | Mapping[str, float
     teeth = {g: spec.teeth for g, spec in train.gears.items()}
     if reference == "teeth":
         return _ratios_from_teeth(train, teeth)
-    if data is None:
-        raise GearoptInputError(f"reference={reference!r} reads the data file: pass data=... (the System of your "
-                                f"file, gearopt.load_system(path), or its dict); data=None is not read from the "
-                                f"packaged default")
-    d = values(dict(data_of(data, f"reference_speed_ratios(reference={reference!r})")))
+    if system is None:
+        raise GearoptInputError(f"reference={reference!r} reads the data file: pass system=... (the System of your "
+                                f"file, gearopt.load_system(path)); system=None is not read from the packaged "
+                                f"default")
+    system = system_of(system, f"reference_speed_ratios(reference={reference!r})")
     if reference == "data":
         out = {}
         for g in train.gears:
             try:
-                v = float(d["gears"][g]["speed_ratio_to_crank"])
+                v = float(system.gears[g].entries["speed_ratio_to_crank"])
             except KeyError:
                 raise GearoptInputError(f"reference='data': the data has no gears.{g}.speed_ratio_to_crank") from None
             check_range(f"gears.{g}.speed_ratio_to_crank", v, 0.0, None, low_inclusive=False)
@@ -111,9 +111,10 @@ def reference_speed_ratios(train: GearTrain, reference: str | Mapping[str, float
         root = out[train.root_gear]
         return {g: r / root for g, r in out.items()}
     ratios = {train.root_gear: 1.0}
+    meshes = system.section("meshes", f"reference_speed_ratios(reference={reference!r})")
     for gear, mesh_name, parent in _tree_order(train)[1:]:
         try:
-            err = float(d["meshes"][mesh_name]["speed_ratio_error_percent"])
+            err = float(meshes[mesh_name]["speed_ratio_error_percent"])
         except KeyError:
             raise GearoptInputError(f"reference='helical_original': the data has no "
                                     f"meshes.{mesh_name}.speed_ratio_error_percent") from None

@@ -12,6 +12,7 @@ import numpy as np
 import pandas as pd
 
 from ... import numerics as nm
+from ...data import System
 from ...errors import GearoptInputError, GeometryError
 from ...validation import check_range
 from ...geometry.train import GearTrain
@@ -158,7 +159,7 @@ def enumerate_tooth_counts(train: GearTrain, *, ratio_tolerance_percent: Mapping
                            teeth_range: Mapping[str, Any] | None = None, min_contact_ratio: float = 1.2,
                            min_tip_thickness_ratio: float = 0.2, iso_tr_4467_limits: bool = True,
                            min_backlash_mm: float | None = 0.0, precheck: bool = True, precheck_samples: int = 41,
-                           data: Mapping[str, Any] | None = None,
+                           system: System | None = None,
                            max_partial_assignments: int = 200_000) -> ToothCountEnumeration:
     """Enumerate the integer tooth counts of ``train`` that fit its centre distances (module docstring, step 1).
 
@@ -179,7 +180,8 @@ def enumerate_tooth_counts(train: GearTrain, *, ratio_tolerance_percent: Mapping
             4467 recommended shift range; smallest normal backlash [mm], ``None`` = unchecked).
         precheck: run the sampled feasibility check of the nonlinear limits (stage ``precheck``).
         precheck_samples: root shifts sampled per candidate (>= 2).
-        data: the System or data dict for ``reference`` "data"/"helical_original" (required for those).
+        system: the :class:`~gearopt.data.System` for ``reference`` "data"/"helical_original" (required for
+            those).
         max_partial_assignments: guard against an enumeration explosion (raise above it).
 
     Returns:
@@ -197,7 +199,7 @@ def enumerate_tooth_counts(train: GearTrain, *, ratio_tolerance_percent: Mapping
     check_range("max_partial_assignments", max_partial_assignments, 1, None)
     ranges = _teeth_ranges(train, teeth_range, span)
     mesh_tol, gear_tol = _tolerances(train, ratio_tolerance_percent, default_tolerance_percent, exact_ratio_gears)
-    ref = reference_speed_ratios(train, reference, data)
+    ref = reference_speed_ratios(train, reference, system)
     order = _tree_order(train)
     gears = list(train.gears)
     limits = dict(min_contact_ratio=float(min_contact_ratio), min_tip_thickness_ratio=float(min_tip_thickness_ratio),
