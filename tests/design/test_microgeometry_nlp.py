@@ -135,3 +135,23 @@ def test_root_stress_and_temperature_limits_are_constraints_and_infeasibility_is
     assert "root_stress" in str(info.value)
     with pytest.raises(GearoptInputError, match="speed_rpm"):
         optimise_microgeometry(crank_cam, 300.0, max_flash_temperature_C=130.0)
+
+
+def test_exact_limit_violations_name_each_broken_limit_with_its_relative_shortfall(crank_cam):
+    """The exact check names what the exact LTCA breaks (the smooth loaded contact ratio counts a pair whose gap
+    just closed as partly loaded, so an optimiser can sit on a limit the exact model breaks): each broken limit of
+    the design's scene with its relative shortfall or excess summed over the load cases; met limits give 0."""
+    from gearopt.design.scene_search import exact_limit_violations
+
+    d = optimise_microgeometry(crank_cam, [150.0, 450.0], positions=20, check_positions=160, max_refinements=0)
+    built, exact = d.scene.source, d.scene.exact_check
+    assert set(exact_limit_violations(built, exact).values()) == {0.0}      # the design meets its limits
+    spoiled = exact.copy()
+    spoiled["loaded_contact_ratio"] = [1.1, 1.3]                              # 1.2 required at both
+    spoiled["max_contact_stress_MPa"] = exact["max_contact_stress_MPa"] * 1.01
+    got = exact_limit_violations(built, spoiled)
+    mesh = "crank-cam"
+    assert got[f"loaded_contact_ratio {mesh}"] == pytest.approx(0.1 / 1.2)
+    limit = d.limits["contact_stress"]
+    expected = sum(max(v - limit, 0.0) / limit for v in spoiled["max_contact_stress_MPa"])
+    assert expected > 0 and got[f"max_contact_stress_MPa {mesh}"] == pytest.approx(expected)

@@ -27,9 +27,11 @@ FORMER_DEFAULTS = {
 """``DEFAULT_LTCA_OPTIONS`` as the dict it was before the records."""
 
 SEARCH_DEFAULTS = {"screen_samples": 64, "screen_positions": 320, "screen_max_variables": 8,
-                   "polish_evaluations_per_variable": 25, "macro_starts": 4, "stop_without_progress": False, "spring_limit_screen": 0.2}
+                   "polish_evaluations_per_variable": 25, "macro_starts": 4, "stop_without_progress": False,
+                   "spring_limit_screen": 0.2, "count_width_um": 0.25}
 """The options added since (issue 28: the exact screen, polish and a co-design's default starts,
-:class:`SearchOptions`; issue 29: the refinement's stop without progress, the per-spring limits by exchange)."""
+:class:`SearchOptions`; issue 29: the refinement's stop without progress, the per-spring limits by exchange; issue 26:
+the smooth loaded-contact count's width, :data:`gearopt.contact.ltca_smooth.DEFAULT_COUNT_WIDTH_UM`)."""
 
 DEFAULTS = {**FORMER_DEFAULTS, **SEARCH_DEFAULTS}
 
