@@ -118,8 +118,8 @@ def optimise_microgeometry(pair: GearPair, torque_Nm: float | Sequence[float], *
         relief_smoothing_deg: blend of each relief start over about this roll angle (``Microgeometry``). It is part
             of the design: the exact-LTCA results use the same blended relief.
         check_positions: mesh positions of the exact-LTCA check (``design.exact``/``table``) and of the refinement.
-        starts: Ipopt starts, the best designs of the scene's exact screen (default 1: the exact screen's best);
-            ``design.starts`` tables them.
+        starts: Ipopt starts, the best designs of the scene's exact screen (default 1: the exact screen's best;
+            with ``refine=False`` the declared start and Latin-hypercube points); ``design.starts`` tables them.
         initial: the declared start (default: the thesis minimum tip relief at the design torque,
             :func:`~gearopt.design.positions.min_tip_relief_design`); it joins the exact screen's candidates.
         max_root_stress_MPa: optional limit of the root stress of both gears at every loaded contact (the LTCA's
@@ -129,8 +129,9 @@ def optimise_microgeometry(pair: GearPair, torque_Nm: float | Sequence[float], *
         refine, refine_tolerance, max_refinements, stop_without_progress: the semi-infinite refinement
             (:mod:`gearopt.design.scene_refine`): re-solve on the exact TE's peak positions while the smooth and
             exact PPTE differ by more than ``refine_tolerance``, at most ``max_refinements`` times, and (default)
-            only while a re-solve lowers the best exact objective; then polish on the exact model. ``refine=False``:
-            one solve on the ``positions`` (from the exact screen's best start), checked by the exact LTCA.
+            only while a re-solve lowers the best exact objective; then polish on the exact model; the starts come
+            from the exact screen. ``refine=False``: the quick local answer -- one Ipopt solve on the ``positions``
+            from the declared start (no screen, no refinement, no polish), checked by the exact LTCA.
         ipopt: extra Ipopt options (``max_iter`` ...).
     Raises a :class:`~gearopt.errors.SolveError` subclass naming the violated constraints if no start solves.
     """
@@ -165,6 +166,7 @@ def optimise_microgeometry(pair: GearPair, torque_Nm: float | Sequence[float], *
                    stiffness=stiffness, relief_smoothing_deg=relief_smoothing_deg, start_margin_deg=start_margin_deg,
                    check_positions=check_positions, refine_tolerance=refine_tolerance,
                    max_refinements=max_refinements, stop_without_progress=stop_without_progress,
+                   **({} if refine else {"screen_samples": 0}),
                    bulk_temperature_C=bulk_temperature_C, friction_coefficient=friction_coefficient)
     scene = Scene("microgeometry", pairs={mesh: pair}, driving_gear=driving_gear,
                   load_cases=[LoadCase(f"{t:g}Nm", t, speed_rpm=speed_rpm) for t in torques],
