@@ -15,7 +15,7 @@ smoothing.
 from __future__ import annotations
 
 from dataclasses import dataclass, field, replace
-from typing import Any, Sequence
+from typing import Any, Mapping, Sequence
 
 import numpy as np
 import pandas as pd
@@ -97,7 +97,8 @@ def optimise_microgeometry(pair: GearPair, torque_Nm: float | Sequence[float], *
                            speed_rpm: float | None = None, bulk_temperature_C: float = 100.0,
                            friction_coefficient: float = 0.06, verbose: bool = False,
                            refine: bool = True, refine_tolerance: float = 0.02, max_refinements: int = 6,
-                           stop_without_progress: bool = True, **ipopt) -> MicrogeometryDesign:
+                           stop_without_progress: bool = True, ltca_options: Mapping[str, Any] | None = None,
+                           **ipopt) -> MicrogeometryDesign:
     """Minimise the PPTE of ``pair`` over tip relief (amounts and starts, both gears) and profile crown: the scene
     of the module docstring, solved by :meth:`~gearopt.design.scene.BuiltScene.solve`.
 
@@ -132,6 +133,9 @@ def optimise_microgeometry(pair: GearPair, torque_Nm: float | Sequence[float], *
             only while a re-solve lowers the best exact objective; then polish on the exact model; the starts come
             from the exact screen. ``refine=False``: the quick local answer -- one Ipopt solve on the ``positions``
             from the declared start (no screen, no refinement, no polish), checked by the exact LTCA.
+        ltca_options: further options of the scene by their flat names
+            (:class:`~gearopt.design.scene_options.LTCAOptions`), e.g. ``{"polish_evaluations_per_variable": 10}``;
+            they override the arguments above.
         ipopt: extra Ipopt options (``max_iter`` ...).
     Raises a :class:`~gearopt.errors.SolveError` subclass naming the violated constraints if no start solves.
     """
@@ -167,7 +171,8 @@ def optimise_microgeometry(pair: GearPair, torque_Nm: float | Sequence[float], *
                    check_positions=check_positions, refine_tolerance=refine_tolerance,
                    max_refinements=max_refinements, stop_without_progress=stop_without_progress,
                    **({} if refine else {"screen_samples": 0}),
-                   bulk_temperature_C=bulk_temperature_C, friction_coefficient=friction_coefficient)
+                   bulk_temperature_C=bulk_temperature_C, friction_coefficient=friction_coefficient,
+                   **dict(ltca_options or {}))
     scene = Scene("microgeometry", pairs={mesh: pair}, driving_gear=driving_gear,
                   load_cases=[LoadCase(f"{t:g}Nm", t, speed_rpm=speed_rpm) for t in torques],
                   variables=_variables(mesh, groups, initial, max_tip_relief_um, max_profile_crown_um),
@@ -175,6 +180,7 @@ def optimise_microgeometry(pair: GearPair, torque_Nm: float | Sequence[float], *
                   limits=_limits(mesh, max_contact_stress_MPa, min_loaded_contact_ratio, max_root_stress_MPa,
                                  max_flash_temperature_C),
                   microgeometry={mesh: Microgeometry(relief_shape=relief_shape)}, ltca_options=options)
+
     def solve(declared: Scene) -> SceneResult:
         return declared.build().solve(starts=starts, seed=seed, verbose=verbose, refine=refine, **ipopt)
 

@@ -155,3 +155,14 @@ def test_exact_limit_violations_name_each_broken_limit_with_its_relative_shortfa
     limit = d.limits["contact_stress"]
     expected = sum(max(v - limit, 0.0) / limit for v in spoiled["max_contact_stress_MPa"])
     assert expected > 0 and got[f"max_contact_stress_MPa {mesh}"] == pytest.approx(expected)
+
+
+def test_scene_options_pass_through_and_an_unknown_one_is_named(crank_cam):
+    """``ltca_options`` reach the scene behind the design (here the exact polish's budget: at most 3 evaluations per
+    variable, plus its start and end); an unknown option is refused by name."""
+    d = optimise_microgeometry(crank_cam, [150.0, 450.0], groups=("tip_relief",), positions=20, check_positions=160,
+                               ltca_options={"polish_evaluations_per_variable": 3})
+    polish = d.refinement.attrs["polish"]
+    assert polish is not None and polish["evaluations"].iloc[0] <= 3 * 4 + 2
+    with pytest.raises(GearoptInputError, match="polish_evals"):
+        optimise_microgeometry(crank_cam, 300.0, ltca_options={"polish_evals": 3})
