@@ -215,11 +215,15 @@ class SceneModels:
         return self.model(f"iso6336:{mesh}@{lc.name}", build, f"ISO 6336-2/-3 method B at {lc.name}")
 
     def rating(self, mesh: str, lc: LoadCase):
-        """ISO 6336 rating with computed factors (``rate_iso6336``; its keywords from ``iso6336_options``)."""
+        """ISO 6336 rating with computed factors (``rate_iso6336``; its keywords from ``iso6336_options``). Without
+        an ``accuracy_grade`` or ``materials`` there, the mesh's gears' own: the data's ISO 1328 grades (a scene with
+        ``data``; 6 where a gear states none) and the train's gear materials -- what the verdict's rating table
+        (:func:`gearopt.design.requirements.rating_table`) uses."""
         if lc.speed_rpm is None:
             raise GearoptInputError(f"load case {lc.name!r} needs speed_rpm for the ISO 6336 rating of {mesh!r}")
         allowed = set(inspect.signature(rate_iso6336).parameters) - {"pair", "torque_Nm", "speed_rpm", "driving_gear"}
         opts = {k: v for k, v in self.scene.iso6336_options.items() if k in allowed}
+        opts.update({k: v for k, v in self._gear_rating_options(mesh).items() if k not in opts})
 
         def build():
             torque = self.inputs.datum(f"torque_Nm[{mesh}]@{lc.name}", lc.mesh_torque_Nm(mesh), "N*m")
@@ -232,6 +236,18 @@ class SceneModels:
 
         return self.model(f"iso6336_rating:{mesh}@{lc.name}", build,
                           f"ISO 6336 rating (computed factors) at {lc.name}")
+
+    def _gear_rating_options(self, mesh: str) -> dict:
+        """The mesh's gears' accuracy grades (from the scene's data) and materials (from its train), where known."""
+        names, out = self.meshes[mesh].names, {}
+        if self.scene.data is not None:
+            gears = self.inputs.system().gears
+            out["accuracy_grade"] = tuple(int(gears[g].accuracy_grade_iso1328) if g in gears and
+                                          gears[g].accuracy_grade_iso1328 is not None else 6 for g in names)
+        train = self.scene.train
+        if train is not None and all(g in train.gears and train.gears[g].material for g in names):
+            out["materials"] = tuple(train.gears[g].material for g in names)
+        return out
 
     # -- joints and blanks ---------------------------------------------------------------------------------------
 

@@ -270,3 +270,29 @@ def test_codesign_study_pins_a_root_shift_the_limits_hold_and_says_why():
     assert study.to_json()["options"]["spur"]["pinned"]["root_profile_shift"]["interval"] == [lo, hi]
     with pytest.raises(GearoptInputError, match="pin_width"):
         codesign_study(options=("spur",), quick=True, pin_width=-1.0)
+
+
+def test_codesign_nlp_carries_the_verdicts_iso6336_limits_and_matches_its_rating_table():
+    """Issue 27 item 1: the co-design NLP carries the requirements its macro variables move -- S_H and S_F (ISO 6336,
+    every factor computed, the data's K_A, grades and materials) of every rated mesh at its design torque -- and
+    their values at the optimum are the verdict's own rating table's (:func:`rating_table`) for the same train."""
+    from gearopt.cases.timing_train import codesign_study
+    from gearopt.design.requirements import rating_table
+
+    system = go.load_system()
+    study = codesign_study(system, options=("low_helix",), quick=True)
+    result = study.options["low_helix"].codesign
+    assert "train.root_profile_shift" in result.values and "train.helix_angle_deg" in result.values
+    rows = result.solve.constraints
+    assert rows["base"].str.startswith("contact_safety_factor[crank-lpi]").any()     # a row of the NLP, not a check
+    q = result.quantities.set_index(["quantity", "target"])
+    train = dataclasses.replace(system.train("spur"), root_profile_shift=result.values["train.root_profile_shift"],
+                                helix_angle_deg=result.values["train.helix_angle_deg"])
+    table = rating_table(system, train, system.design_torques_Nm(), system.design_loads.speed_rpm,
+                         application_factor=system.design_loads.application_factor_K_A).set_index("mesh")
+    for mesh in table.index:
+        for quantity, key in (("contact_safety_factor", "S_H"), ("root_safety_factor", "S_F")):
+            expected = min(table.loc[mesh, f"{key}_1"], table.loc[mesh, f"{key}_2"])
+            assert float(q.loc[(quantity, mesh), "value"]) == pytest.approx(expected, rel=1e-6), (mesh, key)
+            assert float(q.loc[(quantity, mesh), "lower"]) == (system.requirements.min_S_H if key == "S_H"
+                                                               else system.requirements.min_S_F)

@@ -277,6 +277,10 @@ and ended 6.8 % apart. With the largest PPTE minimised (the study's objective) t
 verifies to 1.7 % after two re-solves."""
 
 
+RATED_CASE = "rated"
+"""The co-design scenes' load case of the ISO 6336 limits: every rated mesh at its design torque, the design speed."""
+
+
 def codesign_study(system: System | None = None, *, options: Sequence[str] = ("spur", "low_helix"),
                    meshes: Sequence[str] = tuple(MESHES), max_helix_angle_deg: float = 8.0,
                    root_shift_bounds: tuple[float, float] = (0.0, 0.6), min_axial_margin: float = 1.5,
@@ -333,6 +337,13 @@ def codesign_study(system: System | None = None, *, options: Sequence[str] = ("s
                         Limit("loaded_contact_ratio", m,
                               lower=(1.0 + SMOOTH_MODEL_MARGIN) * required.min_loaded_contact_ratio,
                               load_cases=tuple(names))]
+    # the verdict's ISO 6336 rows at the design torques (computed factors, K_A of the data): every rated mesh of the
+    # train, since the root shift moves them all (constant, so checked once, where no macro variable is free)
+    rated = LoadCase(RATED_CASE, {m: design[m] for m in train.pairs if m in design}, speed_rpm=speed)
+    rating_limits = [Limit(q, m, lower=bound, load_cases=(RATED_CASE,)) for m in rated.torque_Nm
+                     for q, bound in (("contact_safety_factor", required.min_S_H),
+                                      ("root_safety_factor", required.min_S_F))]
+    rating_options = {"application_factor": float(system.design_loads.application_factor_K_A)}
     geometry = [Limit("geometry_limits", m, options=GEOMETRY_LIMITS) for m in train.pairs]
     objective = [Objective("ppte_um", m, aggregate="max", load_cases=tuple(names)) for m in meshes]
     flank_vars = [DesignVariable(name, f) for f in sorted({f for fl in flanks.values() for f in fl})
@@ -349,15 +360,16 @@ def codesign_study(system: System | None = None, *, options: Sequence[str] = ("s
             macro["helix_angle_deg"] = macro_first_helix(system, train, over_torques, overspeed, max_helix_angle_deg,
                                                          min_axial_margin)
         fixed = dataclasses.replace(train, helix_angle_deg=macro["helix_angle_deg"])
-        load_cases = cases + ([over] if helical else [])
+        load_cases = cases + [rated] + ([over] if helical else [])
         ppte_limits = unmodified_ppte_limits(fixed, meshes, cases) if required.ppte_no_load_case_worse else []
         t0 = time.perf_counter()
         seq_opts = {**opts, **SEQUENTIAL_OPTIONS, **(sequential_options or {})}
         if quick:
             seq_opts["max_refinements"] = 0
         seq_scene = Scene(f"{option} sequential (micro at fixed macro)", train=fixed, load_cases=load_cases,
-                          variables=flank_vars, objectives=objective, limits=ltca_limits + ppte_limits + margins,
-                          ltca_options=seq_opts, data=system, objective_aggregate="max")
+                          variables=flank_vars, objectives=objective,
+                          limits=ltca_limits + ppte_limits + margins + rating_limits, ltca_options=seq_opts,
+                          data=system, objective_aggregate="max", iso6336_options=rating_options)
         failures = {}
         try:
             seq_built = seq_scene.build()
@@ -381,8 +393,9 @@ def codesign_study(system: System | None = None, *, options: Sequence[str] = ("s
         train_vars = [v for v in train_vars if v.name not in pinned]
         co_scene = Scene(f"{option} co-design", train=fixed, load_cases=load_cases, variables=train_vars + flank_vars,
                          objectives=objective,
-                         limits=ltca_limits + ppte_limits + (geometry if train_vars else []) + margins,
-                         ltca_options=opts, data=system, objective_aggregate="max")
+                         limits=ltca_limits + ppte_limits + (geometry if train_vars else []) + margins
+                         + rating_limits, ltca_options=opts, data=system, objective_aggregate="max",
+                         iso6336_options=rating_options)
         start = {**(sequential.values if sequential else {}),
                  **{f"train.{v.name}": macro[v.name] for v in train_vars}}
         try:
