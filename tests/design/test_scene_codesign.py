@@ -273,8 +273,8 @@ def test_codesign_study_pins_a_root_shift_the_limits_hold_and_says_why():
 
 
 def test_codesign_nlp_carries_the_verdicts_iso6336_limits_and_matches_its_rating_table():
-    """Issue 27 item 1: the co-design NLP carries the requirements its macro variables move -- S_H and S_F (ISO 6336,
-    every factor computed, the data's K_A, grades and materials) of every rated mesh at its design torque -- and
+    """Issue 27 item 1: the co-design NLP carries the requirements its macro variables move -- S_H, S_F and S_B (ISO
+    6336, every factor computed, the data's K_A, grades and materials) of every rated mesh at its design torque -- and
     their values at the optimum are the verdict's own rating table's (:func:`rating_table`) for the same train."""
     from gearopt.cases.timing_train import codesign_study
     from gearopt.design.requirements import rating_table
@@ -291,8 +291,11 @@ def test_codesign_nlp_carries_the_verdicts_iso6336_limits_and_matches_its_rating
     table = rating_table(system, train, system.design_torques_Nm(), system.design_loads.speed_rpm,
                          application_factor=system.design_loads.application_factor_K_A).set_index("mesh")
     for mesh in table.index:
-        for quantity, key in (("contact_safety_factor", "S_H"), ("root_safety_factor", "S_F")):
-            expected = min(table.loc[mesh, f"{key}_1"], table.loc[mesh, f"{key}_2"])
+        required = system.requirements
+        for quantity, key, bound in (("contact_safety_factor", "S_H", required.min_S_H),
+                                     ("root_safety_factor", "S_F", required.min_S_F),
+                                     ("scuffing_safety_factor_flash", "S_B", required.min_S_B)):
+            expected = table.loc[mesh, key] if key == "S_B" else min(table.loc[mesh, f"{key}_1"],
+                                                                     table.loc[mesh, f"{key}_2"])
             assert float(q.loc[(quantity, mesh), "value"]) == pytest.approx(expected, rel=1e-6), (mesh, key)
-            assert float(q.loc[(quantity, mesh), "lower"]) == (system.requirements.min_S_H if key == "S_H"
-                                                               else system.requirements.min_S_F)
+            assert float(q.loc[(quantity, mesh), "lower"]) == bound

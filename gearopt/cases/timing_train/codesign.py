@@ -17,7 +17,9 @@ Both minimise the largest PPTE of the ``meshes`` (crank-cam, cam-AC, cam-FP) ove
 (``[design_loads]`` torques times ``torque_range_fractions`` at the rated speed), subject to the LTCA contact stress
 (the unmodified spur mesh's own maximum plus :data:`CONTACT_STRESS_ALLOWANCE`), root stress, contact temperature and loaded contact ratio
 (``[design_limits]``), the geometry limits of every mesh of the train (worst-case contact ratio, tip thickness,
-undercut, interference, ISO/TR 4467 shift limits) and, for a helical option, the axial margins of the joints of the
+undercut, interference, ISO/TR 4467 shift limits), the verdict's ISO 6336 safeties of every rated mesh at its design
+torque (S_H, S_F and S_B with computed factors and the data's K_A: ``[requirements]`` ``min_S_H``, ``min_S_F``,
+``min_S_B``) and, for a helical option, the axial margins of the joints of the
 gears with helical thrust at the overspeed test speed (mesh torques at the largest fraction). Every optimum is
 re-evaluated by the exact LTCA (:meth:`~gearopt.design.scene.BuiltScene.solve`).
 """
@@ -337,12 +339,14 @@ def codesign_study(system: System | None = None, *, options: Sequence[str] = ("s
                         Limit("loaded_contact_ratio", m,
                               lower=(1.0 + SMOOTH_MODEL_MARGIN) * required.min_loaded_contact_ratio,
                               load_cases=tuple(names))]
-    # the verdict's ISO 6336 rows at the design torques (computed factors, K_A of the data): every rated mesh of the
-    # train, since the root shift moves them all (constant, so checked once, where no macro variable is free)
+    # the verdict's ISO 6336 rows at the design torques (S_H, S_F, S_B; computed factors, K_A of the data): every
+    # rated mesh of the train, since the root shift moves them all (constant, so checked once, where no macro
+    # variable is free)
     rated = LoadCase(RATED_CASE, {m: design[m] for m in train.pairs if m in design}, speed_rpm=speed)
     rating_limits = [Limit(q, m, lower=bound, load_cases=(RATED_CASE,)) for m in rated.torque_Nm
                      for q, bound in (("contact_safety_factor", required.min_S_H),
-                                      ("root_safety_factor", required.min_S_F))]
+                                      ("root_safety_factor", required.min_S_F),
+                                      ("scuffing_safety_factor_flash", required.min_S_B))]
     rating_options = {"application_factor": float(system.design_loads.application_factor_K_A)}
     geometry = [Limit("geometry_limits", m, options=GEOMETRY_LIMITS) for m in train.pairs]
     objective = [Objective("ppte_um", m, aggregate="max", load_cases=tuple(names)) for m in meshes]
