@@ -166,14 +166,17 @@ def problem(name: str) -> dict:
 class ExactEvaluator:
     """The exact objective and limits of a problem's design, independent of the scene's models: microgeometry and
     pair built from the variable values, :func:`gearopt.ltca` at the check resolution per load case. Records every
-    evaluation (CPU time since :meth:`start`, objective, violation) for the traces."""
+    evaluation (CPU time since :meth:`start`, objective, violation) for the traces. ``flanks``: the flank targets
+    (``"gear:flank"``) the mesh loads, gear 1 then gear 2, for variables declared on flanks."""
 
-    def __init__(self, scene: Scene, names: list[str], low: np.ndarray, high: np.ndarray, template: Microgeometry):
+    def __init__(self, scene: Scene, names: list[str], low: np.ndarray, high: np.ndarray, template: Microgeometry,
+                 flanks: tuple[str, str] = ()):
         self.scene, self.names, self.low, self.high = scene, list(names), low, high
         self.span = np.where(high > low, high - low, 1.0)
         self.template = template      # the mesh's microgeometry with the fixed fields the scene declares
         self.mesh = scene.objectives[0].target
-        self.torques = [(lc.name, float(lc.torque_Nm)) for lc in scene.load_cases]
+        self.flanks = tuple(flanks)
+        self.torques = [(lc.name, lc.mesh_torque_Nm(self.mesh)) for lc in scene.load_cases]
         self.ltca_calls = 0
         self.failures = 0
         self.records: list[dict] = []
@@ -193,14 +196,18 @@ class ExactEvaluator:
 
     def microgeometry(self, values: dict[str, float]) -> Microgeometry:
         """The mesh's microgeometry at ``values``: each free field (``tip_relief_1_um`` -> gear 1's
-        ``tip_relief_um``) replaced in the template."""
+        ``tip_relief_um``; on a flank the mesh loads, ``crank:driving.tip_relief_um`` -> that gear's) replaced in the
+        template."""
         fields: dict[str, list] = {}
         for key, v in values.items():
             target, name = key.split(".", 1)
-            if target != self.mesh:
+            if target in self.flanks:
+                gear, field = self.flanks.index(target) + 1, name
+            elif target == self.mesh:
+                gear = 1 if "_1_" in name else 2
+                field = name.replace(f"_{gear}_", "_", 1)
+            else:
                 continue
-            gear = 1 if "_1_" in name else 2
-            field = name.replace(f"_{gear}_", "_", 1)
             fields.setdefault(field, list(getattr(self.template, field)))[gear - 1] = float(v)
         return dataclasses.replace(self.template, **{k: tuple(v) for k, v in fields.items()})
 
@@ -292,7 +299,7 @@ def evaluator_for(built) -> ExactEvaluator:
     mesh = built.scene.objectives[0].target
     # fixed fields (the starts of reliefs whose starts are not free, the relief blend) as the scene declares them
     template = built.microgeometry_at(built.initial_values(), mesh)
-    return ExactEvaluator(built.scene, names, low, high, template)
+    return ExactEvaluator(built.scene, names, low, high, template, flanks=built.loaded_flanks(mesh))
 
 
 # -- the two methods ------------------------------------------------------------------------------------------------
@@ -336,17 +343,22 @@ def run_gearopt(scene: Scene, starts: int | None) -> dict:
             "chosen": ref.attrs.get("chosen") if ref is not None else None}
 
 
-def run_global(ev: ExactEvaluator, seed: int) -> dict:
-    """Differential evolution and a Nelder-Mead polish of its best feasible point on ``ev`` (module docstring)."""
+def run_global(ev: ExactEvaluator, seed: int, *, popsize: int | None = None, maxiter: int | None = None,
+               polish_per_variable: int | None = None) -> dict:
+    """Differential evolution and a Nelder-Mead polish of its best feasible point on ``ev`` (module docstring);
+    ``popsize``, ``maxiter``, ``polish_per_variable``: another budget than ``DE_POPSIZE``, ``DE_MAXITER``,
+    ``POLISH_EVALUATIONS_PER_VARIABLE``."""
     n = len(ev.names)
+    popsize = DE_POPSIZE if popsize is None else popsize
+    maxiter = DE_MAXITER if maxiter is None else maxiter
     ev.start()
-    de = differential_evolution(ev.merit, [(0.0, 1.0)] * n, seed=seed, popsize=DE_POPSIZE, maxiter=DE_MAXITER,
+    de = differential_evolution(ev.merit, [(0.0, 1.0)] * n, seed=seed, popsize=popsize, maxiter=maxiter,
                                 tol=0.0, atol=0.0, polish=False, init="latinhypercube")
     de_evaluations, de_cpu = len(ev.records), time.process_time() - ev._t0
     best = ev.best_feasible()           # the polish starts at the best feasible point (DE's best merit if none)
     u0 = np.clip(ev.unit(best["values"]) if best is not None else de.x, 0.0, 1.0)
     simplex = [u0] + [u0 + np.where(np.arange(n) == i, 0.05 if u0[i] <= 0.95 else -0.05, 0.0) for i in range(n)]
-    budget = POLISH_EVALUATIONS_PER_VARIABLE * n
+    budget = (POLISH_EVALUATIONS_PER_VARIABLE if polish_per_variable is None else polish_per_variable) * n
     if budget > 0:
         minimize(ev.merit, u0, method="Nelder-Mead", bounds=[(0.0, 1.0)] * n,
                  options={"maxfev": budget, "initial_simplex": np.array(simplex), "adaptive": True,
@@ -360,12 +372,12 @@ def run_global(ev: ExactEvaluator, seed: int) -> dict:
             "trace": ev.trace()}
 
 
-def run_slsqp(ev: ExactEvaluator, start: dict) -> dict:
+def run_slsqp(ev: ExactEvaluator, start: dict, *, maxiter: int | None = None) -> dict:
     """SciPy's SLSQP (Kraft, DFVLR-FB 88-28, 1988) with 2-point finite-difference gradients on the exact evaluator,
     from the scene's declared start (the start gearopt's NLP gets), on the bound-normalised variables: the objective
     the exact largest PPTE, every limit's relative margin (geometry margins in their own units) >= 0; at most
-    ``SLSQP_MAXITER`` iterations. Its design is the final iterate (what a user of SLSQP gets), judged like the others;
-    CPU time from its first evaluation."""
+    ``maxiter`` (default ``SLSQP_MAXITER``) iterations. Its design is the final iterate (what a user of SLSQP
+    gets), judged like the others; CPU time from its first evaluation."""
     n = len(ev.names)
     ev.start()
     u0 = np.clip(ev.unit(start), 0.0, 1.0)
@@ -381,7 +393,7 @@ def run_slsqp(ev: ExactEvaluator, start: dict) -> dict:
 
     r = minimize(objective, u0, method="SLSQP", bounds=[(0.0, 1.0)] * n,
                  constraints=[{"type": "ineq", "fun": margins}] if names else [],
-                 options={"maxiter": SLSQP_MAXITER, "ftol": 1e-9})
+                 options={"maxiter": SLSQP_MAXITER if maxiter is None else maxiter, "ftol": 1e-9})
     cpu = time.process_time() - ev._t0
     values = ev.values(r.x)
     return {"cpu_s": cpu, "iterations": int(r.nit), "evaluations": len(ev.records), "ltca_calls": ev.ltca_calls,

@@ -224,7 +224,50 @@ def codesign(d) -> str:
     return (f"`codesign.json` ({label}; one mesh, one load case, "
             f"{base['positions']} positions: build {base['build_s']:.2g} s, solve + exact check {base['solve_s']:.2g} s, "
             f"{base['ipopt_iterations']} Ipopt iterations). Time relative to it: {grow}. Smooth-vs-exact PPTE error of "
-            f"the optimum: {errors}. Time to a verified 2 %: {runs}.")
+            f"the optimum: {errors}. Time to a verified 2 %: {runs}." + _codesign_peers(d.get("peers")))
+
+
+def _codesign_peers(peers) -> str:
+    """The peer comparison of ``codesign.json`` (its ``peers``): each method's design, CPU time and time to 1 %."""
+    if not peers:
+        return ""
+    st, best = peers["settings"], peers["best_known_ppte_um"]
+    tol = 100 * st["reach_tolerance_relative"]
+    m = {r["method"]: r for r in peers["methods"]}
+    lib = m["gearopt"]
+
+    def design(r):
+        if r["exact_ppte_um"] is None:
+            return "no feasible design"
+        return f"{r['exact_ppte_um']:.4g} um ({'feasible' if r['feasible'] else 'infeasible'})"
+
+    def reached(r, ratio=None):
+        if r["cpu_s_to_reach"] is None:
+            return f"no feasible evaluation within {tol:g} %"
+        return (f"first feasible evaluation within {tol:g} % after {r['cpu_s_to_reach']:.3g} CPU-s"
+                + (f" ({_x(ratio)} gearopt's)" if ratio is not None else ""))
+
+    sl, de = m["slsqp_fd"], m["de_nelder_mead"]
+    ratios = peers["ratio_cpu_to_reach"]
+    lib_text = (f"within {tol:g} %" if lib["cpu_s_to_reach"] is not None else f"not within {tol:g} %")
+    if best is not None and lib["feasible"]:
+        lib_text += f" ({100 * (lib['exact_ppte_um'] / best - 1):+.2g} % to the best known)"
+    load = peers.get("load_average_1_5_15_min", {}).get("start")
+    opts = {k: v for k, v in lib["ltca_options"].items() if k != "positions"}   # beyond the scene's (quick run)
+    return (f" Peers on the exact model (the base scene, {len(peers['scene']['variables'])} variables: "
+            f"{', '.join(peers['scene']['limits'])}; every design judged by one exact evaluator at "
+            f"{st['check_positions']} positions, every limit met exactly; CPU seconds in one process"
+            + (f", load average {load[0]:.1f}" if load else "") + "): best known max PPTE "
+            + (f"{best:.4g} um" if best is not None else "none feasible")
+            + f". gearopt `{lib['call']}`" + (f" with ltca_options {opts}" if opts else "")
+            + f": {design(lib)} in {lib['cpu_s']:.3g} CPU-s ({lib['ipopt_iterations']} Ipopt iterations, "
+            f"{lib['exact_ltca_calls']} exact LTCA calls), {lib_text}. SLSQP with finite differences from "
+            f"the declared start ({sl['iterations']} iterations, {sl['evaluations']} exact evaluations, "
+            f"{sl['cpu_s']:.3g} CPU-s): returns {design(sl)}, {reached(sl, ratios.get('slsqp_fd'))}. Differential "
+            f"evolution (population {st['de_popsize']} x variables, {st['de_maxiter']} generations, seed {st['seed']}) "
+            f"+ Nelder-Mead ({st['polish_per_variable']} evaluations per variable; {de['evaluations']} exact "
+            f"evaluations, {de['cpu_s']:.3g} CPU-s, {_x(peers['ratio_cpu_total']['de_nelder_mead'])} gearopt's): "
+            f"{design(de)}, {reached(de, ratios.get('de_nelder_mead'))}.")
 
 
 def optimum_quality(d) -> str:

@@ -124,6 +124,25 @@ def check_codesign(result, out):
     assert err[40] < err[20]                                   # more mesh positions: a smaller smooth-vs-exact gap
     dense = {k: r for k, r in result["time_to_2_percent"].items() if k.startswith("uniform_")}   # quick: 80
     assert dense and all(int(k.split("_")[1]) > 40 and r["ppte_error"] < err[40] for k, r in dense.items())
+    # the peers (issue 29 item 8): the benchmark's evaluator is the library's exact check at its design, the
+    # library's design meets every exact limit, each method has a finite CPU time, and the best known is the best
+    # feasible design any of them returned or evaluated (each reaches it, if at all, before it ends)
+    peers = result["peers"]
+    rows = {r["method"]: r for r in peers["methods"]}
+    lib = rows["gearopt"]
+    assert set(rows) == {"gearopt", "slsqp_fd", "de_nelder_mead"}
+    assert lib["evaluator_check"]["same_microgeometry"] and lib["evaluator_check"]["max_abs_ppte_difference_um"] < 1e-9
+    assert lib["feasible"] and all(math.isfinite(r["cpu_s"]) and r["cpu_s"] > 0 for r in rows.values())
+    best = peers["best_known_ppte_um"]
+    assert all(r["exact_ppte_um"] >= best for r in rows.values() if r["feasible"])
+    assert all(t[2] >= best for r in rows.values() for t in r["trace"] or [])
+    assert best in [r["exact_ppte_um"] for r in rows.values() if r["feasible"]] + [
+        t[2] for r in rows.values() for t in r["trace"] or []]
+    for r in rows.values():
+        if r["cpu_s_to_reach"] is not None:
+            assert r["cpu_s_to_reach"] <= r["cpu_s"]
+    tol = peers["settings"]["reach_tolerance_relative"]
+    assert (lib["cpu_s_to_reach"] is not None) == (lib["exact_ppte_um"] <= best * (1 + tol))
     assert (out / "codesign.json").exists() and (out / "codesign.png").exists()
 
 
