@@ -416,10 +416,7 @@ def contact_stage(system: go.System, trains: dict, quick: bool = False, on_study
                    max_root_stress_MPa=limits["max_root_stress_MPa"],
                    max_flash_temperature_C=required.max_contact_temperature_C,
                    min_loaded_contact_ratio=required.min_loaded_contact_ratio,
-                   stop_without_progress=True,     # evidence beside the recommended design: 94 -> 21.5 CPU-s
-                   # the exact polish at 10 evaluations per variable (not 25): crank-cam 3.561 against 3.553 um, 3.9
-                   # against 6.2 CPU-s
-                   ltca_options={"polish_evaluations_per_variable": 10})
+                   stop_without_progress=True)     # evidence beside the recommended design: 94 -> 21.5 CPU-s
     if quick:
         options.update(positions=80, nlp_positions=20, harris_points=4, helical_slices=5, starts=1, max_refinements=1)
     studies = {}

@@ -21,6 +21,7 @@ where the demand is nonzero and smooth where it vanishes (a spur train).
 from __future__ import annotations
 
 import inspect
+import warnings
 from dataclasses import replace
 from typing import Any, Callable, Mapping
 
@@ -30,7 +31,8 @@ from ..geometry.pair import GearPair
 from ..geometry.train import GearTrain
 from ..joints.walk_off import walk_off
 from ..nlp.problem import Problem
-from ..rating import contact_stress_iso6336, rate_iso6336, root_stress_iso6336
+from ..rating import (RatingValidityWarning, StiffnessValidityWarning, contact_stress_iso6336, rate_iso6336,
+                      root_stress_iso6336)
 from .positions import corner_values
 from .scene_cache import ModelCache
 from .scene_inputs import SceneInputs
@@ -232,10 +234,20 @@ class SceneModels:
             if self.parametric:
                 opts["materials"] = self.inputs.rating_materials(self.meshes[mesh].names,
                                                                  opts.get("materials", "20MnCr5"))
-            return rate_iso6336(self.pair(mesh), torque, speed, driving_gear=self.driving_gear(mesh), **opts)
+            with warnings.catch_warnings(record=True) as caught:     # the standard's validity notes go to the
+                warnings.simplefilter("always")                      # build table, as the rating table's do
+                rating = rate_iso6336(self.pair(mesh), torque, speed, driving_gear=self.driving_gear(mesh), **opts)
+            for w in caught:
+                if issubclass(w.category, (RatingValidityWarning, StiffnessValidityWarning)):
+                    validity.append(str(w.message))
+                else:
+                    warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
+            return rating
 
-        return self.model(f"iso6336_rating:{mesh}@{lc.name}", build,
-                          f"ISO 6336 rating (computed factors) at {lc.name}")
+        validity: list[str] = []
+        return self.model(f"iso6336_rating:{mesh}@{lc.name}", build, lambda _: (
+            f"ISO 6336 rating (computed factors) at {lc.name}"
+            + (f"; validity: {'; '.join(sorted(set(validity)))}" if validity else "")))
 
     def _gear_rating_options(self, mesh: str) -> dict:
         """The mesh's gears' accuracy grades (from the scene's data) and materials (from its train), where known."""

@@ -11,7 +11,7 @@ from .lewis import lewis_bending_stress_MPa, lewis_form_factor, lewis_form_facto
 from .materials import Material, material, material_names
 from .root_stress import critical_section_iso6336, root_stress_at_load_point, root_stress_iso6336
 from .lubrication import DEFAULT_OIL_TEMPERATURE_C, Lubricant, default_lubricant
-from .size_factors import RatingValidityWarning
+from .validity import RatingValidityWarning
 from .deflection import ShaftSupport, beam_shaft_misalignment_um, iso6336_shaft_misalignment_um
 from .scuffing import scuffing_safety_factors
 from .iso6336 import ISO6336Rating, rate_iso6336

@@ -35,8 +35,9 @@ from .lubrication import (Lubricant, default_lubricant, equivalent_roughness_Rz_
 from .material_groups import iso6336_material_group
 from .materials import material_pair
 from .root_stress import root_stress_iso6336
-from .size_factors import (RatingValidityWarning, relative_notch_sensitivity, relative_notch_sensitivity_static,
-                           relative_surface_factor, size_factor_contact, size_factor_root)
+from .size_factors import (relative_notch_sensitivity, relative_notch_sensitivity_static, relative_surface_factor,
+                           size_factor_contact, size_factor_root)
+from .validity import RatingValidityWarning
 from .stiffness import iso6336_stiffness
 
 DEFAULT_FLANK_RA_UM = 0.5

@@ -13,6 +13,7 @@ import numpy as np
 from .. import numerics as nm
 from ..validation import check_range
 from .material_groups import iso6336_material_group
+from .validity import RatingValidityWarning
 
 #: ISO 6336-3:2006 Table 5 slip-layer thickness rho' [mm] of St/V/GGG(perl.) steels against the 0.2 % proof stress
 #: [MPa] (St rows 300/400, V/GTS/GGG rows 500..1000), interpolated linearly and held at the ends.
@@ -25,10 +26,6 @@ SLIP_LAYER_NITRIDED = 0.1005
 #: Relative stress gradient of the standard reference test gear (q_sT = 2.5): chi*_T = (1 + 2 q_sT)/5.
 CHI_STAR_TEST = 1.2
 MAX_ROOT_ROUGHNESS_RZ_UM = 40.0
-
-
-class RatingValidityWarning(UserWarning):
-    """A quantity lies outside the validity a clause of ISO 6336 states (the value is still computed)."""
 
 
 def size_factor_contact(module_mm=None):
@@ -115,6 +112,6 @@ def relative_surface_factor(root_roughness_Rz_um, material):
     return nm.where(rz < 1.0, smooth, rough)
 
 
-__all__ = ["RatingValidityWarning", "size_factor_contact", "size_factor_root", "slip_layer_thickness_mm",
+__all__ = ["size_factor_contact", "size_factor_root", "slip_layer_thickness_mm",
            "relative_notch_sensitivity", "relative_notch_sensitivity_static", "relative_surface_factor",
            "SLIP_LAYER_STEEL", "SLIP_LAYER_GREY_IRON", "CHI_STAR_TEST"]

@@ -24,7 +24,8 @@ CONTACT_RATIO_RANGE = (1.0, 2.5)
 
 
 class RatingValidityWarning(UserWarning):
-    """A rating was computed outside an assumption its standard states (the result is an approximation)."""
+    """A rating was computed outside the validity or an assumption a clause of its standard states (the value is
+    still computed; it is then an approximation)."""
 
 
 def check_rating_validity(pair, standard: str, *, undercut: bool = False) -> None:

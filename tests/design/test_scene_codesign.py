@@ -3,6 +3,7 @@ verified by the exact LTCA, microgeometry per gear flank shared by every mesh th
 from the symbolic helix angle in the same NLP."""
 
 import dataclasses
+import warnings
 
 import numpy as np
 import pytest
@@ -279,9 +280,16 @@ def test_codesign_nlp_carries_the_verdicts_iso6336_limits_and_matches_its_rating
     from gearopt.cases.timing_train import codesign_study
     from gearopt.design.requirements import rating_table
 
+    from gearopt.rating import RatingValidityWarning, StiffnessValidityWarning
+
     system = go.load_system()
-    study = codesign_study(system, options=("low_helix",), quick=True)
+    with warnings.catch_warnings():          # the standard's validity notes go to the build table, not to stderr
+        warnings.simplefilter("error", RatingValidityWarning)
+        warnings.simplefilter("error", StiffnessValidityWarning)
+        study = codesign_study(system, options=("low_helix",), quick=True)
     result = study.options["low_helix"].codesign
+    built = study.options["low_helix"].sequential.built.set_index("model")["detail"]    # numeric: checked there
+    assert "validity: ISO/TS 6336-21" in built["iso6336_rating:lpi-lpg@rated"]    # 6 N m: below w_Bt 150 N/mm
     assert "train.root_profile_shift" in result.values and "train.helix_angle_deg" in result.values
     rows = result.solve.constraints
     assert rows["base"].str.startswith("contact_safety_factor[crank-lpi]").any()     # a row of the NLP, not a check
