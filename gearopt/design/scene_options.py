@@ -205,7 +205,7 @@ class SearchOptions:
         polish_evaluations_per_variable: exact evaluations per design variable of the Nelder-Mead polish of the
             optimum (0: no polish).
         macro_starts: Ipopt starts (the screen's best designs) of ``solve()`` without ``starts`` on a screened scene
-            with free macro variables (>= 1). The exact PPTE of a co-design has local optima across the helix angle
+            with free macro variables other than the root shift alone (>= 1; :meth:`BuiltScene.default_starts`). The exact PPTE of a co-design has local optima across the helix angle
             and the shift: on the packaged spur train's first mesh (root shift, helix angle and two relief amounts
             at 300 N m), one start reaches 0.235 um and the best of four 0.124 um, where a global search on the
             exact LTCA finds 0.124 um.

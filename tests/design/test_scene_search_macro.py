@@ -47,12 +47,19 @@ def codesign_scene(train, variables=("tip_relief_1_um", "tip_relief_2_um"), **lt
 @pytest.fixture(scope="module")
 def solved(train):
     built = codesign_scene(train).build()
-    return built, built.solve(), codesign_scene(train).build().solve(starts=1)
+    return built, built.solve(starts=2), codesign_scene(train).build().solve(starts=1)
 
 
 def test_a_codesign_is_in_scope_and_takes_macro_starts_by_default(train):
+    """``macro_starts`` screened starts where a macro variable beside the root shift is free (here the face width);
+    one where the root shift alone is (it moves the contact ratios smoothly), or no macro variable, or a warm
+    start."""
     built = codesign_scene(train).build()
-    assert search_scope(built) is None and built.default_starts() == 2
+    assert search_scope(built) is None and built.default_starts() == 1
+    reliefs = [v for v in codesign_scene(train).variables if v.target == MESH]
+    wide = dataclasses.replace(codesign_scene(train), variables=[
+        *reliefs, DesignVariable("face_width_mm", MESH, lower=15.0, upper=25.0)]).build()
+    assert search_scope(wide) is None and wide.default_starts() == 2
     micro = Scene("micro", train=train, load_cases=[LoadCase("T150", 150.0)],
                   variables=[DesignVariable("tip_relief_1_um", MESH)], objectives=[Objective("ppte_um", MESH)])
     assert micro.build().default_starts() == 1
