@@ -284,6 +284,7 @@ def narrowed_count_width(pair: GearPair, torque_Nm: float, min_loaded_contact_ra
     partly loaded and no design meets the limit. The width is halved (at most :data:`COUNT_WIDTH_HALVINGS` times)
     until the smooth count of the unmodified pair is within 1 % of the exact one. ``None`` when the smooth count is
     not to blame (the exact LTCA refuses the unmodified pair too, or the count already agrees)."""
+    check_range("min_loaded_contact_ratio", min_loaded_contact_ratio, 0.0, 3.0)
     exact = float(ltca(pair, torque_Nm, driving_gear=driving_gear, stiffness=stiffness,
                        positions=positions).loaded_contact_ratio)
     model = LTCAModel(pair, driving_gear=driving_gear, stiffness=stiffness, positions=positions,

@@ -35,3 +35,42 @@ def test_scene_safety_factor_quantities_equal_the_rating():
                                                                            rel=1e-6)
     limits = result.quantities[result.quantities["role"] == "limit"]
     assert (limits["margin"] > -1e-6).all()
+
+
+def test_scene_rating_takes_each_gears_own_grade_and_material_on_a_renamed_pair(tmp_path):
+    """Any train: on the packaged minimal pair renamed (sun_gear/drum_gear) with the second gear at ISO 1328 grade 8,
+    a scene with the data rates with grades (6, 8) and the gears' materials, as the verdict's rating table does."""
+    import re
+
+    from gearopt.data import default_data_path, load_system
+    from gearopt.design.requirements import rating_table
+
+    text = (default_data_path().parent / "minimal_train.toml").read_text(encoding="utf-8")
+    for old, new in {"pinion": "sun_gear", "wheel": "drum_gear"}.items():
+        text = re.sub(rf"\b{old}\b", new, text)
+    first = text.index("accuracy_grade_iso1328 = 6")
+    second = text.index("accuracy_grade_iso1328 = 6", first + 1)
+    text = text[:second] + "accuracy_grade_iso1328 = 8" + text[second + len("accuracy_grade_iso1328 = 6"):]
+    path = tmp_path / "renamed.toml"
+    path.write_text(text, encoding="utf-8")
+    system = load_system(path)
+    kind = next(iter(system.trains))
+    train = system.train(kind)
+    mesh = next(iter(train.pairs))
+    assert train.pairs[mesh].names == ("sun_gear", "drum_gear")
+    b = float(train.pairs[mesh].face_width_mm[0])
+    scene = Scene("rated", train=train, load_cases=[LoadCase("rated", 100.0, speed_rpm=1500.0)],
+                  variables=[DesignVariable("face_width_mm", mesh, b - 1.0, b + 1.0, init=b)],
+                  objectives=[Objective("contact_safety_factor", mesh, sense="max")],
+                  limits=[Limit("root_safety_factor", mesh, lower=0.5)], data=system)
+    built = scene.build()
+    q = built.quantities_at(built.initial_values()).set_index("quantity")
+    table = rating_table(system, train, {mesh: 100.0}, 1500.0, application_factor=1.0).set_index("mesh")
+    ref = rate_iso6336(train.pairs[mesh], 100.0, table.loc[mesh, "speed_1_rpm"], accuracy_grade=(6, 8),
+                       materials=("20MnCr5", "20MnCr5"))
+    same = rate_iso6336(train.pairs[mesh], 100.0, table.loc[mesh, "speed_1_rpm"], accuracy_grade=6)
+    for quantity, key in (("contact_safety_factor", "S_H"), ("root_safety_factor", "S_F")):
+        expected = min(table.loc[mesh, f"{key}_1"], table.loc[mesh, f"{key}_2"])
+        assert float(q.loc[quantity, "value"]) == pytest.approx(expected, rel=1e-9)
+        assert expected == pytest.approx(min(map(float, ref.safety_factors[key])), rel=1e-9)
+        assert abs(expected / min(map(float, same.safety_factors[key])) - 1.0) > 1e-4    # the grade matters
