@@ -7,6 +7,11 @@ of the system (:func:`~gearopt.design.requirements.evaluate_requirements`) and p
 2. when none does, the one that fails the fewest requirements a design variable can move (a fixed check of the
    data fails for every candidate alike), then the fewest failing requirements, then the smallest largest PPTE.
 
+With a ``design_space`` (:class:`~gearopt.design.requirement_reach.DesignSpace`), each ISO 6336 safety the chosen
+design fails and a design variable moves gets the reach of the space in its "what it would take"
+(:func:`~gearopt.design.requirement_reach.rating_reach`: the elastic mode on the exact rating): whether any design
+of the space meets it, the best value reached and the bounds or limits that stop it (with their multipliers).
+
 Joints the data marks free (``[joints.<name>] free = true``) are design variables: each candidate's are sized first
 for its own demands (:func:`~gearopt.design.requirements.size_free_joints`) and judged as sized; the sheet gives
 the sized fit or nut torque.
@@ -28,6 +33,7 @@ import pandas as pd
 from ..data import System
 from ..errors import GearoptInputError
 from ..geometry import involute as inv
+from .requirement_reach import DesignSpace, rating_reach
 from .requirements import (DynamicPeaks, RequirementsCheck, TrainDesign, evaluate_requirements, size_free_joints,
                            with_capacities)
 
@@ -82,12 +88,14 @@ class Recommendation:
 def recommend(system: System, candidates: Sequence[TrainDesign], *, contact_meshes: Sequence[str] | None = None,
               dynamic: DynamicPeaks | Callable[[TrainDesign, System], DynamicPeaks | None] | None = None,
               options: Mapping[str, str] | None = None, size_joints: bool = True,
-              ltca_options: Mapping[str, Any] | None = None) -> Recommendation:
+              ltca_options: Mapping[str, Any] | None = None,
+              design_space: DesignSpace | None = None) -> Recommendation:
     """Judge every candidate and choose one (module docstring). ``dynamic``: the dynamic results of every
     candidate, or a function of the candidate and the system (its joints as sized) returning its own;
     ``options``: {candidate name: the train option it belongs to} for the sheet; ``size_joints``: size the joints
     the data marks free for each candidate first (:func:`size_free_joints`: its joints become design variables);
-    the other arguments go to :func:`evaluate_requirements`."""
+    ``design_space``: the macro design space whose reach toward a failing safety requirement is reported (module
+    docstring); the other arguments go to :func:`evaluate_requirements`."""
     if not candidates:
         raise GearoptInputError("recommend() needs at least one candidate design")
     names = [c.name for c in candidates]
@@ -127,11 +135,36 @@ def recommend(system: System, candidates: Sequence[TrainDesign], *, contact_mesh
                f"({len(movable)}{': ' + '; '.join(movable) if movable else ''}), then has the smallest largest "
                f"PPTE ({_largest_ppte(chk):.3g} µm); {len(fixed)} fixed check(s) of the data fail for every "
                f"candidate alike")
+    if design_space is not None and chk.verdict == "FAIL":
+        add_reach(systems[best.name], best, chk, design_space)
     rec = Recommendation(design=best, check=chk, why=why, checks=checks,
                          sheet=design_sheet(systems[best.name], best), option=(options or {}).get(best.name, ""),
                          system=systems[best.name])
     rec.notes += [f"joint {j} sized: {text}" for j, text in sizing[best.name].items()]
     return rec
+
+
+SAFETY_ROWS = {"S_H": "S_H", "S_F": "S_F", "S_B": "S_B", "S_H_dynamic_peak": "S_H", "S_F_dynamic_peak": "S_F"}
+"""Requirement quantities of the ISO 6336 safeties -> the safety they judge."""
+
+
+def add_reach(system: System, design: TrainDesign, check: RequirementsCheck, space: DesignSpace) -> None:
+    """Prefix the "what it would take" of every failing, movable safety row of ``check`` with the reach of
+    ``space`` toward it (one elastic solve per load basis: the design torques, the dynamic peaks); the reach goes
+    to the row's ``detail["design_space_reach"]``."""
+    groups: dict[str, list] = {}
+    for r in check.failed:
+        if r.fixed or r.quantity not in SAFETY_ROWS or "torques_Nm" not in r.detail:
+            continue
+        groups.setdefault(r.quantity.removeprefix(SAFETY_ROWS[r.quantity]), []).append(r)
+    for rows in groups.values():
+        d = rows[0].detail
+        reach = rating_reach(system, design.train, space, d["torques_Nm"], d["speeds_rpm"],
+                             {SAFETY_ROWS[r.quantity]: r.limit for r in rows}, rating_options=d["rating_options"])
+        for r in rows:
+            found = reach[SAFETY_ROWS[r.quantity]]
+            r.what_it_would_take = found.text() + (f"; {r.what_it_would_take}" if r.what_it_would_take else "")
+            r.detail["design_space_reach"] = found.as_json()
 
 
 def _joint_sheet(system: System, gear: str) -> dict | None:
@@ -196,4 +229,4 @@ def design_sheet(system: System, design: TrainDesign) -> dict:
     return {"gears": gears, "flanks": list(flanks.values())}
 
 
-__all__ = ["Recommendation", "recommend", "design_sheet"]
+__all__ = ["Recommendation", "recommend", "design_sheet", "add_reach"]

@@ -333,6 +333,11 @@ def _contact_ratio_rows(design: TrainDesign, req: Requirements) -> RequirementRo
 # -- rating ----------------------------------------------------------------------------------------------------------
 
 
+DYNAMIC_PEAK_RATING = {"application_factor": 1.0, "K_v": 1.0}
+"""Rating keywords at a dynamic peak torque: the simulation already holds the external and internal dynamic loads
+(ISO 6336-1 method A), so K_A = K_v = 1; the other factors are computed."""
+
+
 def _grades(system: System) -> dict:
     return {g: v.accuracy_grade_iso1328 for g, v in system.gears.items() if v.accuracy_grade_iso1328 is not None}
 
@@ -344,7 +349,9 @@ def rating_table(system: System, train: GearTrain, torques_Nm: Mapping[str, floa
                                accuracy_grades=_grades(system), **options)
 
 
-def _safety(table: pd.DataFrame, key: str) -> list[tuple[str, float]]:
+def safety_values(table: pd.DataFrame, key: str) -> list[tuple[str, float]]:
+    """``[(instance, value)]`` of the safety ``key`` ("S_H", "S_F": one per gear, "mesh gear"; "S_B": one per mesh)
+    in a rating table (:func:`rating_table`)."""
     out = []
     for _, r in table.iterrows():
         if key == "S_B":
@@ -370,7 +377,7 @@ def rating_headroom(system: System, train: GearTrain, mesh: str, torque_Nm: floa
 
     def safety(tr: GearTrain, t: float) -> float:
         tab = rating_table(system, tr, {mesh: t}, root_speed_rpm, application_factor=application_factor, **options)
-        return min(v for _, v in _safety(tab, key))
+        return min(v for _, v in safety_values(tab, key))
 
     t_max = (_boundary(lambda t: safety(train, t) >= limit, 0.0, float(torque_Nm))
              if safety(train, torque_Nm) < limit else float(torque_Nm))
@@ -414,8 +421,11 @@ def _rating_rows(system: System, design: TrainDesign, req: Requirements, torques
     for key in keys:
         limit = req.limit(f"min_{key}")
         r = _row(f"{names[key]}{label}", key if not label else f"{key}_dynamic_peak", "all rated meshes",
-                 _safety(table, key), limit, "-", ">=", basis, fixed=fixed)
-        r.detail = {"torques_Nm": {m: float(t) for m, t in torques.items()}}
+                 safety_values(table, key), limit, "-", ">=", basis, fixed=fixed)
+        r.detail = {"torques_Nm": {m: float(t) for m, t in torques.items()},
+                    "speeds_rpm": {m: float(root_speed_rpm if speeds is None else speeds[m]) for m in torques},
+                    "rating_options": {"application_factor": float(application_factor),
+                                       **{k: v for k, v in options.items() if isinstance(v, (int, float))}}}
         if r.verdict == "FAIL":
             mesh = r.worst_case.split(" ")[0]
             speed = float(table.loc[table["mesh"] == mesh, "root_speed_rpm"].iloc[0])
@@ -662,10 +672,10 @@ def evaluate_requirements(system: System, design: TrainDesign, *, contact_meshes
     if dynamic is not None and dynamic.mesh_torques_Nm:
         peaks = {m: float(t) for m, (t, _) in dynamic.mesh_torques_Nm.items()}
         speeds = {m: float(s) for m, (_, s) in dynamic.mesh_torques_Nm.items()}
-        rows += _rating_rows(system, design, req, peaks, 0.0, application_factor=1.0,
-                             label=" at the dynamic peak torque", basis=f"{dynamic.basis}; K_A = K_v = 1, endurance",
+        rows += _rating_rows(system, design, req, peaks, 0.0, label=" at the dynamic peak torque",
+                             basis=f"{dynamic.basis}; K_A = K_v = 1, endurance",
                              fixed=not {"macro", "dynamics"} & set(design.variables), keys=("S_H", "S_F"),
-                             speeds=speeds, K_v=1.0)
+                             speeds=speeds, **DYNAMIC_PEAK_RATING)
     if dynamic is not None and dynamic.joint_margins:
         rows += _joint_speed_rows(system, req, dynamic, variables=set(design.variables))
     return RequirementsCheck(design.name, rows)
@@ -701,5 +711,5 @@ def _joint_speed_rows(system: System, req: Requirements, dynamic: DynamicPeaks, 
     return rows
 
 
-__all__ = ["GROUPS", "with_capacities", "size_free_joints", "TrainDesign", "RequirementRow", "RequirementsCheck", "DynamicPeaks", "evaluate_requirements",
-           "mesh_ltca_runs", "rating_table", "rating_headroom", "joint_what_it_would_take", "contact_speed_rpm"]
+__all__ = ["DYNAMIC_PEAK_RATING", "GROUPS", "with_capacities", "size_free_joints", "TrainDesign", "RequirementRow", "RequirementsCheck", "DynamicPeaks", "evaluate_requirements",
+           "mesh_ltca_runs", "rating_table", "safety_values", "rating_headroom", "joint_what_it_would_take", "contact_speed_rpm"]

@@ -83,13 +83,14 @@ def scene_from_data(data: Mapping[str, Any], name: str, *, train_data: System | 
     load_cases = []
     for i, lc in enumerate(spec.get("load_cases", [])):
         if "dynamics" in lc:
-            extra = set(lc) - {"name", "speed_rpm", "dynamics"}
+            extra = set(lc) - {"name", "speed_rpm", "dynamics", "iso6336_options"}
             if extra:
-                raise GearoptInputError(f"{where} load_cases[{i}]: a dynamic load case takes name, speed_rpm and "
-                                        f"dynamics only, not {sorted(extra)}")
+                raise GearoptInputError(f"{where} load_cases[{i}]: a dynamic load case takes name, speed_rpm, "
+                                        f"dynamics and iso6336_options only, not {sorted(extra)}")
             dyn = dict(lc["dynamics"])
             _check_keys(f"{where} load_cases[{i}].dynamics", dyn, {"kind", "backlash", "statistic", "cycles"})
-            load_cases.append(LoadCase.from_dynamics(lc["name"], lc["speed_rpm"], **dyn))
+            load_cases.append(LoadCase.from_dynamics(lc["name"], lc["speed_rpm"], **dyn,
+                                                     iso6336_options=lc.get("iso6336_options")))
         elif "design_torque_fraction" in lc:
             if "torque_Nm" in lc:
                 raise GearoptInputError(f"{where} load_cases[{i}]: give torque_Nm or design_torque_fraction, not both")

@@ -135,7 +135,7 @@ class SceneInputs:
             jt[joint] = float(np.max(np.abs(w["joint_torque_Nm"])))
             ja[joint] = float(np.max(np.abs(w["axial_force_N"])))
         return LoadCase(name=lc.name, torque_Nm=torques, speed_rpm=lc.speed_rpm, joint_torque_Nm=jt,
-                        joint_axial_force_N=ja)
+                        joint_axial_force_N=ja, iso6336_options=lc.iso6336_options)
 
     # -- data as NLP parameters ----------------------------------------------------------------------------------
 

@@ -200,8 +200,9 @@ class SceneModels:
     # -- ISO 6336 ------------------------------------------------------------------------------------------------
 
     def iso(self, mesh: str, lc: LoadCase) -> dict:
-        """ISO 6336-2/-3 method B contact and root stress at ``lc`` (keywords from ``iso6336_options``)."""
-        opts = dict(self.scene.iso6336_options)
+        """ISO 6336-2/-3 method B contact and root stress at ``lc`` (keywords from the scene's ``iso6336_options``,
+        then the load case's)."""
+        opts = {**self.scene.iso6336_options, **lc.iso6336_options}
 
         def build():
             pair, g = self.pair(mesh), self.driving_gear(mesh)
@@ -217,14 +218,20 @@ class SceneModels:
         return self.model(f"iso6336:{mesh}@{lc.name}", build, f"ISO 6336-2/-3 method B at {lc.name}")
 
     def rating(self, mesh: str, lc: LoadCase):
-        """ISO 6336 rating with computed factors (``rate_iso6336``; its keywords from ``iso6336_options``). Without
+        """ISO 6336 rating with computed factors (``rate_iso6336``; its keywords from the scene's ``iso6336_options``,
+        then the load case's: ``LoadCase.iso6336_options``). Without
         an ``accuracy_grade`` or ``materials`` there, the mesh's gears' own: the data's ISO 1328 grades (a scene with
         ``data``; 6 where a gear states none) and the train's gear materials -- what the verdict's rating table
         (:func:`gearopt.design.requirements.rating_table`) uses."""
         if lc.speed_rpm is None:
             raise GearoptInputError(f"load case {lc.name!r} needs speed_rpm for the ISO 6336 rating of {mesh!r}")
         allowed = set(inspect.signature(rate_iso6336).parameters) - {"pair", "torque_Nm", "speed_rpm", "driving_gear"}
-        opts = {k: v for k, v in self.scene.iso6336_options.items() if k in allowed}
+        given = {**self.scene.iso6336_options, **lc.iso6336_options}
+        unknown = sorted(set(lc.iso6336_options) - allowed)
+        if unknown:
+            raise GearoptInputError(f"load case {lc.name!r}: iso6336_options {unknown} are not keywords of "
+                                    f"rate_iso6336 ({sorted(allowed)})")
+        opts = {k: v for k, v in given.items() if k in allowed}
         opts.update({k: v for k, v in self._gear_rating_options(mesh).items() if k not in opts})
 
         def build():

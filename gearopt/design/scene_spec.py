@@ -34,6 +34,9 @@ class LoadCase:
             "statistic": "peak"|"rms", "cycles": int}`` -- then the mesh torques and joint demands come from a
             simulation of the scene's ``dynamics_model`` at ``speed_rpm`` (built only for such a scene). Make it with
             :meth:`from_dynamics`.
+        iso6336_options: keywords of the ISO 6336 rating at this load case that override the scene's
+            ``iso6336_options`` (e.g. ``{"application_factor": 1.0, "K_v": 1.0}`` at a dynamic peak torque, whose
+            simulation already holds the external and internal dynamic loads: ISO 6336-1 method A).
     """
 
     name: str
@@ -42,6 +45,7 @@ class LoadCase:
     joint_torque_Nm: Mapping[str, float] = field(default_factory=dict)
     joint_axial_force_N: Mapping[str, float] = field(default_factory=dict)
     dynamics: Mapping[str, Any] | None = None
+    iso6336_options: Mapping[str, Any] = field(default_factory=dict)
 
     def __post_init__(self):
         if not isinstance(self.name, str) or not self.name:
@@ -53,7 +57,8 @@ class LoadCase:
 
     @classmethod
     def from_dynamics(cls, name: str, speed_rpm: float, *, kind: str = "spur", backlash: bool = False,
-                      statistic: str = "peak", cycles: int = 1) -> "LoadCase":
+                      statistic: str = "peak", cycles: int = 1,
+                      iso6336_options: Mapping[str, Any] | None = None) -> "LoadCase":
         """A load case whose mesh torques (|mesh force| x base radius of gear 1, ``statistic`` over the simulated
         cycles) and joint demands (peak joint torque and axial force, :func:`gearopt.dynamics.walk_off_history`)
         come from the scene's torsional model (``Scene.dynamics_model``) of ``kind`` at ``speed_rpm``."""
@@ -62,7 +67,8 @@ class LoadCase:
         if statistic not in ("peak", "rms"):
             raise GearoptInputError(f"statistic={statistic!r} must be 'peak' or 'rms'")
         return cls(name=name, speed_rpm=speed_rpm, dynamics={"kind": kind, "backlash": bool(backlash),
-                                                             "statistic": statistic, "cycles": int(cycles)})
+                                                             "statistic": statistic, "cycles": int(cycles)},
+                   iso6336_options=dict(iso6336_options or {}))
 
     def mesh_torque_Nm(self, mesh: str) -> float:
         t = self.torque_Nm

@@ -307,3 +307,39 @@ def test_codesign_nlp_carries_the_verdicts_iso6336_limits_and_matches_its_rating
                                                                      table.loc[mesh, f"{key}_2"])
             assert float(q.loc[(quantity, mesh), "value"]) == pytest.approx(expected, rel=1e-6), (mesh, key)
             assert float(q.loc[(quantity, mesh), "lower"]) == bound
+
+
+def test_codesign_carries_the_dynamic_peak_safeties_a_design_can_meet_and_reports_the_reach_of_those_it_cannot():
+    """Issue 27 items 2 and 4: S_H and S_F at the dynamic peak torques join the co-design's NLP where a design of
+    the option's space meets them; where none does they are not carried (every NLP would be infeasible) and the
+    study reports the reach of the space (best value, what stops it). Judged against :func:`rating_table` at the
+    same torques (K_A = K_v = 1), the function the verdict uses."""
+    from gearopt.cases.timing_train import codesign_study
+    from gearopt.design.requirements import DYNAMIC_PEAK_RATING, rating_table
+
+    system = go.load_system()
+    speed = float(system.design_loads.speed_rpm)
+    mild = {"crank-cam": (2.0 * system.design_torques_Nm()["crank-cam"], speed)}
+    study = codesign_study(system, options=("spur",), quick=True, dynamic_peaks=mild)
+    note = study.settings["dynamic_peaks"]["options"]["spur"]
+    assert note["S_H"]["carried"] and note["S_F"]["carried"]
+    result = study.options["spur"].codesign
+    q = result.quantities.set_index(["quantity", "target", "load_case"])
+    spur = system.train("spur")        # the root shift may be pinned by the presolve: then the data's
+    train = dataclasses.replace(spur, root_profile_shift=result.values.get("train.root_profile_shift",
+                                                                           spur.root_profile_shift))
+    table = rating_table(system, train, {"crank-cam": mild["crank-cam"][0]}, speed, **DYNAMIC_PEAK_RATING)
+    for quantity, key in (("contact_safety_factor", "S_H"), ("root_safety_factor", "S_F")):
+        row = q.loc[(quantity, "crank-cam", "dynamic_peak:crank-cam")]
+        assert float(row["value"]) == pytest.approx(min(table[f"{key}_1"].iloc[0], table[f"{key}_2"].iloc[0]),
+                                                    rel=1e-6)
+        assert float(row["lower"]) == getattr(system.requirements, f"min_{key}")
+    # four times the design torque: no root shift of the spur option reaches S_H >= 1
+    severe = {"crank-cam": (4.5 * system.design_torques_Nm()["crank-cam"], speed)}
+    study = codesign_study(system, options=("spur",), quick=True, dynamic_peaks=severe)
+    note = study.settings["dynamic_peaks"]["options"]["spur"]["S_H"]
+    assert not note["carried"] and not note["reach"]["meets"] and note["reach"]["best_value"] < 1.0
+    assert not any(q == "contact_safety_factor" and lc.startswith("dynamic_peak")
+                   for q, _, lc in study.options["spur"].codesign.quantities[["quantity", "target", "load_case"]]
+                   .itertuples(index=False))
+    assert any("not carried (no design of the space" in line for line in study.report_lines())

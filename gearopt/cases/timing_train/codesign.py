@@ -29,7 +29,7 @@ from __future__ import annotations
 import dataclasses
 import time
 from dataclasses import dataclass, field
-from typing import Sequence
+from typing import Mapping, Sequence
 
 import numpy as np
 import pandas as pd
@@ -42,6 +42,8 @@ from ...joints import joint_capacity
 from ...joints.walk_off import walk_off
 from ...validation import check_range
 from ...design.scene import DEFAULT_LTCA_OPTIONS, Scene, SceneResult
+from ...design.requirement_reach import DesignSpace, rating_reach
+from ...design.requirements import DYNAMIC_PEAK_RATING, rating_table, safety_values
 from ...design.scene_presolve import pinned_interval, scan_train_variable
 from ...design.scene_spec import DesignVariable, Limit, LoadCase, Objective
 from ...design.train_design import loaded_flanks
@@ -126,6 +128,11 @@ class CodesignStudy:
             lines.append(f"| {r['option']} | {r['design']} | {r['root_profile_shift']:.4f} | "
                          f"{r['helix_angle_deg']:.3f} | {r['max_ppte_um']:.3f} | {r['min_axial_margin']:.3g} | "
                          f"{r['refinements']:.0f} | {'yes' if r['verified'] else 'no'} | {r['time_s']:.1f} |")
+        for name, notes in s.get("dynamic_peaks", {}).get("options", {}).items():
+            for key, note in notes.items():
+                lines += ["", f"{key} at the dynamic peak torques, {name} option: "
+                          + ("carried as NLP limits (a design of the space meets it)" if note["carried"] else
+                             f"not carried ({note['text']}; as a limit it would make every NLP infeasible)")]
         for name, opt in self.options.items():
             for pin in opt.pinned.values():
                 lines += ["", f"Presolve, {name} option: {pin.reason}; its co-design solved the flanks alone there."]
@@ -283,13 +290,85 @@ RATED_CASE = "rated"
 """The co-design scenes' load case of the ISO 6336 limits: every rated mesh at its design torque, the design speed."""
 
 
+def rated_limits(system: System, train: GearTrain) -> tuple[LoadCase, list[Limit], dict]:
+    """The verdict's ISO 6336 rows at the design torques as scene limits: the :data:`RATED_CASE` load case (every
+    rated mesh of ``train`` at its design torque, the design speed), S_H >= ``min_S_H``, S_F >= ``min_S_F`` and
+    S_B >= ``min_S_B`` of ``[requirements]`` on each, and the scene's ``iso6336_options`` (the data's K_A)."""
+    design, required = system.design_torques_Nm(), system.requirements
+    rated = LoadCase(RATED_CASE, {m: design[m] for m in train.pairs if m in design},
+                     speed_rpm=float(system.design_loads.speed_rpm))
+    limits = [Limit(q, m, lower=bound, load_cases=(RATED_CASE,)) for m in rated.torque_Nm
+              for q, bound in (("contact_safety_factor", required.min_S_H), ("root_safety_factor", required.min_S_F),
+                               ("scuffing_safety_factor_flash", required.min_S_B))]
+    return rated, limits, {"application_factor": float(system.design_loads.application_factor_K_A)}
+
+
+def codesign_design_space(system: System, settings: dict, *, helix: bool = True) -> DesignSpace:
+    """The macro design space of a co-design study (its ``settings``, as ``CodesignStudy.settings`` holds them):
+    the root profile shift within ``root_shift_bounds`` and the helix angle from 0 (the spur option) to
+    ``max_helix_angle_deg`` (the low-helix option), held to what every design of the study meets: the geometry
+    limits of every mesh (:data:`GEOMETRY_LIMITS`), the ISO 6336 safeties at the design torques
+    (:func:`rated_limits`) and the walk-off margins of :data:`WALK_OFF_JOINTS` >= ``min_axial_margin`` at the
+    overspeed test speed (``overspeed_torques_Nm``). ``helix=False``: the spur option's space (the root shift alone;
+    no thrust, so no walk-off margins)."""
+    train = train_from_data(system.data, "spur")
+    rated, limits, options = rated_limits(system, train)
+    over = LoadCase("overspeed", dict(settings["overspeed_torques_Nm"]), speed_rpm=float(settings["overspeed_rpm"]))
+    lo, hi = settings["root_shift_bounds"]
+    variables = [DesignVariable("root_profile_shift", "train", lower=float(lo), upper=float(hi))]
+    margins = []
+    if helix:
+        variables.append(DesignVariable("helix_angle_deg", "train", lower=0.0,
+                                        upper=float(settings["max_helix_angle_deg"])))
+        margins = [Limit("axial_margin", j, lower=float(settings["min_axial_margin"]), load_cases=("overspeed",))
+                   for j in WALK_OFF_JOINTS]
+    return DesignSpace(variables=tuple(variables),
+                       limits=(*[Limit("geometry_limits", m, options=GEOMETRY_LIMITS) for m in train.pairs], *limits,
+                               *margins),
+                       load_cases=(rated, over) if helix else (rated,), iso6336_options=options)
+
+
+DYNAMIC_PEAK_KEYS = {"S_H": "contact_safety_factor", "S_F": "root_safety_factor"}
+"""The requirements judged at the dynamic peak torques (``min_S_H``, ``min_S_F``) and their scene quantities."""
+
+
+def dynamic_peak_limits(system: System, train: GearTrain, space: DesignSpace,
+                        dynamic_peaks: Mapping[str, tuple[float, float]]
+                        ) -> tuple[list[LoadCase], list[Limit], list[Limit], dict]:
+    """The dynamic-peak safety requirements as scene limits where a design can meet them: one load case per mesh
+    at its peak torque and speed (rated at K_A = K_v = 1, :data:`DYNAMIC_PEAK_RATING`), S_H >= ``min_S_H`` and
+    S_F >= ``min_S_F`` on it. Returns (load cases, the co-design's limits, the sequential design's limits,
+    {key: {"carried": bool, "reach": ..., "text": ...}}): the co-design carries a requirement when the reach of
+    ``space`` (:func:`rating_reach`) says some design of it meets the requirement, the sequential design (fixed
+    macro) when ``train`` itself meets it. A requirement no design meets is not carried (it would make every NLP
+    infeasible); its reach is returned, to report."""
+    required = system.requirements
+    bounds = {"S_H": required.min_S_H, "S_F": required.min_S_F}
+    torques = {m: float(t) for m, (t, _) in dynamic_peaks.items()}
+    speeds = {m: float(v) for m, (_, v) in dynamic_peaks.items()}
+    cases = [LoadCase(f"dynamic_peak:{m}", {m: torques[m]}, speed_rpm=speeds[m], iso6336_options=DYNAMIC_PEAK_RATING)
+             for m in torques]
+    reach = rating_reach(system, train, space, torques, speeds, bounds, rating_options=DYNAMIC_PEAK_RATING)
+    tables = [rating_table(system, train, {m: torques[m]}, speeds[m], **DYNAMIC_PEAK_RATING) for m in torques]
+    co, seq, notes = [], [], {}
+    for key, quantity in DYNAMIC_PEAK_KEYS.items():
+        limits = [Limit(quantity, m, lower=bounds[key], load_cases=(f"dynamic_peak:{m}",)) for m in torques]
+        if reach[key].meets:
+            co += limits
+        if min(v for tab in tables for _, v in safety_values(tab, key)) >= bounds[key]:
+            seq += limits
+        notes[key] = {"carried": bool(reach[key].meets), "reach": reach[key].as_json(), "text": reach[key].text()}
+    return (cases if co or seq else []), co, seq, notes
+
+
 def codesign_study(system: System | None = None, *, options: Sequence[str] = ("spur", "low_helix"),
                    meshes: Sequence[str] = tuple(MESHES), max_helix_angle_deg: float = 8.0,
                    root_shift_bounds: tuple[float, float] = (0.0, 0.6), min_axial_margin: float = 1.5,
                    quick: bool = False, ltca_options: dict | None = None,
                    contact_stress_allowance: float = CONTACT_STRESS_ALLOWANCE,
                    sequential_options: dict | None = None, codesign_ipopt: dict | None = None,
-                   pin_width: float = 0.05) -> CodesignStudy:
+                   pin_width: float = 0.05,
+                   dynamic_peaks: Mapping[str, tuple[float, float]] | None = None) -> CodesignStudy:
     """Run the study of the module docstring on ``system`` (a :class:`~gearopt.data.System` of the timing train's
     layout; default ``gearopt.load_system()``, the packaged timing train this case studies). ``quick``: one load
     case (the design torque), 16 positions, 5 face slices for a helical option and no refinement (a smoke run for
@@ -303,7 +382,11 @@ def codesign_study(system: System | None = None, *, options: Sequence[str] = ("s
     no wider than this -- by default two grid steps: no scanned value but the start -- it is pinned at its start
     value and the co-design solves without it (``option.pinned`` says why; 0 turns the presolve off). A wider
     interval is left to the NLP: on the low-helix option the limits leave 0.25..0.31 and the co-design's optimum
-    lies inside it, away from the start."""
+    lies inside it, away from the start. ``dynamic_peaks``: {mesh: (peak torque [N m], crank speed [rpm])} of the
+    train's dynamics with backlash (:class:`~gearopt.design.requirements.DynamicPeaks`): S_H and S_F at those
+    torques join each option's scenes where a design of the option's space can meet them
+    (:func:`dynamic_peak_limits`); ``settings["dynamic_peaks"]`` says, per option, which were carried and the reach
+    of the space toward each."""
     check_range("contact_stress_allowance", contact_stress_allowance, 0.0, 0.5)
     check_range("pin_width", pin_width, 0.0, None)
     system = load_system() if system is None else system_of(system, "codesign_study")
@@ -342,17 +425,16 @@ def codesign_study(system: System | None = None, *, options: Sequence[str] = ("s
     # the verdict's ISO 6336 rows at the design torques (S_H, S_F, S_B; computed factors, K_A of the data): every
     # rated mesh of the train, since the root shift moves them all (constant, so checked once, where no macro
     # variable is free)
-    rated = LoadCase(RATED_CASE, {m: design[m] for m in train.pairs if m in design}, speed_rpm=speed)
-    rating_limits = [Limit(q, m, lower=bound, load_cases=(RATED_CASE,)) for m in rated.torque_Nm
-                     for q, bound in (("contact_safety_factor", required.min_S_H),
-                                      ("root_safety_factor", required.min_S_F),
-                                      ("scuffing_safety_factor_flash", required.min_S_B))]
-    rating_options = {"application_factor": float(system.design_loads.application_factor_K_A)}
+    rated, rating_limits, rating_options = rated_limits(system, train)
     geometry = [Limit("geometry_limits", m, options=GEOMETRY_LIMITS) for m in train.pairs]
     objective = [Objective("ppte_um", m, aggregate="max", load_cases=tuple(names)) for m in meshes]
     flank_vars = [DesignVariable(name, f) for f in sorted({f for fl in flanks.values() for f in fl})
                   for name in ("tip_relief_um", "tip_relief_start_roll_deg")]
     out: dict[str, CodesignOption] = {}
+    space_settings = {"overspeed_torques_Nm": over_torques, "overspeed_rpm": overspeed,
+                      "root_shift_bounds": list(root_shift_bounds), "max_helix_angle_deg": max_helix_angle_deg,
+                      "min_axial_margin": min_axial_margin}
+    dynamic_notes: dict[str, dict] = {}
     for option in options:
         if option not in ("spur", "low_helix"):
             raise GearoptInputError(f"option {option!r} must be 'spur' or 'low_helix'")
@@ -365,14 +447,19 @@ def codesign_study(system: System | None = None, *, options: Sequence[str] = ("s
                                                          min_axial_margin)
         fixed = dataclasses.replace(train, helix_angle_deg=macro["helix_angle_deg"])
         load_cases = cases + [rated] + ([over] if helical else [])
+        dynamic_cases, co_dynamic, seq_dynamic = [], [], []
+        if dynamic_peaks:
+            dynamic_cases, co_dynamic, seq_dynamic, dynamic_notes[option] = dynamic_peak_limits(
+                system, fixed, codesign_design_space(system, space_settings, helix=helical), dynamic_peaks)
         ppte_limits = unmodified_ppte_limits(fixed, meshes, cases) if required.ppte_no_load_case_worse else []
         t0 = time.perf_counter()
         seq_opts = {**opts, **SEQUENTIAL_OPTIONS, **(sequential_options or {})}
         if quick:
             seq_opts["max_refinements"] = 0
-        seq_scene = Scene(f"{option} sequential (micro at fixed macro)", train=fixed, load_cases=load_cases,
-                          variables=flank_vars, objectives=objective,
-                          limits=ltca_limits + ppte_limits + margins + rating_limits, ltca_options=seq_opts,
+        seq_scene = Scene(f"{option} sequential (micro at fixed macro)", train=fixed,
+                          load_cases=load_cases + dynamic_cases, variables=flank_vars, objectives=objective,
+                          limits=ltca_limits + ppte_limits + margins + rating_limits + seq_dynamic,
+                          ltca_options=seq_opts,
                           data=system, objective_aggregate="max", iso6336_options=rating_options)
         failures = {}
         try:
@@ -395,10 +482,10 @@ def codesign_study(system: System | None = None, *, options: Sequence[str] = ("s
             if pin is not None:
                 pinned["root_profile_shift"] = pin
         train_vars = [v for v in train_vars if v.name not in pinned]
-        co_scene = Scene(f"{option} co-design", train=fixed, load_cases=load_cases, variables=train_vars + flank_vars,
-                         objectives=objective,
+        co_scene = Scene(f"{option} co-design", train=fixed, load_cases=load_cases + dynamic_cases,
+                         variables=train_vars + flank_vars, objectives=objective,
                          limits=ltca_limits + ppte_limits + (geometry if train_vars else []) + margins
-                         + rating_limits, ltca_options=opts, data=system, objective_aggregate="max",
+                         + rating_limits + co_dynamic, ltca_options=opts, data=system, objective_aggregate="max",
                          iso6336_options=rating_options)
         start = {**(sequential.values if sequential else {}),
                  **{f"train.{v.name}": macro[v.name] for v in train_vars}}
@@ -415,9 +502,10 @@ def codesign_study(system: System | None = None, *, options: Sequence[str] = ("s
                 "contact_stress_limit_MPa": stress_limit, "contact_stress_allowance": contact_stress_allowance,
                 **{k: float(opts.get(k, DEFAULT_LTCA_OPTIONS[k])) for k in ("refine_tolerance",
                                                                             "refine_stress_tolerance")},
-                "quick": quick}
+                "quick": quick, **({"dynamic_peaks": {"torques": {m: list(v) for m, v in dynamic_peaks.items()},
+                                                      "options": dynamic_notes}} if dynamic_peaks else {})}
     return CodesignStudy(out, flanks, settings)
 
 
-__all__ = ["codesign_study", "CodesignStudy", "CodesignOption", "design_entry", "macro_first_helix", "MESHES",
+__all__ = ["codesign_study", "codesign_design_space", "dynamic_peak_limits", "rated_limits", "CodesignStudy", "CodesignOption", "design_entry", "macro_first_helix", "MESHES",
            "WALK_OFF_JOINTS"]

@@ -12,6 +12,12 @@ torque per mesh (rated at K_A = K_v = 1) and the joint margins of the speed swee
 gets walk-off margins over speed from its own thrust: at each sweep speed the spur train's peak mesh torques of that
 speed act together on the candidate's helical train (:func:`gearopt.joints.walk_off`, quasi-static; conservative,
 the peaks of different meshes need not coincide), against the joint's axial capacity at that speed.
+
+A safety the recommended design fails gets the reach of the study's macro design space
+(:func:`~gearopt.cases.timing_train.codesign.codesign_design_space`: root shift and helix angle within the study's
+bounds, held to its geometry limits, safeties at the design torques and walk-off margins) in its "what it would
+take": the elastic mode on the exact rating says whether any design of the space meets it, the best value reached
+and which bounds or limits stop it (:func:`gearopt.design.recommendation.add_reach`).
 """
 
 from __future__ import annotations
@@ -24,11 +30,12 @@ import pandas as pd
 
 from ...contact.microgeometry import Microgeometry
 from ...data import System, system_from_data
-from ...design.recommendation import Recommendation, recommend
+from ...design.recommendation import Recommendation, add_reach, recommend
 from ...design.requirements import DynamicPeaks, TrainDesign, evaluate_requirements, with_capacities
 from ...joints.catalogue import joint_capacity
 from ...geometry.forces import mesh_torque_Nm
 from ...joints.walk_off import joint_margins, walk_off
+from .codesign import codesign_design_space
 
 
 def codesign_candidates(system: System, codesign: Mapping[str, Any]) -> tuple[list[TrainDesign], dict[str, str]]:
@@ -127,8 +134,9 @@ def timing_recommendation(system: System, codesign: Mapping[str, Any], *, contac
         own = spur if sized is system else with_capacities(spur, sized, [n for n, j in sized.joints.items() if j.free])
         return helical_dynamic_peaks(sized, design, own, sweep)
 
+    space = codesign_design_space(system, codesign["settings"]) if "settings" in codesign else None
     rec = recommend(system, designs, contact_meshes=contact_meshes, dynamic=dynamic, options=options,
-                    ltca_options=ltca_options)
+                    ltca_options=ltca_options, design_space=space)
     judged_with = dynamic
     if dynamics_speeds_rpm is not None and spur is not None:
         judged = dynamic(rec.design, rec.system)
@@ -139,6 +147,8 @@ def timing_recommendation(system: System, codesign: Mapping[str, Any], *, contac
                 "the spur train's dynamics", "the design's own train's dynamics"))
             rec.check = rec.checks[rec.design.name] = evaluate_requirements(
                 rec.system, rec.design, contact_meshes=contact_meshes, dynamic=again, ltca_options=ltca_options)
+            if space is not None and rec.check.verdict == "FAIL":
+                add_reach(rec.system or system, rec.design, rec.check, space)
             check["note"] += "; judged again with its own peaks"
             judged_with = _own_peaks(again)
         rec.dynamics_check = check
