@@ -54,6 +54,7 @@ from gearopt.studies.background import children_die_with_this_process, side_proc
 from gearopt.report import to_markdown, write_table
 from gearopt.report.joint_tables import blank_table, joint_table, web_table
 from gearopt.report.rating_tables import rating_table
+from gearopt.cases.timing_train.recommendation import dynamic_peaks
 from gearopt.cases.timing_train.summary import QUICK_BANNER, build_summary, eng, headlines_markdown, summary_markdown
 from gearopt.studies import DESIGNS, mesh_contact_study
 from gearopt.cases.timing_train.macro_design import (change_table, conversion_table, mesh_check_table, shift_table,
@@ -429,22 +430,41 @@ def contact_stage(system: go.System, trains: dict, quick: bool = False, on_study
 
 
 def recommendation_stage(system: go.System, codesign: dict, design_torques: pd.DataFrame, dynamics: dict,
-                         calibrated_inputs: dict | None = None) -> dict:
+                         calibrated_inputs: dict | None = None, quick: bool = False) -> tuple[dict, object]:
     """The one answer: every design of the co-design study judged on every requirement of the data's
     ``[requirements]`` with the exact models (contact of the three contact meshes over their ranges, ISO 6336 at
     the design torques and at the dynamic peaks, joints at the design load and over speed), the best chosen
     (:func:`gearopt.cases.timing_train.recommendation.timing_recommendation`; with ``calibrated_inputs`` from the
-    failure reproduction's calibration its joint and dynamic rows judged again on them); ``Recommendation.as_json()``."""
-    from gearopt.cases.timing_train.recommendation import timing_recommendation
+    failure reproduction's calibration its joint and dynamic rows judged again on them), in the dynamics design loop
+    (:func:`gearopt.cases.timing_train.recommendation.dynamics_design_loop`: the co-design solved again with the
+    recommended design's own peaks while they differ by more than 2 % from those its NLPs carried). Returns
+    ``Recommendation.as_json()`` with ``"dynamics_loop"`` (one row per round) and the co-design section: the one
+    given, or (report lines, JSON) of the last re-solve."""
+    from gearopt.cases.timing_train.recommendation import dynamics_design_loop
 
-    quick = all(s.cycles == 1 for (k, _, lash), s in dynamics["runs"].items() if lash)
-    rec = timing_recommendation(system, codesign, contact_meshes=CONTACT_MESHES,
-                                design_torques=design_torques, sweep=dynamics["sweeps"]["spur"],
-                                dynamics_speeds_rpm=dynamics["speeds_rpm"],
-                                dynamics_run=dict(cycles=1 if quick else RECORDED_CYCLES, run_in_cycles=0 if quick
-                                                  else 1, rtol=LASH_RTOL),
-                                calibrated_inputs=calibrated_inputs)
-    return json.loads(json.dumps(rec.as_json(), default=_json_default))
+    short = all(s.cycles == 1 for (k, _, lash), s in dynamics["runs"].items() if lash)
+    resolved: list = []
+
+    def solve(peaks):
+        study = codesign_stage(system, quick=quick, dynamic_peaks=peaks)
+        resolved[:] = [(study.report_lines(), json.loads(json.dumps(study.to_json(), default=float)))]
+        return resolved[0][1]
+
+    rec, _, history = dynamics_design_loop(
+        system, solve, codesign, contact_meshes=CONTACT_MESHES, design_torques=design_torques,
+        sweep=dynamics["sweeps"]["spur"], dynamics_speeds_rpm=dynamics["speeds_rpm"],
+        dynamics_run=dict(cycles=1 if short else RECORDED_CYCLES, run_in_cycles=0 if short else 1, rtol=LASH_RTOL),
+        calibrated_inputs=calibrated_inputs)
+    last = history[-1]
+    rec.notes.append(
+        f"dynamics in the design loop: {len(history)} co-design solve(s); "
+        + ("the dynamic-peak requirements carried by its NLPs: " + ", ".join(last["carried"])
+           if last["carried"] else "no dynamic-peak requirement could be carried (no design of the space meets "
+                                   "it: see its reach), so the designs do not depend on the peaks")
+        + f"; the recommended design's own peaks {'agree' if last['agrees'] else 'differ'} within "
+          f"{last['max_change_percent']:.3g} %")
+    out = json.loads(json.dumps({**rec.as_json(), "dynamics_loop": history}, default=_json_default))
+    return out, (resolved[0] if resolved else codesign)
 
 
 def _json_default(v):
@@ -453,17 +473,20 @@ def _json_default(v):
     raise TypeError(f"{type(v).__name__} is not JSON serialisable")
 
 
-def codesign_stage(system: go.System, quick: bool = False):
+def codesign_stage(system: go.System, quick: bool = False, dynamic_peaks: dict | None = None):
     """Stage: co-design of the spur train and a low-helix alternative (profile shift, helix angle, per-flank tip
     relief, walk-off margins in one NLP) beside the sequential design (gearopt.cases.timing_train.codesign); quick: the
     spur option, one load case, no refinement. The main job caps the co-design's refinement at 1 re-solve and slices
     helical faces 11 times without raising them (run time: the low-helix co-design solve alone takes minutes; 7
     slices left the 8 deg meshes' root stress 1.2-1.6 % off the exact LTCA's, above the 1 % stress tolerance;
     whether each design verified is reported per option); the sequential design (lifted contact form, fast) gets up
-    to 3 re-solves. problems/codesign.py runs the study at its defaults."""
+    to 3 re-solves. problems/codesign.py runs the study at its defaults. ``dynamic_peaks``: {mesh: (peak torque
+    [N m], crank speed [rpm])} of the spur train's dynamics with backlash: S_H and S_F there join the NLPs where a
+    design of the option's space meets them (else the study reports the space's reach)."""
     from gearopt.cases.timing_train import codesign_study
 
     return codesign_study(system, quick=quick, options=("spur",) if quick else ("spur", "low_helix"),
+                          dynamic_peaks=dynamic_peaks,
                           ltca_options=None if quick else {"max_refinements": 1, "helical_slices": 11,
                                                            "max_helical_slices": 11},
                           sequential_options=None if quick else {"max_refinements": 3})
@@ -1012,10 +1035,11 @@ def plot_side_figures(side_runs: dict, plotted: set) -> None:
                 plot_later(builder, path, *args)
 
 
-def side_codesign(system: go.System, out: Path, quick: bool = False) -> dict:
-    """Side-process stage: the co-design study; its report lines and ``result.json`` entry (plain data)."""
+def side_codesign(system: go.System, out: Path, quick: bool = False, dynamic_peaks: dict | None = None) -> dict:
+    """Side-process stage: the co-design study (with the dynamics' peak mesh torques); its report lines and
+    ``result.json`` entry (plain data)."""
     def run():
-        study = codesign_stage(system, quick=quick)
+        study = codesign_stage(system, quick=quick, dynamic_peaks=dynamic_peaks)
         return study.report_lines(), json.loads(json.dumps(study.to_json(), default=float))
     return _side_stage("codesign_nlp", run)
 
@@ -1026,10 +1050,11 @@ def side_trade_off(system: go.System, out: Path, quick: bool = False) -> dict:
         out, trade_off_stage(system, {"spur": train_from_data(system.data, "spur")}, quick=quick)))
 
 
-SIDE_STAGES = {"failure_reproduction": side_failure, "codesign_nlp": side_codesign,
-               "trade_off_study": side_trade_off}
-"""Stages that need only the data: they run in side processes beside the others (in this order; the co-design
-gets a process of its own in a full run, where it is the longest stage)."""
+SIDE_STAGES = {"failure_reproduction": side_failure, "trade_off_study": side_trade_off}
+"""Stages that need only the data: they run in side processes beside the others, from the start."""
+
+DYNAMICS_SIDE_STAGES = {"codesign_nlp": side_codesign}
+"""Side stages that need the dynamics' peaks too: submitted when the dynamics stage ends."""
 
 
 def side_result(stage: str, run):
@@ -1085,6 +1110,10 @@ def main(argv: list[str] | None = None) -> int:
         with timings.stage("dynamics"):
             dynamics = dynamics_stage(system, quick=args.quick)
             design_torques = dynamic_design_torques(system, dynamics)
+        peaks = {m: tuple(v) for m, v in dynamic_peaks(design_torques, dynamics["sweeps"]["spur"])
+                 .mesh_torques_Nm.items()}
+        side_runs.update({stage: side.submit(fn, system, args.out, quick=args.quick, dynamic_peaks=peaks)
+                          for stage, fn in DYNAMICS_SIDE_STAGES.items()})
         with timings.stage("write_dynamics"):    # each section written as its stage ends: its figures render now
             sections = {"dynamics": write_dynamics(args.out, dynamics, design_torques)}
         plot_side_figures(side_runs, plotted)
@@ -1127,8 +1156,11 @@ def main(argv: list[str] | None = None) -> int:
 
         with timings.stage("recommendation"):
             calibration = side_results["failure_reproduction"]["section"][1].get("calibration") or {}
-            recommendation = recommendation_stage(system, side_results["codesign_nlp"]["section"][1],
-                                                  design_torques, dynamics, calibration.get("calibrated_inputs"))
+            recommendation, codesign_json = recommendation_stage(
+                system, side_results["codesign_nlp"]["section"][1], design_torques, dynamics,
+                calibration.get("calibrated_inputs"), quick=args.quick)
+            if codesign_json is not side_results["codesign_nlp"]["section"][1]:     # re-solved in the loop
+                side_results["codesign_nlp"]["section"] = codesign_json
 
         t0 = time.perf_counter()
         write_outputs(args.out, macro, split, timings, contact, ratings, joints, dynamics, design_torques, teeth,
@@ -1141,7 +1173,7 @@ def main(argv: list[str] | None = None) -> int:
     timings["figure_files_wait"] = time.perf_counter() - t0
     result = json.loads((args.out / "result.json").read_text())
     result["stage_time_s"] = dict(timings)                          # every stage, the ones after write_outputs too
-    result["side_process_stages"] = list(SIDE_STAGES) if side.enabled else []
+    result["side_process_stages"] = list(SIDE_STAGES) + list(DYNAMICS_SIDE_STAGES) if side.enabled else []
     result["wall_time_s"] = time.perf_counter() - wall0            # less than the stages' sum: two chains overlap
     # CPU time of each process since it started (imports included; the side process's at the end of its last
     # stage): less disturbed by other load on the machine than the wall times, it shows which chain is longer

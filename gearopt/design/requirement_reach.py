@@ -100,8 +100,9 @@ class RequirementReach:
         if self.meets:
             return (f"a design of the space ({self.space}) meets it: {self.key} {self.best_value:.3g} at {at}")
         stops = "; ".join(f"the {s['side']} {'bound' if s['kind'] == 'bound' else 'limit'} of {s['name']} "
-                          f"({s['bound']:.4g}{(' ' + s['unit']) if s['unit'] else ''}; d shortfall/d bound "
-                          f"{s['multiplier']:.3g})" for s in self.stopped_by) or "nothing but the model itself"
+                          f"({s['bound']:.4g}{(' ' + s['unit']) if s['unit'] else ''}: the summed shortfall falls by "
+                          f"{abs(s['multiplier']):.3g} per unit beyond it)" for s in self.stopped_by) \
+            or "nothing but the model itself"
         return (f"no design of the space ({self.space}) meets it: the best reached is {self.key} "
                 f"{self.best_value:.3g} ({self.worst_case}) at {at}, stopped by {stops}")
 
@@ -167,6 +168,7 @@ def rating_reach(system: System, train: GearTrain, space: DesignSpace, torques_N
         elastic, converged = None, False
     if not converged:
         point = searched
+    point = np.clip(point, lower, upper)            # Ipopt may end a hair outside a bound
     values = dict(zip(names, (float(x) for x in point)))
     at = _train_at(train, values)
 

@@ -30,6 +30,7 @@ import pandas as pd
 
 from ...contact.microgeometry import Microgeometry
 from ...data import System, system_from_data
+from ...errors import GearoptInputError
 from ...design.recommendation import Recommendation, add_reach, recommend
 from ...design.requirements import DynamicPeaks, TrainDesign, evaluate_requirements, with_capacities
 from ...joints.catalogue import joint_capacity
@@ -142,6 +143,8 @@ def timing_recommendation(system: System, codesign: Mapping[str, Any], *, contac
         judged = dynamic(rec.design, rec.system)
         check = dynamics_check(system, rec.design, judged, dynamics_speeds_rpm, **dict(dynamics_run or {}))
         own = check.pop("own", None)
+        if own is not None:
+            check["own_peaks"] = {m: [float(t), float(v)] for m, (t, v) in own.items()}
         if not check["agrees"]:
             again = dataclasses.replace(judged, mesh_torques_Nm=own, basis=judged.basis.replace(
                 "the spur train's dynamics", "the design's own train's dynamics"))
@@ -159,6 +162,52 @@ def timing_recommendation(system: System, codesign: Mapping[str, Any], *, contac
                                                       dict(calibrated_inputs), dynamic=judged_with,
                                                       contact_meshes=contact_meshes)
     return rec
+
+
+DESIGN_LOOP_ROUNDS = 3
+"""Largest number of co-design solves of :func:`dynamics_design_loop`."""
+
+
+def carried_dynamic_requirements(codesign: Mapping[str, Any]) -> list[str]:
+    """``"option: key"`` of every dynamic-peak requirement a co-design study's NLPs carried (its JSON's
+    ``settings["dynamic_peaks"]``): where none was, the study's designs do not depend on the peak torques."""
+    notes = codesign.get("settings", {}).get("dynamic_peaks", {}).get("options", {})
+    return [f"{option}: {key}" for option, keys in notes.items() for key, n in keys.items() if n.get("carried")]
+
+
+def dynamics_design_loop(system: System, solve, codesign: Mapping[str, Any], *, contact_meshes: Sequence[str],
+                         design_torques: pd.DataFrame, sweep: pd.DataFrame, dynamics_speeds_rpm,
+                         dynamics_run: Mapping[str, Any] | None = None,
+                         calibrated_inputs: Mapping[str, Any] | None = None,
+                         max_rounds: int = DESIGN_LOOP_ROUNDS) -> tuple[Recommendation, Mapping[str, Any], list[dict]]:
+    """Dynamics in the design loop. ``codesign``: the co-design study's JSON solved with the spur train's dynamic
+    peaks (``codesign_study(dynamic_peaks=...)``); ``solve(peaks)``: the same study solved again with other peaks
+    ({mesh: (torque [N m], crank speed [rpm])}), as JSON. Each round recommends a design
+    (:func:`timing_recommendation`) and simulates its own train (:func:`dynamics_check`); when its peak mesh
+    torques differ from those the study's NLPs carried by more than :data:`DYNAMICS_AGREEMENT` and a dynamic-peak
+    requirement was carried (:func:`carried_dynamic_requirements`: else the designs do not depend on the peaks and a
+    re-solve would return them unchanged), the study is solved again with the design's own peaks. Stops when they
+    agree, when nothing was carried or after ``max_rounds`` solves. Returns the recommendation, the last study's
+    JSON and one row per round (peaks, largest change [%], agreement, the requirements carried)."""
+    if max_rounds < 1:
+        raise GearoptInputError(f"max_rounds={max_rounds} must be >= 1")
+    peaks = dict(codesign.get("settings", {}).get("dynamic_peaks", {}).get("torques", {})) or {
+        m: list(v) for m, v in dynamic_peaks(design_torques, sweep).mesh_torques_Nm.items()}
+    history: list[dict] = []
+    for round_ in range(max_rounds):
+        rec = timing_recommendation(system, codesign, contact_meshes=contact_meshes, design_torques=design_torques,
+                                    sweep=sweep, dynamics_speeds_rpm=dynamics_speeds_rpm, dynamics_run=dynamics_run,
+                                    calibrated_inputs=calibrated_inputs)
+        check, carried = rec.dynamics_check, carried_dynamic_requirements(codesign)
+        history.append({"round": round_ + 1, "design": rec.design.name,
+                        "peaks_Nm": {m: float(v[0]) for m, v in peaks.items()},
+                        "max_change_percent": float(check.get("max_change_percent", 0.0)),
+                        "agrees": bool(check.get("agrees", True)), "carried": carried})
+        if check.get("agrees", True) or not carried or round_ + 1 == max_rounds:
+            break
+        peaks = {m: list(v) for m, v in check["own_peaks"].items()}
+        codesign = solve({m: (float(t), float(v)) for m, (t, v) in peaks.items()})
+    return rec, codesign, history
 
 
 def _own_peaks(peaks):
@@ -223,4 +272,4 @@ def dynamics_check(system: System, design: TrainDesign, judged: DynamicPeaks, sp
                     f"judged (limit {100 * DYNAMICS_AGREEMENT:g} %)"}
 
 
-__all__ = ["DYNAMICS_AGREEMENT", "design_peak_torques_Nm", "dynamics_check", "codesign_candidates", "dynamic_peaks", "helical_dynamic_peaks", "timing_recommendation"]
+__all__ = ["DESIGN_LOOP_ROUNDS", "carried_dynamic_requirements", "dynamics_design_loop", "DYNAMICS_AGREEMENT", "design_peak_torques_Nm", "dynamics_check", "codesign_candidates", "dynamic_peaks", "helical_dynamic_peaks", "timing_recommendation"]
