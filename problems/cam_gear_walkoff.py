@@ -1050,11 +1050,13 @@ def side_trade_off(system: go.System, out: Path, quick: bool = False) -> dict:
         out, trade_off_stage(system, {"spur": train_from_data(system.data, "spur")}, quick=quick)))
 
 
-SIDE_STAGES = {"failure_reproduction": side_failure, "trade_off_study": side_trade_off}
-"""Stages that need only the data: they run in side processes beside the others, from the start."""
+SIDE_STAGES = {"failure_reproduction": side_failure}
+"""Stages that need only the data and start first: they run in side processes beside the others."""
 
-DYNAMICS_SIDE_STAGES = {"codesign_nlp": side_codesign}
-"""Side stages that need the dynamics' peaks too: submitted when the dynamics stage ends."""
+DYNAMICS_SIDE_STAGES = {"codesign_nlp": side_codesign, "trade_off_study": side_trade_off}
+"""Side stages submitted when the dynamics stage ends, in this order: the co-design (it needs the dynamics' peaks;
+in a full run it takes the second side process, the longest chain after the failure reproduction), then the
+trade-off study (it needs only the data, but queued first it held the co-design's process)."""
 
 
 def side_result(stage: str, run):
@@ -1112,7 +1114,8 @@ def main(argv: list[str] | None = None) -> int:
             design_torques = dynamic_design_torques(system, dynamics)
         peaks = {m: tuple(v) for m, v in dynamic_peaks(design_torques, dynamics["sweeps"]["spur"])
                  .mesh_torques_Nm.items()}
-        side_runs.update({stage: side.submit(fn, system, args.out, quick=args.quick, dynamic_peaks=peaks)
+        side_runs.update({stage: side.submit(fn, system, args.out, quick=args.quick,
+                                             **({"dynamic_peaks": peaks} if fn is side_codesign else {}))
                           for stage, fn in DYNAMICS_SIDE_STAGES.items()})
         with timings.stage("write_dynamics"):    # each section written as its stage ends: its figures render now
             sections = {"dynamics": write_dynamics(args.out, dynamics, design_torques)}

@@ -5,15 +5,19 @@ fails: could any design of the space meet them, and if not, how close does the s
 or limits are in the way. It declares a :class:`~gearopt.design.scene.Scene` of the space's macro variables (a
 :class:`DesignSpace`: e.g. the root profile shift and the helix angle with their bounds), the space's own limits held
 hard (geometry, the safeties at the design torques, walk-off margins) and the requirement's rows as limits that may
-be relaxed, and solves it in elastic mode (:func:`gearopt.nlp.elastic.solve_elastic`, ``"relaxation"``: the least
-l1 sum of the scaled shortfalls of the requirement's rows; the space's own limits cost :data:`HARD_WEIGHT` times as
-much, so they relax only if nothing else can hold them). At that point:
+be relaxed. For each requirement in turn (the others' rows all but free, :data:`OTHER_WEIGHT`) it finds the least
+l1 sum of the scaled shortfalls of that requirement's rows -- the space's own limits cost :data:`HARD_WEIGHT` times
+as much, so they relax only if nothing else can hold them -- by an exact search (:func:`_search`: a grid polished by
+bounded Nelder-Mead) and then the elastic mode from its best point (:func:`gearopt.nlp.elastic.solve_elastic`,
+``"relaxation"``), whose multipliers say what stops it. At that point:
 
 - ``best_value``: the requirement's worst row (the smallest safety over the rated gears), recomputed by the exact
   rating (:func:`~gearopt.design.requirements.rating_table`, the function the verdict uses);
 - ``stopped_by``: every variable bound at which the elastic optimum sits with a nonzero multiplier, and every hard
   limit that is active, each with its multiplier (the change of the least summed shortfall per unit move of that
-  bound, in the requirement's unit: a negative value for an upper bound means raising it would help);
+  bound, in the requirement's unit: a negative value for an upper bound means raising it would help); where Ipopt
+  does not converge (the rating's clamps, e.g. Z_B = max(1, M_1), can put the optimum on a kink), the bounds the
+  search's point sits on, with a finite difference of the re-polished optimum (:data:`BOUND_STEP`) as multiplier;
 - ``meets``: True when the least relaxation is zero -- some design of the space meets the requirement (then the
   design optimisers can carry it as a constraint).
 
@@ -102,7 +106,8 @@ class RequirementReach:
         stops = "; ".join(f"the {s['side']} {'bound' if s['kind'] == 'bound' else 'limit'} of {s['name']} "
                           f"({s['bound']:.4g}{(' ' + s['unit']) if s['unit'] else ''}: the summed shortfall falls by "
                           f"{abs(s['multiplier']):.3g} per unit beyond it)" for s in self.stopped_by) \
-            or "nothing but the model itself"
+            or ("no bound or limit of the space: the requirement's own rows trade against each other there (raising one "
+                "lowers another)")
         return (f"no design of the space ({self.space}) meets it: the best reached is {self.key} "
                 f"{self.best_value:.3g} ({self.worst_case}) at {at}, stopped by {stops}")
 
@@ -124,7 +129,8 @@ def rating_reach(system: System, train: GearTrain, space: DesignSpace, torques_N
     mesh in ``torques_Nm`` (torque on its driving gear [N m]) at its crank speed ``speeds_rpm`` [rpm], rated with
     the scene's ``space.iso6336_options`` and then ``rating_options`` (e.g. ``{"application_factor": 1.0,
     "K_v": 1.0}`` at a dynamic peak). ``train``: the design whose macro values start the search (the train's
-    gears, teeth and materials are the space's). One elastic solve for all ``limits``; {key: reach}."""
+    gears, teeth and materials are the space's). One scene, one reach per requirement (its own best: the other
+    requirements' rows barely weigh); {key: reach}."""
     unknown = sorted(set(limits) - set(SAFETY_QUANTITIES))
     if unknown:
         raise GearoptInputError(f"rating_reach: limits name {unknown}; the safeties are {sorted(SAFETY_QUANTITIES)}")
@@ -148,14 +154,32 @@ def rating_reach(system: System, train: GearTrain, space: DesignSpace, torques_N
                   objectives=[Objective("transverse_contact_ratio", first, sense="max")],
                   limits=[*relaxed, *space.limits], data=system, iso6336_options=dict(space.iso6336_options))
     built = scene.build()
-    relaxed_names = {r["label"] for r in built.records if r["role"] == "limit"
-                     and r["load_case"].startswith("reach:")}
     problem = built.problem
-    weights = {name: (1.0 if name in relaxed_names else HARD_WEIGHT) for name in problem._constraints}
-    shortfall = _shortfall(problem, weights)
     names = [v.name for v in problem._variables.values()]
     lower = np.array([float(problem._variables[n].lower[0]) for n in names])
     upper = np.array([float(problem._variables[n].upper[0]) for n in names])
+    out = {}
+    for key, bound in limits.items():
+        out[key] = _reach_of(system, train, space, built, key, float(bound), torques_Nm, speeds_rpm, options,
+                             names, lower, upper)
+    return out
+
+
+OTHER_WEIGHT = 1e-6
+"""Weight of the other requirements' rows in one requirement's reach: present in the scene, all but free."""
+
+
+def _reach_of(system, train, space, built, key, bound, torques_Nm, speeds_rpm, options, names, lower, upper
+              ) -> RequirementReach:
+    """The reach toward one requirement (its rows weigh 1, the other requirements' :data:`OTHER_WEIGHT`, the
+    space's own limits :data:`HARD_WEIGHT`): exact search, then the elastic mode from its best point."""
+    problem = built.problem
+    reach_rows = {r["label"]: r["quantity"] for r in built.records if r["role"] == "limit"
+                  and r["load_case"].startswith("reach:")}
+    own = {n for n, q in reach_rows.items() if q == SAFETY_QUANTITIES[key]}
+    weights = {n: (1.0 if n in own else OTHER_WEIGHT if n in reach_rows else HARD_WEIGHT)
+               for n in problem._constraints}
+    shortfall = _shortfall(problem, weights)
     searched = _search(shortfall, lower, upper)
     for n, x in zip(names, searched):
         problem.set_initial(n, float(x))
@@ -171,26 +195,22 @@ def rating_reach(system: System, train: GearTrain, space: DesignSpace, torques_N
     point = np.clip(point, lower, upper)            # Ipopt may end a hair outside a bound
     values = dict(zip(names, (float(x) for x in point)))
     at = _train_at(train, values)
-
-    rows: dict[str, list[tuple[str, float]]] = {k: [] for k in limits}
+    rows: list[tuple[str, float]] = []
     for mesh, torque in torques_Nm.items():
         tab = rating_table(system, at, {mesh: float(torque)}, float(speeds_rpm[mesh]),
                            **{"application_factor": 1.0, **dict(space.iso6336_options), **options})
-        for k in limits:
-            rows[k] += safety_values(tab, k)
-    relax_scale = {float(problem._constraints[n].scale[0]) for n in relaxed_names}
-    unit_scale = relax_scale.pop() if len(relax_scale) == 1 else 1.0
-    stopped = (_stopped_by(elastic, relaxed_names, unit_scale) if converged
-               else _stopped_at_bounds(shortfall, point, lower, upper, names, unit_scale))
-    out = {}
-    for k, bound in limits.items():
-        worst, value = min(rows[k], key=lambda r: r[1])
-        out[k] = RequirementReach(key=k, limit=float(bound), best_value=float(value), worst_case=worst,
-                                  meets=bool(value >= bound * (1 - 1e-6)), values={v.removeprefix("train."): x
-                                                                                   for v, x in values.items()},
-                                  stopped_by=stopped, space=space.describe(),
-                                  elastic=elastic if converged else None, shortfall=float(shortfall(point)))
-    return out
+        rows += safety_values(tab, key)
+    scales = {float(problem._constraints[n].scale[0]) for n in own}
+    unit_scale = scales.pop() if len(scales) == 1 else 1.0
+    stopped = (_stopped_by(elastic, set(reach_rows), unit_scale) if converged
+               else _stopped_at_bounds(shortfall, point, lower, upper, names, unit_scale,
+                                       [problem._variables[n].unit for n in names]))
+    worst, value = min(rows, key=lambda r: r[1])
+    return RequirementReach(key=key, limit=bound, best_value=float(value), worst_case=worst,
+                            meets=bool(value >= bound * (1 - 1e-6)),
+                            values={v.removeprefix("train."): x for v, x in values.items()}, stopped_by=stopped,
+                            space=space.describe(), elastic=elastic if converged else None,
+                            shortfall=float(shortfall(point)))
 
 
 NLP_ITERATIONS = 200
@@ -248,7 +268,7 @@ BOUND_STEP = 0.01
 
 
 def _stopped_at_bounds(f, point: np.ndarray, lower: np.ndarray, upper: np.ndarray, names: Sequence[str],
-                       unit_scale: float) -> list[dict]:
+                       unit_scale: float, units: Sequence[str]) -> list[dict]:
     """Where the elastic NLP did not converge: every variable at a bound of the box whose outward move by
     :data:`BOUND_STEP` of its range lowers the least shortfall (re-polished in the moved box), with that finite
     difference of the optimum as its multiplier."""
@@ -268,7 +288,7 @@ def _stopped_at_bounds(f, point: np.ndarray, lower: np.ndarray, upper: np.ndarra
             slope = (f(best) - base) / (sign * step)
             if sign * slope < 0:
                 out.append({"kind": "bound", "name": name.removeprefix("train."), "side": side,
-                            "bound": float(bound), "multiplier": float(slope) * unit_scale, "unit": ""})
+                            "bound": float(bound), "multiplier": float(slope) * unit_scale, "unit": units[i]})
     return out
 
 

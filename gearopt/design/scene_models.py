@@ -233,6 +233,10 @@ class SceneModels:
                                     f"rate_iso6336 ({sorted(allowed)})")
         opts = {k: v for k, v in given.items() if k in allowed}
         opts.update({k: v for k, v in self._gear_rating_options(mesh).items() if k not in opts})
+        # the scuffing ratings only where a quantity of the scene asks for them (most of a symbolic rating's build)
+        opts.setdefault("scuffing", any(q.quantity.startswith("scuffing_safety_factor") and q.target == mesh
+                                        and (not q.load_cases or lc.name in q.load_cases)
+                                        for q in (*self.scene.objectives, *self.scene.limits)))
 
         def build():
             torque = self.inputs.datum(f"torque_Nm[{mesh}]@{lc.name}", lc.mesh_torque_Nm(mesh), "N*m")

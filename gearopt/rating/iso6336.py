@@ -145,7 +145,7 @@ def rate_iso6336(pair, torque_Nm, speed_rpm, *, driving_gear=1, application_fact
                  load_cycles=None, life_h=None, long_life_factor=0.85, mesh_misalignment_um=None,
                  tip_relief_um=0.0, deviations_um=None, mesh_load_factor=1.0, Y_M=1.0, solid_blanks=True,
                  rim_thickness_mm=None, web_thickness_mm=None, bore_diameters_mm=None, K_v=None, K_Hbeta=None,
-                 K_Halpha=None, flash_roughness: str = "Ra") -> ISO6336Rating:
+                 K_Halpha=None, flash_roughness: str = "Ra", scuffing: bool = True) -> ISO6336Rating:
     """ISO 6336 rating of ``pair`` with every factor computed (module docstring for the defaults), dual-typed.
 
     Args:
@@ -166,6 +166,8 @@ def rate_iso6336(pair, torque_Nm, speed_rpm, *, driving_gear=1, application_fact
         K_v, K_Hbeta, K_Halpha: given numbers override the computed factors (K_Falpha follows K_Halpha).
         flash_roughness: ``"Ra"`` or ``"Rz/6"``: the flank roughness of the flash method's X_R
             (:data:`FLASH_ROUGHNESS`).
+        scuffing: False skips the scuffing ratings (ISO/TS 6336-20/-21): ``safety_factors`` then holds S_H and S_F
+            only (a caller that needs no S_B saves most of a symbolic rating's build time).
 
     Returns an :class:`ISO6336Rating` (``.factors``, ``.safety_factors``, ``.table``).
     Bad input raises :class:`~gearopt.errors.GearoptInputError` naming the parameter, value and limit; quantities
@@ -361,20 +363,23 @@ def rate_iso6336(pair, torque_Nm, speed_rpm, *, driving_gear=1, application_fact
     stresses = {"sigma_H_MPa": cs["sigma_H_MPa"], "sigma_HG_MPa": tuple(sigma_hp),
                 "sigma_F_MPa": (rs["gear1"]["sigma_F_MPa"], rs["gear2"]["sigma_F_MPa"]),
                 "sigma_FG_MPa": tuple(sigma_fp)}
-    scuff = scuffing_safety_factors(pair, torque_Nm, speed_rpm, driving_gear=driving_gear, lubricant=lub,
-                                    materials=mats, flank_roughness_Ra_um=ra, tip_relief_um=tip_relief_um,
-                                    flash_roughness_Ra_um=None if flash_roughness == "Ra" else tuple(
-                                        r / 6.0 for r in rz),
-                                    K_A=K_A * K_g, K_v=k_v, K_Bbeta=k_hb, K_Balpha=k_ha, mesh_stiffness=c_ga,
-                                    single_stiffness=c1, accuracy_grade=max(grade_tuple) if all(
-                                        nm.is_numeric(x) for x in grade_tuple) else 6)
-    safety = {"S_H": tuple(s_h), "S_F": tuple(s_f), "S_B": scuff["S_B"], "S_intS": scuff["S_intS"]}
     for i, key in enumerate(("gear1", "gear2")):
         q_s = rs[key]["q_s"]
         if nm.is_numeric(q_s) and not 1.0 <= nm.to_float(q_s) < 8.0:
             notes.append(f"ISO 6336-3:2006 cl. 7.2: notch parameter q_s={nm.to_float(q_s):.3f} of gear {i + 1} "
                          f"outside the Y_S fit's range 1 <= q_s < 8")
-    notes.extend(scuff["notes"])
+    safety = {"S_H": tuple(s_h), "S_F": tuple(s_f)}
+    scuff: dict = {}
+    if scuffing:
+        scuff = scuffing_safety_factors(pair, torque_Nm, speed_rpm, driving_gear=driving_gear, lubricant=lub,
+                                        materials=mats, flank_roughness_Ra_um=ra, tip_relief_um=tip_relief_um,
+                                        flash_roughness_Ra_um=None if flash_roughness == "Ra" else tuple(
+                                            r / 6.0 for r in rz),
+                                        K_A=K_A * K_g, K_v=k_v, K_Bbeta=k_hb, K_Balpha=k_ha, mesh_stiffness=c_ga,
+                                        single_stiffness=c1, accuracy_grade=max(grade_tuple) if all(
+                                            nm.is_numeric(x) for x in grade_tuple) else 6)
+        safety.update(S_B=scuff["S_B"], S_intS=scuff["S_intS"])
+        notes.extend(scuff["notes"])
     for note in notes:
         if note.startswith("ISO"):
             warnings.warn(note, RatingValidityWarning, stacklevel=2)

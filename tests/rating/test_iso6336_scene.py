@@ -74,3 +74,23 @@ def test_scene_rating_takes_each_gears_own_grade_and_material_on_a_renamed_pair(
         assert float(q.loc[quantity, "value"]) == pytest.approx(expected, rel=1e-9)
         assert expected == pytest.approx(min(map(float, ref.safety_factors[key])), rel=1e-9)
         assert abs(expected / min(map(float, same.safety_factors[key])) - 1.0) > 1e-4    # the grade matters
+
+
+def test_a_scene_without_scuffing_quantities_rates_without_scuffing_and_the_same_safeties():
+    """``rate_iso6336(scuffing=False)`` gives the same S_H and S_F as the full rating and no S_B; a scene rates
+    with scuffing only where a scuffing quantity asks for it (at that mesh and load case)."""
+    train = go.load_default_train("spur")
+    pair = train.pairs[MESH]
+    full = rate_iso6336(pair, 300.0, 2500.0, accuracy_grade=6)
+    lean = rate_iso6336(pair, 300.0, 2500.0, accuracy_grade=6, scuffing=False)
+    for key in ("S_H", "S_F"):
+        assert [float(x) for x in lean.safety_factors[key]] == [float(x) for x in full.safety_factors[key]]
+    assert "S_B" not in lean.safety_factors and "S_B" in full.safety_factors
+    scene = Scene("mixed", train=train, load_cases=[LoadCase("a", 300.0, speed_rpm=2500.0),
+                                                    LoadCase("b", 600.0, speed_rpm=2500.0)],
+                  variables=[DesignVariable("face_width_mm", MESH, 10.0, 24.0)],
+                  objectives=[Objective("contact_safety_factor", MESH, sense="max", load_cases=("b",))],
+                  limits=[Limit("scuffing_safety_factor_flash", MESH, lower=1.0, load_cases=("a",))])
+    built = scene.build()
+    ratings = {lc: built.models[f"iso6336_rating:{MESH}@{lc}"] for lc in ("a", "b")}
+    assert "S_B" in ratings["a"].safety_factors and "S_B" not in ratings["b"].safety_factors
