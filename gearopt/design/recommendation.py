@@ -33,7 +33,7 @@ import pandas as pd
 from ..data import System
 from ..errors import GearoptInputError
 from ..geometry import involute as inv
-from .requirement_reach import DesignSpace, rating_reach
+from .requirement_reach import DesignSpace, RequirementReach, rating_reach, reach_signature
 from .requirements import (DynamicPeaks, RequirementsCheck, TrainDesign, evaluate_requirements, size_free_joints,
                            with_capacities)
 
@@ -89,13 +89,15 @@ def recommend(system: System, candidates: Sequence[TrainDesign], *, contact_mesh
               dynamic: DynamicPeaks | Callable[[TrainDesign, System], DynamicPeaks | None] | None = None,
               options: Mapping[str, str] | None = None, size_joints: bool = True,
               ltca_options: Mapping[str, Any] | None = None,
-              design_space: DesignSpace | None = None) -> Recommendation:
+              design_space: DesignSpace | None = None,
+              known_reaches: Sequence[RequirementReach] = ()) -> Recommendation:
     """Judge every candidate and choose one (module docstring). ``dynamic``: the dynamic results of every
     candidate, or a function of the candidate and the system (its joints as sized) returning its own;
     ``options``: {candidate name: the train option it belongs to} for the sheet; ``size_joints``: size the joints
     the data marks free for each candidate first (:func:`size_free_joints`: its joints become design variables);
     ``design_space``: the macro design space whose reach toward a failing safety requirement is reported (module
-    docstring); the other arguments go to :func:`evaluate_requirements`."""
+    docstring; ``known_reaches``: reaches computed before, taken where their signature matches, :func:`add_reach`);
+    the other arguments go to :func:`evaluate_requirements`."""
     if not candidates:
         raise GearoptInputError("recommend() needs at least one candidate design")
     names = [c.name for c in candidates]
@@ -136,7 +138,7 @@ def recommend(system: System, candidates: Sequence[TrainDesign], *, contact_mesh
                f"PPTE ({_largest_ppte(chk):.3g} µm); {len(fixed)} fixed check(s) of the data fail for every "
                f"candidate alike")
     if design_space is not None and chk.verdict == "FAIL":
-        add_reach(systems[best.name], best, chk, design_space)
+        add_reach(systems[best.name], best, chk, design_space, known_reaches)
     rec = Recommendation(design=best, check=chk, why=why, checks=checks,
                          sheet=design_sheet(systems[best.name], best), option=(options or {}).get(best.name, ""),
                          system=systems[best.name])
@@ -148,10 +150,12 @@ SAFETY_ROWS = {"S_H": "S_H", "S_F": "S_F", "S_B": "S_B", "S_H_dynamic_peak": "S_
 """Requirement quantities of the ISO 6336 safeties -> the safety they judge."""
 
 
-def add_reach(system: System, design: TrainDesign, check: RequirementsCheck, space: DesignSpace) -> None:
+def add_reach(system: System, design: TrainDesign, check: RequirementsCheck, space: DesignSpace,
+              known: Sequence[RequirementReach] = ()) -> None:
     """Prefix the "what it would take" of every failing, movable safety row of ``check`` with the reach of
-    ``space`` toward it (one elastic solve per load basis: the design torques, the dynamic peaks); the reach goes
-    to the row's ``detail["design_space_reach"]``."""
+    ``space`` toward it (one scene per load basis: the design torques, the dynamic peaks); the reach goes to the
+    row's ``detail["design_space_reach"]``. ``known``: reaches computed before (e.g. by the co-design study, for
+    the same space): one whose :func:`reach_signature` matches is taken instead of solving again."""
     groups: dict[str, list] = {}
     for r in check.failed:
         if r.fixed or r.quantity not in SAFETY_ROWS or "torques_Nm" not in r.detail:
@@ -159,8 +163,15 @@ def add_reach(system: System, design: TrainDesign, check: RequirementsCheck, spa
         groups.setdefault(r.quantity.removeprefix(SAFETY_ROWS[r.quantity]), []).append(r)
     for rows in groups.values():
         d = rows[0].detail
-        reach = rating_reach(system, design.train, space, d["torques_Nm"], d["speeds_rpm"],
-                             {SAFETY_ROWS[r.quantity]: r.limit for r in rows}, rating_options=d["rating_options"])
+        limits = {SAFETY_ROWS[r.quantity]: r.limit for r in rows}
+        reach = {}
+        for key, limit in limits.items():
+            sig = reach_signature(space, key, limit, d["torques_Nm"], d["speeds_rpm"], d["rating_options"])
+            reach.update({key: k for k in known if k.signature == sig})
+        missing = {k: v for k, v in limits.items() if k not in reach}
+        if missing:
+            reach.update(rating_reach(system, design.train, space, d["torques_Nm"], d["speeds_rpm"], missing,
+                                      rating_options=d["rating_options"]))
         for r in rows:
             found = reach[SAFETY_ROWS[r.quantity]]
             r.what_it_would_take = found.text() + (f"; {r.what_it_would_take}" if r.what_it_would_take else "")

@@ -97,6 +97,7 @@ class RequirementReach:
     space: str
     elastic: ElasticResult | None = field(repr=False, default=None)   # None: the elastic NLP did not converge
     shortfall: float = 0.0          # the least weighted sum of scaled shortfalls found (the phase-1 objective)
+    signature: dict = field(default_factory=dict)   # what the reach is a function of (:func:`reach_signature`)
 
     def text(self) -> str:
         """One sentence for the requirement table's "what it would take"."""
@@ -114,7 +115,26 @@ class RequirementReach:
     def as_json(self) -> dict:
         return {"key": self.key, "limit": self.limit, "best_value": self.best_value, "worst_case": self.worst_case,
                 "meets": self.meets, "values": dict(self.values), "stopped_by": [dict(s) for s in self.stopped_by],
-                "design_space": self.space}
+                "design_space": self.space, "shortfall": self.shortfall, "signature": dict(self.signature)}
+
+    @classmethod
+    def from_json(cls, d: Mapping[str, Any]) -> "RequirementReach":
+        """The reach :meth:`as_json` wrote (without its elastic solve)."""
+        return cls(key=d["key"], limit=float(d["limit"]), best_value=float(d["best_value"]),
+                   worst_case=d["worst_case"], meets=bool(d["meets"]), values=dict(d["values"]),
+                   stopped_by=[dict(x) for x in d["stopped_by"]], space=d["design_space"],
+                   shortfall=float(d.get("shortfall", 0.0)), signature=dict(d.get("signature", {})))
+
+
+def reach_signature(space: DesignSpace, key: str, limit: float, torques_Nm: Mapping[str, float],
+                    speeds_rpm: Mapping[str, float], rating_options: Mapping[str, Any] | None) -> dict:
+    """What a reach is a function of, as plain data: the space's description, the requirement and its limit, the
+    torques, speeds and rating keywords. Two reaches of the same signature (on the same system and space limits)
+    are the same reach."""
+    return {"design_space": space.describe(), "key": key, "limit": float(limit),
+            "torques_Nm": {m: float(t) for m, t in sorted(torques_Nm.items())},
+            "speeds_rpm": {m: float(speeds_rpm[m]) for m in sorted(torques_Nm)},
+            "rating_options": {k: v for k, v in sorted(dict(rating_options or {}).items())}}
 
 
 def _train_at(train: GearTrain, values: Mapping[str, float]) -> GearTrain:
@@ -210,7 +230,8 @@ def _reach_of(system, train, space, built, key, bound, torques_Nm, speeds_rpm, o
                             meets=bool(value >= bound * (1 - 1e-6)),
                             values={v.removeprefix("train."): x for v, x in values.items()}, stopped_by=stopped,
                             space=space.describe(), elastic=elastic if converged else None,
-                            shortfall=float(shortfall(point)))
+                            shortfall=float(shortfall(point)),
+                            signature=reach_signature(space, key, bound, torques_Nm, speeds_rpm, options))
 
 
 NLP_ITERATIONS = 200
@@ -325,4 +346,4 @@ def reach_table(reaches: Mapping[str, RequirementReach]) -> pd.DataFrame:
                          for k, r in reaches.items()])
 
 
-__all__ = ["DesignSpace", "RequirementReach", "rating_reach", "reach_table", "HARD_WEIGHT", "SAFETY_QUANTITIES"]
+__all__ = ["DesignSpace", "RequirementReach", "rating_reach", "reach_signature", "reach_table", "HARD_WEIGHT", "SAFETY_QUANTITIES"]

@@ -121,3 +121,25 @@ def test_bad_reach_calls_are_named(system):
         DesignSpace((DesignVariable("root_profile_shift", "train", lower=0.0),))
     with pytest.raises(GearoptInputError, match="target 'train'"):
         DesignSpace((DesignVariable("profile_shift_1", MESH, lower=0.0, upper=0.5),))
+
+
+def test_a_known_reach_of_the_same_signature_is_taken_not_solved_again(system, monkeypatch):
+    """``recommend(known_reaches=...)``: a reach computed before for the same space, requirement, limit, torques,
+    speeds and rating keywords (its signature, kept through JSON) is reused; another signature is solved."""
+    import gearopt.design.recommendation as recommendation
+    from gearopt.design.requirement_reach import RequirementReach
+
+    strict = dataclasses.replace(system, requirements=dataclasses.replace(system.requirements, min_S_H=2.5))
+    design = TrainDesign(strict.train("spur"), name="as drawn")
+    first = recommend(strict, [design], size_joints=False, design_space=_space())
+    row = first.check.row("S_H", "all rated meshes")
+    known = RequirementReach.from_json(row.detail["design_space_reach"])
+    assert known.signature["torques_Nm"] == row.detail["torques_Nm"]
+
+    def no_solve(*args, **kwargs):
+        raise AssertionError("rating_reach called although a known reach matches")
+    monkeypatch.setattr(recommendation, "rating_reach", no_solve)
+    again = recommend(strict, [design], size_joints=False, design_space=_space(), known_reaches=[known])
+    assert again.check.row("S_H", "all rated meshes").what_it_would_take == row.what_it_would_take
+    with pytest.raises(AssertionError, match="known reach"):        # another space: solved (here: refused)
+        recommend(strict, [design], size_joints=False, design_space=_space(helix_max=4.0), known_reaches=[known])

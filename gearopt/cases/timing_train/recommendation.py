@@ -32,6 +32,7 @@ from ...contact.microgeometry import Microgeometry
 from ...data import System, system_from_data
 from ...errors import GearoptInputError
 from ...design.recommendation import Recommendation, add_reach, recommend
+from ...design.requirement_reach import RequirementReach
 from ...design.requirements import DynamicPeaks, TrainDesign, evaluate_requirements, with_capacities
 from ...joints.catalogue import joint_capacity
 from ...geometry.forces import mesh_torque_Nm
@@ -136,8 +137,11 @@ def timing_recommendation(system: System, codesign: Mapping[str, Any], *, contac
         return helical_dynamic_peaks(sized, design, own, sweep)
 
     space = codesign_design_space(system, codesign["settings"]) if "settings" in codesign else None
+    known = [RequirementReach.from_json(n["reach"])             # the co-design's reaches: not solved twice
+             for notes in codesign.get("settings", {}).get("dynamic_peaks", {}).get("options", {}).values()
+             for n in notes.values()]
     rec = recommend(system, designs, contact_meshes=contact_meshes, dynamic=dynamic, options=options,
-                    ltca_options=ltca_options, design_space=space)
+                    ltca_options=ltca_options, design_space=space, known_reaches=known)
     judged_with = dynamic
     if dynamics_speeds_rpm is not None and spur is not None:
         judged = dynamic(rec.design, rec.system)
@@ -151,7 +155,7 @@ def timing_recommendation(system: System, codesign: Mapping[str, Any], *, contac
             rec.check = rec.checks[rec.design.name] = evaluate_requirements(
                 rec.system, rec.design, contact_meshes=contact_meshes, dynamic=again, ltca_options=ltca_options)
             if space is not None and rec.check.verdict == "FAIL":
-                add_reach(rec.system or system, rec.design, rec.check, space)
+                add_reach(rec.system or system, rec.design, rec.check, space, known)
             check["note"] += "; judged again with its own peaks"
             judged_with = _own_peaks(again)
         rec.dynamics_check = check
