@@ -14,8 +14,8 @@ speed act together on the candidate's helical train (:func:`gearopt.joints.walk_
 the peaks of different meshes need not coincide), against the joint's axial capacity at that speed.
 
 A safety the recommended design fails gets the reach of the study's macro design space
-(:func:`~gearopt.cases.timing_train.codesign.codesign_design_space`: root shift and helix angle within the study's
-bounds, held to its geometry limits, safeties at the design torques and walk-off margins) in its "what it would
+(:func:`~gearopt.cases.timing_train.codesign.codesign_design_space`: root shift and, where the study solved the
+low-helix option, helix angle within the study's bounds, held to its geometry limits, safeties at the design torques and walk-off margins) in its "what it would
 take": the elastic mode on the exact rating says whether any design of the space meets it, the best value reached
 and which bounds or limits stop it (:func:`gearopt.design.recommendation.add_reach`).
 """
@@ -136,7 +136,9 @@ def timing_recommendation(system: System, codesign: Mapping[str, Any], *, contac
         own = spur if sized is system else with_capacities(spur, sized, [n for n, j in sized.joints.items() if j.free])
         return helical_dynamic_peaks(sized, design, own, sweep)
 
-    space = codesign_design_space(system, codesign["settings"]) if "settings" in codesign else None
+    # the space the study explored: the helix angle only where it solved the low-helix option
+    space = codesign_design_space(system, codesign["settings"], helix="low_helix" in codesign.get("options", {})) \
+        if "settings" in codesign else None
     known = [RequirementReach.from_json(n["reach"])             # the co-design's reaches: not solved twice
              for notes in codesign.get("settings", {}).get("dynamic_peaks", {}).get("options", {}).values()
              for n in notes.values()]
