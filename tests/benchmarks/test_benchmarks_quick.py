@@ -182,13 +182,43 @@ def check_calibration(result, out):
     assert (out / "calibration.json").exists() and (out / "calibration.png").exists()
 
 
+def check_reach(result, out):
+    problem = next(p for p in result["problems"] if p["name"] == "minimal_kink")      # quick: the kink case only
+    assert problem["scene_check"]["same_constraints"]               # the benchmark's scene is rating_reach's
+    req = problem["requirements"][0]
+    m = {r["method"]: r for r in req["methods"]}
+    lib, nlp, ref = m["rating_reach"], m["nlp_alone"], m[req["reference_method"]]
+    tol = result["settings"]["hard_tolerance_scaled"]
+    assert not lib["meets"] and lib["space_limit_violation"] <= tol    # a point of the space, short of S_H >= 1
+    # README: rating_reach's best value is within 1 % of the reference grid's, and no worse than the grid its CPU
+    # time would buy by more than that (it minimises the rows' summed shortfall, not the worst row: a small gap)
+    assert abs(lib["best_value"] - ref["best_value"]) <= 0.01 * ref["best_value"]
+    budget = req["equal_budget_grid"]
+    assert lib["best_value"] >= (1 - 0.01) * budget["best_value"]
+    # what rating_reach minimises, the rows' summed shortfall: no point of the reference grid has less (quick: its
+    # own search grid, so by construction), and the benchmark's sum is the library's
+    l1 = req["summed_shortfall_check"]
+    assert l1["rating_reach_at_most_reference"] and l1["benchmark_formula_difference_at_rating_reach_point"] < 1e-9
+    # rating_reach (exact search, then the elastic NLP) ends with no larger summed shortfall than the elastic NLP
+    # alone from the space's declared start
+    if nlp["best_value"] is not None:
+        assert lib["shortfall"] <= nlp["shortfall"] * (1 + 1e-9)
+    # nested grids (2^k + 1 points per axis): a finer grid's best is never below a coarser one's; the scene's rows
+    # are the exact rating's
+    grids = sorted((r for r in req["methods"] if r["method"].startswith("grid_")), key=lambda r: r["points"])
+    assert [g["best_value"] for g in grids] == sorted(g["best_value"] for g in grids)
+    assert all(abs(g["rerated_difference"]) < 1e-9 for g in grids)
+    assert all(r["cpu_s"] > 0 and math.isfinite(r["cpu_s"]) for r in req["methods"])
+    assert (out / "reach.json").exists() and (out / "reach.png").exists()
+
+
 CHECKS = {"bench_geometry": check_geometry, "bench_ltca": check_ltca,
           "bench_microgeometry_nlp": check_microgeometry_nlp,
           "bench_microgeometry_three_torques": check_microgeometry_three_torques, "bench_stability": check_stability,
           "bench_dynamics": check_dynamics, "bench_dynamics_speed": check_dynamics_speed,
           "bench_studies": check_studies, "bench_robustness": check_robustness,
           "bench_codesign": check_codesign, "bench_optimum_quality": check_optimum_quality,
-          "bench_calibration": check_calibration}
+          "bench_calibration": check_calibration, "bench_reach": check_reach}
 
 
 @pytest.mark.parametrize("name", SCRIPTS)
