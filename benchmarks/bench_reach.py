@@ -14,16 +14,16 @@ angle, the space's own limits held hard):
 - ``minimal_kink``: the packaged minimal pair with renamed gears (as ``tests/design/test_requirement_reach.py``) at
   250 N m and 1500 rpm, root shift 0..0.5, helix angle 0..4 deg, the pair's geometry limits (contact ratio >= 1.1);
   S_H >= 1.0 at K_A = K_v = 1. The rating's clamps (Z_B = max(1, M_1)) put the reach's optimum on a kink, where the
-  elastic Ipopt solve does not converge and ``rating_reach`` keeps its exact search's point.
+  elastic Ipopt solve does not converge and ``rating_reach`` polishes the exact grid's best point instead.
 
 Methods, per problem and requirement (CPU seconds, ``time.process_time``, all in this one process):
 
 - ``rating_reach``: the library call as shipped (one call per problem, all its requirements); its per-requirement
-  time is measured by wrapping the module's ``_reach_of`` (and, inside it, ``_search`` and ``solve_elastic``) with
-  timers, the scene build being the call's remainder; its exact model evaluations are counted by wrapping the
+  time is measured by wrapping the module's ``_reach_of`` (and, inside it, the exact search ``_grid_best`` and
+  ``_polish``, and ``solve_elastic``) with timers, the scene build being the call's remainder; its exact model evaluations are counted by wrapping the
   shortfall function ``_shortfall`` returns. Best value: the reach's ``best_value`` (the requirement's worst row at
   its point, exact rating).
-- ``nlp_alone``: what the library would do without the exact search: the same scene, built the way
+- ``nlp_alone``: what the library would do without the exact grid and polish: the same scene, built the way
   ``rating_reach`` builds it (reproduced here; checked against the scene the call built: same constraints, same
   values at the start), the same weights, ``solve_elastic(problem, mode="relaxation", weights=...,
   casadi_options={"expand": True}, max_iter=200)`` started at the space's declared start (the train's own macro
@@ -233,7 +233,7 @@ def run_rating_reach(p: dict) -> dict:
     """One ``rating_reach`` call, its requirements timed by wrapping the module's helpers (restored after)."""
     log: dict = {}
     current = {"key": None}
-    originals = {n: getattr(rr, n) for n in ("_reach_of", "_search", "solve_elastic", "_shortfall")}
+    originals = {n: getattr(rr, n) for n in ("_reach_of", "_grid_best", "_polish", "solve_elastic", "_shortfall")}
 
     def reach_of(*args, **kwargs):
         key = args[4]
@@ -244,10 +244,12 @@ def run_rating_reach(p: dict) -> dict:
         log[key]["built"] = args[3]
         return out
 
-    def search(*args, **kwargs):
-        out, t = cpu(lambda: originals["_search"](*args, **kwargs))
-        log[current["key"]]["search_cpu_s"] += t
-        return out
+    def timed_search(name):
+        def search(*args, **kwargs):
+            out, t = cpu(lambda: originals[name](*args, **kwargs))
+            log[current["key"]]["search_cpu_s"] += t
+            return out
+        return search
 
     def elastic(*args, **kwargs):
         t0 = time.process_time()
@@ -267,8 +269,8 @@ def run_rating_reach(p: dict) -> dict:
             return f(x)
         return counted
 
-    for n, fun in (("_reach_of", reach_of), ("_search", search), ("solve_elastic", elastic),
-                   ("_shortfall", shortfall)):
+    for n, fun in (("_reach_of", reach_of), ("_grid_best", timed_search("_grid_best")),
+                   ("_polish", timed_search("_polish")), ("solve_elastic", elastic), ("_shortfall", shortfall)):
         setattr(rr, n, fun)
     try:
         reaches, total = cpu(lambda: rr.rating_reach(p["system"], p["train"], p["space"], p["torques_Nm"],

@@ -7,9 +7,9 @@ or limits are in the way. It declares a :class:`~gearopt.design.scene.Scene` of 
 hard (geometry, the safeties at the design torques, walk-off margins) and the requirement's rows as limits that may
 be relaxed. For each requirement in turn (the others' rows all but free, :data:`OTHER_WEIGHT`) it finds the least
 l1 sum of the scaled shortfalls of that requirement's rows -- the space's own limits cost :data:`HARD_WEIGHT` times
-as much, so they relax only if nothing else can hold them -- by an exact search (:func:`_search`: a grid polished by
-bounded Nelder-Mead) and then the elastic mode from its best point (:func:`gearopt.nlp.elastic.solve_elastic`,
-``"relaxation"``), whose multipliers say what stops it. At that point:
+as much, so they relax only if nothing else can hold them -- by the elastic mode (:func:`gearopt.nlp.elastic.solve_elastic`,
+``"relaxation"``) started at the best point of an exact grid (:func:`_grid_best`), whose multipliers say what stops
+it; where it does not converge, by bounded Nelder-Mead on the exact model from that grid point (:func:`_polish`). At that point:
 
 - ``best_value``: the requirement's worst row (the smallest safety over the rated gears), recomputed by the exact
   rating (:func:`~gearopt.design.requirements.rating_table`, the function the verdict uses);
@@ -192,7 +192,8 @@ OTHER_WEIGHT = 1e-6
 def _reach_of(system, train, space, built, key, bound, torques_Nm, speeds_rpm, options, names, lower, upper
               ) -> RequirementReach:
     """The reach toward one requirement (its rows weigh 1, the other requirements' :data:`OTHER_WEIGHT`, the
-    space's own limits :data:`HARD_WEIGHT`): exact search, then the elastic mode from its best point."""
+    space's own limits :data:`HARD_WEIGHT`): the elastic mode from an exact grid's best point, the exact polish
+    where it does not converge."""
     problem = built.problem
     reach_rows = {r["label"]: r["quantity"] for r in built.records if r["role"] == "limit"
                   and r["load_case"].startswith("reach:")}
@@ -200,19 +201,22 @@ def _reach_of(system, train, space, built, key, bound, torques_Nm, speeds_rpm, o
     weights = {n: (1.0 if n in own else OTHER_WEIGHT if n in reach_rows else HARD_WEIGHT)
                for n in problem._constraints}
     shortfall = _shortfall(problem, weights)
-    searched = _search(shortfall, lower, upper)
-    for n, x in zip(names, searched):
+    start = _grid_best(shortfall, lower, upper)
+    for n, x in zip(names, start):
         problem.set_initial(n, float(x))
     try:
         elastic = solve_elastic(problem, mode="relaxation", weights=weights, casadi_options={"expand": True},
                                 max_iter=NLP_ITERATIONS)
         point = np.array([float(elastic.values[n]) for n in names])
-        converged = shortfall(point) <= shortfall(searched) + 1e-9
+        converged = shortfall(point) <= shortfall(start) + 1e-9
     except SolveError:
         elastic, converged = None, False
-    if not converged:
-        point = searched
+    if not converged:                               # a kink of the rating: the exact polish from the grid's best
+        point = _polish(shortfall, lower, upper, start)
     point = np.clip(point, lower, upper)            # Ipopt may end a hair outside a bound
+    span = upper - lower                            # a value within round-off of a bound is the bound
+    point = np.where(np.abs(point - lower) <= 1e-6 * span, lower,
+                     np.where(np.abs(point - upper) <= 1e-6 * span, upper, point))
     values = dict(zip(names, (float(x) for x in point)))
     at = _train_at(train, values)
     rows: list[tuple[str, float]] = []
@@ -273,15 +277,16 @@ def _polish(f, lower: np.ndarray, upper: np.ndarray, start: np.ndarray) -> np.nd
     return polished if f(polished) <= f(start) else start
 
 
-def _search(f, lower: np.ndarray, upper: np.ndarray) -> np.ndarray:
-    """The best point of an exact grid over the box (:data:`GRID_POINTS`), polished (:func:`_polish`): the ISO 6336
-    rating is only piecewise smooth (its clauses clamp factors, e.g. Z_B = max(1, M_1)), so the least shortfall
-    often sits on a kink where a Newton-type solver oscillates."""
+def _grid_best(f, lower: np.ndarray, upper: np.ndarray) -> np.ndarray:
+    """The best point of an exact grid over the box (:data:`GRID_POINTS`): the start of the elastic NLP (a global
+    look the NLP's local convergence lacks), and of the exact polish (:func:`_polish`) where the NLP does not
+    converge -- the ISO 6336 rating is only piecewise smooth (its clauses clamp factors, e.g. Z_B = max(1, M_1)),
+    so the least shortfall can sit on a kink where a Newton-type solver oscillates."""
     n = lower.size
     axes = [np.linspace(lo, hi, GRID_POINTS.get(n, 5)) for lo, hi in zip(lower, upper)]
     grid = np.array(np.meshgrid(*axes, indexing="ij")).reshape(n, -1).T
     values = np.array([f(x) for x in grid])
-    return _polish(f, lower, upper, grid[int(np.argmin(values))])
+    return grid[int(np.argmin(values))]
 
 
 BOUND_STEP = 0.01
