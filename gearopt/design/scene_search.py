@@ -76,14 +76,16 @@ def exact_limit_violations(built, exact: pd.DataFrame) -> dict[str, float]:
     out: dict[str, float] = {}
     if not len(exact):
         return out
+    # plain arrays, not pandas masks: this runs once per exact evaluation of the screen and the polish
+    mesh, case = exact["mesh"].to_numpy(), exact["load_case"].to_numpy()
     for lim in built.scene.limits:
         if lim.quantity not in EXACT_LIMIT_COLUMNS or lim.quantity not in exact.columns:
             continue
-        rows = exact[exact["mesh"] == lim.target]
+        rows = mesh == lim.target
         if lim.load_cases is not None:
-            rows = rows[rows["load_case"].isin(lim.load_cases)]
+            rows &= np.isin(case, list(lim.load_cases))
         key = f"{lim.quantity} {lim.target}"
-        out[key] = out.get(key, 0.0) + _relative_violation(lim, rows[lim.quantity].to_numpy(float))
+        out[key] = out.get(key, 0.0) + _relative_violation(lim, exact[lim.quantity].to_numpy(float)[rows])
     return out
 
 
@@ -170,10 +172,11 @@ def exact_ppte_objective(built, exact: pd.DataFrame) -> float:
     objective's PPTE over its load cases (largest or mean), weighted and scaled as in the NLP, summed or (with
     ``objective_aggregate="max"``) their largest."""
     names = [lc.name for lc in built.load_cases]
+    mesh, case, ppte = exact["mesh"].to_numpy(), exact["load_case"].to_numpy(), exact["ppte_um"].to_numpy(float)
     terms = []
     for obj in built.scene.objectives:
         cases = names if obj.load_cases is None else list(obj.load_cases)
-        vals = exact.loc[(exact["mesh"] == obj.target) & exact["load_case"].isin(cases), "ppte_um"].to_numpy(float)
+        vals = ppte[(mesh == obj.target) & np.isin(case, cases)]
         agg = float(vals.mean() if obj.aggregate == "mean" else vals.max())
         scale = obj.weight / (obj.scale or quantity_kind(obj.quantity).scale)
         terms.append(scale * (agg if obj.sense == "min" else -agg))
