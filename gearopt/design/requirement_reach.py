@@ -54,6 +54,18 @@ SAFETY_QUANTITIES = {"S_H": "contact_safety_factor", "S_F": "root_safety_factor"
 MULTIPLIER_TOL = 1e-6
 """Smallest |multiplier| (scaled) of a bound or limit reported as stopping the reach."""
 
+OTHER_WEIGHT = 1e-6
+"""Weight of the other requirements' rows in one requirement's reach: present in the scene, all but free."""
+
+NLP_ITERATIONS = 200
+"""Ipopt iteration budget of the elastic solve (started from the exact grid's best point)."""
+
+GRID_POINTS = {1: 17, 2: 9}
+"""Grid points per variable of the exact search by the number of variables (5 beyond two)."""
+
+BOUND_STEP = 0.01
+"""Fraction of a variable's range by which a bound moves outward in the finite-difference multiplier."""
+
 
 @dataclass(frozen=True)
 class DesignSpace:
@@ -185,10 +197,6 @@ def rating_reach(system: System, train: GearTrain, space: DesignSpace, torques_N
     return out
 
 
-OTHER_WEIGHT = 1e-6
-"""Weight of the other requirements' rows in one requirement's reach: present in the scene, all but free."""
-
-
 def _reach_of(system, train, space, built, key, bound, torques_Nm, speeds_rpm, options, names, lower, upper
               ) -> RequirementReach:
     """The reach toward one requirement (its rows weigh 1, the other requirements' :data:`OTHER_WEIGHT`, the
@@ -238,16 +246,10 @@ def _reach_of(system, train, space, built, key, bound, torques_Nm, speeds_rpm, o
                             signature=reach_signature(space, key, bound, torques_Nm, speeds_rpm, options))
 
 
-NLP_ITERATIONS = 200
-"""Ipopt iteration budget of the elastic solve (started from the exact search's best point)."""
-
-GRID_POINTS = {1: 17, 2: 9}
-"""Grid points per variable of the exact search by the number of variables (5 beyond two)."""
-
-
 def _shortfall(problem, weights: Mapping[str, float]):
     """The elastic phase-1 objective on the exact model: ``x`` (the problem's variables in their units, declaration
-    order) -> the weighted sum of the scaled violations of every constraint bound."""
+    order) -> the weighted sum of the scaled violations of every constraint bound: the total of
+    :func:`gearopt.nlp.elastic.solve_elastic`'s relaxation table, on arrays (it runs hundreds of times per reach)."""
     constraints = list(problem._constraints.values())
     variables = list(problem._variables.values())
     scale = np.concatenate([c.scale for c in constraints])
@@ -287,10 +289,6 @@ def _grid_best(f, lower: np.ndarray, upper: np.ndarray) -> np.ndarray:
     grid = np.array(np.meshgrid(*axes, indexing="ij")).reshape(n, -1).T
     values = np.array([f(x) for x in grid])
     return grid[int(np.argmin(values))]
-
-
-BOUND_STEP = 0.01
-"""Fraction of a variable's range by which a bound moves outward in the finite-difference multiplier."""
 
 
 def _stopped_at_bounds(f, point: np.ndarray, lower: np.ndarray, upper: np.ndarray, names: Sequence[str],
