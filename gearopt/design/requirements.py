@@ -35,6 +35,7 @@ import pandas as pd
 
 from ..contact.ltca import ltca
 from ..contact.microgeometry import Microgeometry
+from ..contact.relief_tolerances import ReliefTolerances, relief_variants
 from ..data import System
 from ..data.requirements import Requirements
 from ..errors import GearoptInputError, SolveError
@@ -255,50 +256,35 @@ def _contact_rows(system: System, design: TrainDesign, req: Requirements, meshes
 
 def _ppte_within_tolerances(system: System, design: TrainDesign, mesh: str, req: Requirements,
                             ltca_options: Mapping[str, Any] | None) -> tuple[float, float, str, int] | None:
-    """(torque, PPTE, variant, variants) of the worst exact-LTCA PPTE of ``mesh`` over its range and the corners of
-    the relief tolerances of ``req`` (every combination of each relieved gear's amount ± and start ±, each with the
-    designed start blend and, with ``ppte_sharp_start``, a sharp one); None when there is nothing to vary."""
+    """(torque, PPTE, variant, variants) of the worst exact-LTCA PPTE of ``mesh`` over its range and the variants of
+    its reliefs over the tolerances of ``req`` (:func:`~gearopt.contact.relief_tolerances.relief_variants`); None
+    when there is nothing to vary."""
     mg = design.microgeometry.get(mesh)
     if mg is None:
         return None
     pair = design.train.pairs[mesh]
     g = pair.geometry()
     relieved = [i for i in (0, 1) if float(mg.tip_relief_um[i]) > 0.0]
-    da, ds = req.ppte_relief_tolerance_um, req.ppte_relief_start_tolerance_deg
-    blends = [float(mg.relief_smoothing_deg)] + ([0.0] if req.ppte_sharp_start and mg.relief_smoothing_deg > 0
-                                                  else [])
-    if not relieved or (da == 0.0 and ds == 0.0 and len(blends) == 1):
+    variants = relief_variants(mg, g, requirement_tolerances(req), relieved)
+    if not variants:
         return None
-    starts = []
-    for i in (0, 1):
-        s = mg.tip_relief_start_roll_deg[i]
-        if s is None and mg.tip_relief_start_diameter_mm[i] is not None:
-            d_b = float(g["base_diameter_mm"][i])
-            s = math.degrees(math.sqrt(float(mg.tip_relief_start_diameter_mm[i]) ** 2 - d_b ** 2) / d_b)
-        starts.append(None if s is None else float(s))
-    eap = [float(v) for v in g["eap_roll_deg"]]
-    sap = [float(v) for v in g["sap_roll_deg"]]
-    signs = [(-1.0, 1.0) if (da or ds) else (0.0,)] * (2 * len(relieved))
-    variants = []
-    for combo in (np.array(np.meshgrid(*signs)).T.reshape(-1, len(signs)) if signs else [()]):
-        amounts, st = list(mg.tip_relief_um), list(starts)
-        for k, i in enumerate(relieved):
-            amounts[i] = max(0.0, float(amounts[i]) + combo[2 * k] * da)
-            st[i] = min(max(st[i] + combo[2 * k + 1] * ds, sap[i] + 0.05), eap[i] - 0.05)
-        for w in blends:
-            label = ", ".join(f"{pair.names[i]} {amounts[i]:.3g} µm from {st[i]:.2f}°" for i in relieved) + \
-                (", sharp start" if w == 0.0 else "")
-            variants.append((label, dataclasses.replace(mg, tip_relief_um=tuple(amounts), tip_relief_start_roll_deg=tuple(
-                st), tip_relief_start_diameter_mm=(None, None), relief_smoothing_deg=w)))
     worst = (0.0, -math.inf, "", len(variants))
-    for label, mods in variants:
-        runs = mesh_ltca_runs(system, dataclasses.replace(design, microgeometry={**design.microgeometry,
-                                                                                  mesh: mods}), mesh,
-                              ltca_options=ltca_options)
+    for v in variants:
+        m = v.microgeometry
+        label = ", ".join(f"{pair.names[i]} {float(m.tip_relief_um[i]):.3g} µm from "
+                          f"{float(m.tip_relief_start_roll_deg[i]):.2f}°" for i in relieved) + \
+            (", sharp start" if v.sharp else "")
+        runs = mesh_ltca_runs(system, dataclasses.replace(design, microgeometry={**design.microgeometry, mesh: m}),
+                              mesh, ltca_options=ltca_options)
         for t, r in runs.items():
             if r.ppte_um > worst[1]:
                 worst = (t, float(r.ppte_um), label, len(variants))
     return worst
+
+
+def requirement_tolerances(req: Requirements) -> ReliefTolerances:
+    """The relief tolerances the PPTE requirement of ``req`` is judged over."""
+    return ReliefTolerances(req.ppte_relief_tolerance_um, req.ppte_relief_start_tolerance_deg, req.ppte_sharp_start)
 
 
 def _span(torques: Sequence[float]) -> str:

@@ -32,6 +32,7 @@ from ..contact.ltca import ltca
 from ..contact.ltca_macro import MacroLTCAModel, macro_vector, micro_vector
 from ..contact.ltca_smooth import LTCAModel
 from ..contact.microgeometry import Microgeometry
+from ..contact.relief_tolerances import relief_variants
 from ..errors import GearoptInputError
 from ..rating.stiffness import iso6336_stiffness
 from .positions import corner_values, extreme_fractions, min_tip_relief_design, peak_fractions, start_bounds
@@ -328,6 +329,58 @@ class ContactModels:
                                 unit="um")
         return res
 
+    def relieved_gears(self, mesh: str) -> list[int]:
+        """Gears of ``mesh`` (0, 1) whose tip relief is made: a free amount, or a fixed one > 0."""
+        base = self.base_microgeometry(mesh)
+        return [i for i in (0, 1) if self.free_micro(mesh, i, "tip_relief_um", None) is not None
+                or (nm.is_numeric(base.tip_relief_um[i]) and nm.to_float(base.tip_relief_um[i]) > 0.0)]
+
+    def toleranced_ppte(self, mesh: str, lc: LoadCase):
+        """``ppte_um_toleranced`` of ``mesh`` at ``lc`` in the NLP: per blended variant of its reliefs
+        (:func:`~gearopt.contact.relief_tolerances.relief_variants` over the gears of :meth:`relieved_gears`), the
+        log-sum-exp maximum minus minimum of its smooth TE at the mesh positions -- an upper bound of the sampled
+        PPTE, above it by at most ``2 w ln(positions)`` (``toleranced_ppte_width_um``). The variants' LTCAs share
+        the mesh's model; each is one evaluation over the mesh's load cases."""
+        model = self.ltca_model(mesh)
+        cases = self.mesh_cases(mesh)
+        results = self.graph.model(f"ltca_variants:{mesh}", lambda: self._variant_ltcas(mesh, model),
+                                   lambda r: f"{len(r)} relief tolerance variant(s)")
+        if not results:
+            raise GearoptInputError(f"ppte_um_toleranced[{mesh}]: nothing varies (no relieved gear, or tolerances "
+                                    f"of 0); limit ppte_um instead")
+        w = self.options.tolerance.toleranced_ppte_width_um
+        l_idx = cases.index(lc)
+        bounds = []
+        for res in results:
+            te = _te_column(res, model, l_idx, len(cases))
+            bounds.append(-nm.column_softmin(-te, w) - nm.column_softmin(te, w))
+        return nm.vcat(bounds)
+
+    def _variant_ltcas(self, mesh: str, model) -> list:
+        """The smooth LTCA of every blended relief variant of ``mesh`` at its load cases (the nested approach)."""
+        torques = [self.inputs.datum(f"torque_Nm[{mesh}]@{lc.name}", lc.mesh_torque_Nm(mesh), "N*m")
+                   for lc in self.mesh_cases(mesh)]
+        variants = relief_variants(self.microgeometry(mesh), self.graph.geometry(mesh),
+                                   self.options.tolerance.tolerances, self.relieved_gears(mesh), sharp=False)
+        if isinstance(model, MacroLTCAModel):
+            macro, geometry = macro_vector(self.graph.pair(mesh)), self.meshes[mesh].geometry()
+            return [model.evaluate(macro, micro_vector(v.microgeometry, geometry), torques) for v in variants]
+        data = self._ltca_data(mesh, model)
+        return [model.evaluate(v.microgeometry, torques, **data) for v in variants]
+
+    def _toleranced_meshes(self) -> set[str]:
+        return {q.target for q in (*self.scene.objectives, *self.scene.limits) if q.quantity == "ppte_um_toleranced"}
+
+    def _exact_toleranced_ppte(self, pair, mesh: str, mods: Microgeometry, lc: LoadCase, ltca_kw: dict,
+                               nominal_um: float) -> float:
+        """Largest exact PPTE of ``mesh`` at ``lc`` over every variant of its reliefs as designed (gears with a
+        relief > 0; sharp starts with ``relief_sharp_start``), the verdict's judgement; ``nominal_um`` where nothing
+        varies."""
+        relieved = [i for i in (0, 1) if float(mods.tip_relief_um[i]) > 0.0]
+        variants = relief_variants(mods, pair.geometry(), self.options.tolerance.tolerances, relieved)
+        return max((float(ltca(pair, lc.mesh_torque_Nm(mesh), microgeometry=v.microgeometry, **ltca_kw).ppte_um)
+                    for v in variants), default=nominal_um)
+
     def _ltca_data(self, mesh: str, model: LTCAModel) -> dict[str, Any]:
         """A parametric build's LTCA data as NLP parameters (:meth:`LTCAModel.evaluate`'s data keywords), each
         declared only where a quantity of the mesh depends on it: the single-pair stiffness c' (every LTCA
@@ -368,6 +421,8 @@ class ContactModels:
 
     def elements(self, name: str, target: str, lc: LoadCase):
         """Expression of an LTCA quantity of ``target`` at ``lc`` (TE column, spring vector or scalar)."""
+        if name == "ppte_um_toleranced":
+            return self.toleranced_ppte(target, lc)
         res, model = self.ltca(target), self.ltca_model(target)
         l_idx = self.mesh_cases(target).index(lc)
         L = len(self.mesh_cases(target))
@@ -379,7 +434,7 @@ class ContactModels:
                 return nm.reshape(m[:, cols], int(m.shape[0]) * P, 1)
 
             if name == "ppte_um":
-                return res.transmission_error_um[:, l_idx]
+                return _te_column(res, model, l_idx, L)
             if name == "loaded_contact_ratio":
                 return nm.column_sum(nm.reshape(res.loaded_pairs[:, cols], P, 1)) / P
             if name == "max_contact_stress_MPa":
@@ -388,9 +443,8 @@ class ContactModels:
                 return nm.vcat([block(r) for r in res.root_stress_MPa])
             if name == "max_contact_temperature_C":
                 return self._contact_temperature(target, res.bulk_temperature_C, block(res.flash_temperature_rise_K))
-        P = model.layout.positions
         if name == "ppte_um":
-            return nm.reshape(res.transmission_error_um, P, L)[:, l_idx]
+            return _te_column(res, model, l_idx, L)
         if name == "loaded_contact_ratio":
             lcr = res.loaded_contact_ratio
             return lcr if L == 1 else lcr[l_idx]
@@ -406,15 +460,17 @@ class ContactModels:
     # -- exact check ---------------------------------------------------------------------------------------------
 
     def exact_check(self, values: Mapping[str, float], evaluate=None, *, train=None,
-                    positions: int | None = None) -> pd.DataFrame:
+                    positions: int | None = None, toleranced: bool = True) -> pd.DataFrame:
         """Exact LTCA (``check_positions``, the default slices) of every LTCA mesh at the optimum, per load case,
         beside the smooth model's values at the same design (``smooth_*``) and their relative differences
         (``*_error``, relative to the exact value). ``worst_fractions`` lists the mesh positions (fractions of a
         base pitch) of the exact TE's peak and trough, ``stress_fractions`` those where the exact contact stress,
         root stress and contact temperature peak (each a maximum over the mesh cycle: a semi-infinite limit like
         PPTE, refined the same way). ``positions``: a one-slice mesh's positions instead of ``check_positions``
-        (coarser: the exact screen ranks designs with it)."""
+        (coarser: the exact screen ranks designs with it). ``ppte_um_toleranced``: the largest exact PPTE over the
+        relief variants of a mesh that a ``ppte_um_toleranced`` quantity names (``toleranced=False``: left out)."""
         rows = []
+        variant_meshes = self._toleranced_meshes() if toleranced else set()
         for mesh in self.ltca_meshes():
             mods = self.microgeometry_at(values, mesh)
             pair = self.graph.numeric_pair(mesh, values) if train is None else train.pairs[mesh]
@@ -423,12 +479,12 @@ class ContactModels:
             mesh_positions = (max(self.options.check.check_positions, self._model_positions(model))
                               if positions is None else int(positions)) if slices == 1 else default_positions(slices)
             speed = model.speed_rpm
+            kw = dict(driving_gear=self.graph.driving_gear(mesh), stiffness=self.options.model.stiffness,
+                      positions=mesh_positions, slices=slices, speed_rpm=speed,
+                      bulk_temperature_C=self.options.temperature.bulk_temperature_C,
+                      friction_coefficient=self.options.temperature.friction_coefficient)
             for lc in self.mesh_cases(mesh):
-                r = ltca(pair, lc.mesh_torque_Nm(mesh), driving_gear=self.graph.driving_gear(mesh), microgeometry=mods,
-                         stiffness=self.options.model.stiffness, positions=mesh_positions, slices=slices,
-                         speed_rpm=speed,
-                         bulk_temperature_C=self.options.temperature.bulk_temperature_C,
-                         friction_coefficient=self.options.temperature.friction_coefficient)
+                r = ltca(pair, lc.mesh_torque_Nm(mesh), microgeometry=mods, **kw)
                 te = r.transmission_error_um
                 fractions = np.arange(mesh_positions) / mesh_positions
                 row = {"mesh": mesh, "load_case": lc.name, "torque_Nm": lc.mesh_torque_Nm(mesh), "slices": slices,
@@ -444,6 +500,8 @@ class ContactModels:
                     row["max_contact_temperature_C"] = r.max_flash_temperature_C
                     peaks.append(r.flash_temperature_rise_K)
                 row["stress_fractions"] = peak_fractions(peaks, fractions, self.options.refinement.refine_neighbours)
+                if mesh in variant_meshes:
+                    row["ppte_um_toleranced"] = self._exact_toleranced_ppte(pair, mesh, mods, lc, kw, r.ppte_um)
                 if evaluate is not None:
                     row["smooth_dense_ppte_um"] = self._dense_smooth_ppte(mesh, values, lc, mesh_positions)
                     for q in ("ppte_um", "max_contact_stress_MPa", "max_root_stress_MPa", "max_contact_temperature_C"):
@@ -484,6 +542,14 @@ class ContactModels:
         if q == "ppte_um":
             return float(np.ptp(v))
         return float(np.sqrt(max(v.max(), 0.0))) if q == "max_contact_stress_MPa" else float(v.max())
+
+
+def _te_column(res, model, l_idx: int, cases: int):
+    """The TE column [um] (one value per mesh position) of load case ``l_idx`` of an LTCA evaluation ``res`` of
+    ``model`` over ``cases`` load cases."""
+    if isinstance(model, MacroLTCAModel):
+        return res.transmission_error_um[:, l_idx]
+    return nm.reshape(res.transmission_error_um, model.layout.positions, cases)[:, l_idx]
 
 
 def _on_path(matrix, model: LTCAModel, l_idx: int):

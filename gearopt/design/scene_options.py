@@ -10,6 +10,7 @@
 - :class:`RefinementOptions` (``refinement``): the semi-infinite PPTE refinement (:mod:`gearopt.design.scene_refine`);
 - :class:`SearchOptions` (``search``): the exact screen that picks the NLP's starts and the exact polish of its
   optimum (:mod:`gearopt.design.scene_search`);
+- :class:`ReliefToleranceOptions` (``tolerance``): the tip-relief tolerances of a ``ppte_um_toleranced`` quantity;
 - ``root_rotation`` on :class:`LTCAOptions` itself: the crank's sense of rotation seen from the front (walk-off).
 
 Users give the options flat, as before: ``Scene(ltca_options={"positions": 24, "max_refinements": 0})`` and the
@@ -31,6 +32,7 @@ from typing import Any, Mapping
 
 from ..contact.ltca_macro import DEFAULT_ENGAGEMENT_WIDTH_MM
 from ..contact.ltca_smooth import DEFAULT_COUNT_WIDTH_UM, DEFAULT_SMOOTHING_UM
+from ..contact.relief_tolerances import ReliefTolerances
 from ..errors import GearoptInputError
 from ..validation import as_number, check_choice, check_int, check_range
 
@@ -229,8 +231,45 @@ class SearchOptions:
         _count(self, "macro_starts", 1, 1000)
 
 
+@dataclass(frozen=True)
+class ReliefToleranceOptions:
+    """The tip-relief tolerances of a ``ppte_um_toleranced`` quantity (the largest PPTE over the variants of
+    :func:`~gearopt.contact.relief_tolerances.relief_variants`). Defaults: those of the data's PPTE requirement
+    (:class:`~gearopt.data.requirements.Requirements`).
+
+    Attributes:
+        relief_tolerance_um: half-width of each relief amount's tolerance [um] (0..50).
+        relief_start_tolerance_deg: half-width of each relief start's tolerance [deg roll] (0..10).
+        relief_sharp_start: the exact check judges the start sharp as well as blended (the smooth NLP carries the
+            blended variants: its relief starts are blended by ``relief_smoothing_deg``).
+        toleranced_ppte_width_um: width of the log-sum-exp maximum and minimum of the NLP's TE at each variant
+            [um] (> 0): its PPTE is an upper bound of the sampled one, above it by at most ``2 w ln(positions)``.
+        toleranced_ppte_screen: a variant's PPTE further than this fraction of its limit below the limit at the
+            start of a solve is held back from Ipopt (rows by exchange, :meth:`gearopt.nlp.problem.Problem.subject_to`
+            ``screen``; 0 < fraction <= 1): only the variants that can bind cost Jacobians.
+    """
+
+    relief_tolerance_um: float = 2.0
+    relief_start_tolerance_deg: float = 0.5
+    relief_sharp_start: bool = True
+    toleranced_ppte_width_um: float = 0.05
+    toleranced_ppte_screen: float = 0.2
+
+    def __post_init__(self) -> None:
+        _real(self, "relief_tolerance_um", 0.0, 50.0, unit="um")
+        _real(self, "relief_start_tolerance_deg", 0.0, 10.0, unit="deg")
+        if not isinstance(self.relief_sharp_start, bool):
+            raise GearoptInputError(f"relief_sharp_start={self.relief_sharp_start!r} must be true or false")
+        _real(self, "toleranced_ppte_width_um", 0.0, None, unit="um", low_inclusive=False)
+        _real(self, "toleranced_ppte_screen", 0.0, 1.0, low_inclusive=False)
+
+    @property
+    def tolerances(self) -> ReliefTolerances:
+        return ReliefTolerances(self.relief_tolerance_um, self.relief_start_tolerance_deg, self.relief_sharp_start)
+
+
 _GROUPS = {"model": ContactModelOptions, "temperature": ContactTemperatureOptions, "check": ExactCheckOptions,
-           "refinement": RefinementOptions, "search": SearchOptions}
+           "refinement": RefinementOptions, "search": SearchOptions, "tolerance": ReliefToleranceOptions}
 _TOP_LEVEL = ("root_rotation",)
 OPTION_GROUP: Mapping[str, str | None] = MappingProxyType({
     **{f.name: group for group, cls in _GROUPS.items() for f in dataclasses.fields(cls)},
@@ -248,6 +287,7 @@ class LTCAOptions:
         check: :class:`ExactCheckOptions`.
         refinement: :class:`RefinementOptions`.
         search: :class:`SearchOptions`.
+        tolerance: :class:`ReliefToleranceOptions`.
         root_rotation: the crank's (the train root's) sense of rotation seen from the front, ``"cw"`` or ``"ccw"``
             (walk-off).
         limit_backoff: set by the refinement, not a user option: ``(limit label, amount)`` pairs by which a re-solve
@@ -259,6 +299,7 @@ class LTCAOptions:
     check: ExactCheckOptions = ExactCheckOptions()
     refinement: RefinementOptions = RefinementOptions()
     search: SearchOptions = SearchOptions()
+    tolerance: ReliefToleranceOptions = ReliefToleranceOptions()
     root_rotation: str = "cw"
     limit_backoff: tuple[tuple[str, float], ...] = ()
 
@@ -326,5 +367,5 @@ DEFAULT_LTCA_OPTIONS: Mapping[str, Any] = MappingProxyType(LTCAOptions().flat())
 with ``ltca_options``): see :class:`LTCAOptions` and its records for what each sets."""
 
 __all__ = ["LTCAOptions", "ContactModelOptions", "ContactTemperatureOptions", "ExactCheckOptions",
-           "RefinementOptions", "SearchOptions", "DEFAULT_LTCA_OPTIONS", "OPTION_GROUP", "APPROACHES", "STIFFNESS_KINDS",
+           "RefinementOptions", "SearchOptions", "ReliefToleranceOptions", "DEFAULT_LTCA_OPTIONS", "OPTION_GROUP", "APPROACHES", "STIFFNESS_KINDS",
            "ROOT_ROTATIONS"]

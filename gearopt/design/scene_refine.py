@@ -28,8 +28,9 @@ without a dense grid everywhere:
    more than ``refine_stress_tolerance`` (1 %), the exact model's peak positions of each (``stress_fractions`` of the exact check)
    join the set; if the NLP already samples them (a helical mesh), the face slices are raised instead. A lower
    limit the exact LTCA breaks by more than ``refine_stress_tolerance`` (the loaded contact ratio:
-   :func:`exact_lower_limit_shortfalls`) is tightened by
-   1.25 times the shortfall for the re-solve, and a solve that breaks one is not admissible;
+   :func:`exact_lower_limit_shortfalls`), or an upper limit on the PPTE over the relief tolerances
+   (:data:`BACKED_OFF_UPPER_LIMITS`), is tightened by 1.25 times the shortfall for the re-solve, and a solve that
+   breaks one is not admissible;
 4. stop when all agree (PPTE and stresses; for a minimax PPTE objective -- the largest PPTE of several meshes or
    load cases -- the smooth and the exact objective agree, :func:`ppte_agrees`), after ``max_refinements`` re-solves, when no remedy applies, or when a re-solve fails or
    overruns its iteration budget (:data:`RESOLVE_BUDGET_FACTOR`; reported); with ``stop_without_progress`` (off
@@ -103,7 +104,7 @@ def _admissible(built, quantities, exact, tol: float) -> bool:
         return False
     if not len(exact):
         return True
-    if exact_lower_limit_shortfalls(built, exact, built.options.refinement.refine_stress_tolerance):
+    if exact_limit_shortfalls(built, exact, built.options.refinement.refine_stress_tolerance):
         return False
     if (lim["quantity"] == "ppte_um").any() and float(ppte_disagreement(
             exact, "smooth_ppte_um", tol, built.options.refinement.refine_abs_tolerance_um).max()) > 1.0:
@@ -199,6 +200,32 @@ def exact_lower_limit_shortfalls(built, exact: pd.DataFrame, tolerance: float) -
             value = float(row[lim.quantity])
             if value < lim.lower - tolerance * abs(lim.lower):
                 out[f"{lim.quantity}[{lim.target}]@{row['load_case']}"] = lim.lower - value
+    return out
+
+
+BACKED_OFF_UPPER_LIMITS = ("ppte_um_toleranced",)
+"""Upper limits on exact-check quantities the NLP carries in a form the exact check does not reproduce (the smooth
+PPTE bound of the blended relief variants against the exact PPTE of every variant, sharp starts included): where
+the exact LTCA breaks one by more than ``refine_stress_tolerance``, the re-solve lowers it by 1.25 times the
+excess, as it raises a broken lower limit."""
+
+
+def exact_limit_shortfalls(built, exact: pd.DataFrame, tolerance: float) -> dict[str, float]:
+    """:func:`exact_lower_limit_shortfalls` and the excess over each upper limit of
+    :data:`BACKED_OFF_UPPER_LIMITS` the exact LTCA breaks by more than ``tolerance`` (relative): limit label ->
+    amount in the quantity's unit (the back-off of the re-solve, :meth:`LTCAOptions.backoff`)."""
+    out = exact_lower_limit_shortfalls(built, exact, tolerance)
+    if not len(exact):
+        return out
+    for lim in built.scene.limits:
+        if lim.quantity not in BACKED_OFF_UPPER_LIMITS or lim.quantity not in exact.columns or lim.upper is None:
+            continue
+        for _, row in exact[exact["mesh"] == lim.target].iterrows():
+            if lim.load_cases is not None and row["load_case"] not in lim.load_cases:
+                continue
+            value = float(row[lim.quantity])
+            if value > lim.upper + tolerance * abs(lim.upper):
+                out[f"{lim.quantity}[{lim.target}]@{row['load_case']}"] = value - lim.upper
     return out
 
 
@@ -306,7 +333,7 @@ class SceneRefinement:
             ex = result.exact_check
             err = float(ex["ppte_um_error"].max()) if len(ex) else 0.0
             stress_err = _stress_errors(ex)
-            shortfalls = exact_lower_limit_shortfalls(current, ex, stress_tol)
+            shortfalls = exact_limit_shortfalls(current, ex, stress_tol)
             agrees = ppte_agrees(current, result.quantities, ex, tol, abs_tol) \
                 and bool((stress_err <= stress_tol).all()) and not shortfalls
             worst = ex.loc[ex["ppte_um_error"].idxmax()] if len(ex) else None
@@ -359,7 +386,7 @@ class SceneRefinement:
                 added += len(new)
                 sets[mesh] = np.sort(np.concatenate([fractions, new]))
             options = _remedies(current, ex, tol, raise_slices=stress_sliced)
-            if shortfalls:      # tighten each broken lower limit by 1.25x its exact shortfall for the re-solve
+            if shortfalls:      # tighten each broken limit by 1.25x its exact shortfall (excess) for the re-solve
                 backoff = dict(current.options.limit_backoff)
                 for label, amount in shortfalls.items():
                     backoff[label] = backoff.get(label, 0.0) + 1.25 * amount
@@ -455,4 +482,5 @@ def solve_refined(built, *, starts: int = 1, seed: int = 0, verbose: bool = Fals
     return SceneRefinement(built).solve(starts=starts, seed=seed, verbose=verbose, **ipopt)
 
 __all__ = ["SceneRefinement", "solve_refined", "exact_final_key", "ppte_disagreement", "ppte_agrees", "exact_lower_limit_shortfalls",
+           "exact_limit_shortfalls", "BACKED_OFF_UPPER_LIMITS",
            "extreme_fractions", "peak_fractions", "new_fractions", "REUSED_MODELS"]

@@ -53,7 +53,7 @@ EXACT_RANK_TOLERANCE = 1e-3
 """Relative violation of an exact limit below which a candidate counts as meeting it."""
 
 EXACT_LIMIT_COLUMNS = ("ppte_um", "max_contact_stress_MPa", "max_root_stress_MPa", "max_contact_temperature_C",
-                       "loaded_contact_ratio")
+                       "loaded_contact_ratio", "ppte_um_toleranced")
 """The quantities the exact check evaluates (the limits it can judge)."""
 
 SEARCH_VARIABLE_GROUPS = ("micro", "macro", "train")
@@ -217,14 +217,17 @@ def variable_bounds(built) -> tuple[np.ndarray, np.ndarray]:
     return (np.array([float(e.lower[0]) for e in entries]), np.array([float(e.upper[0]) for e in entries]))
 
 
-def exact_evaluation(built, values: Mapping[str, float], *, positions: int | None = None) -> tuple[float, float]:
+def exact_evaluation(built, values: Mapping[str, float], *, positions: int | None = None,
+                     toleranced: bool = True) -> tuple[float, float]:
     """``(exact objective, exact limit violation)`` of the design ``values`` (:func:`exact_ppte_objective`,
     :func:`exact_limit_violation` plus :func:`exact_geometry_violations`; in-scope scenes only); ``(inf, inf)`` for a
     design the exact model refuses (a :class:`~gearopt.errors.GearoptError` from its pair or LTCA). ``positions``: a
-    one-slice mesh's exact LTCA positions (default ``check_positions``)."""
+    one-slice mesh's exact LTCA positions (default ``check_positions``); ``toleranced``: judge a
+    ``ppte_um_toleranced`` limit (its relief variants cost an exact LTCA each: the screen and the polish's steps
+    leave them out, the polish's acceptance judges them)."""
     try:
         geometry = sum(exact_geometry_violations(built, values).values())
-        exact = built.exact_check(values, positions=positions)
+        exact = built.exact_check(values, positions=positions, toleranced=toleranced)
     except GearoptError:
         return float("inf"), float("inf")
     return exact_ppte_objective(built, exact), exact_limit_violation(built, exact) + geometry
@@ -245,7 +248,7 @@ def exact_screen(built, *, seed: int = 0) -> pd.DataFrame:
     rows = []
     for k, point in enumerate(points):
         objective, violation = exact_evaluation(built, dict(zip(names, point)),
-                                                positions=built.options.search.screen_positions)
+                                                positions=built.options.search.screen_positions, toleranced=False)
         rows.append({"origin": "initial" if k == 0 else "sobol", **dict(zip(names, point)),
                      "exact_objective": objective, "exact_violation": violation})
     table = pd.DataFrame(rows)
@@ -284,7 +287,7 @@ def exact_polish(built, values: Mapping[str, float]) -> tuple[dict[str, float], 
     def merit(u: np.ndarray) -> float:
         key = np.clip(u, 0.0, 1.0).tobytes()
         if key not in seen:
-            seen[key] = exact_evaluation(built, design(u))
+            seen[key] = exact_evaluation(built, design(u), toleranced=False)
         objective, violation = seen[key]
         outside = float(np.sum(np.clip(u - 1.0, 0.0, None) + np.clip(-u, 0.0, None)))   # breaks the clip's plateau
         if not np.isfinite(violation):

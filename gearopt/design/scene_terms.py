@@ -23,6 +23,12 @@ quantity: an upper limit is imposed on every element, a minimised objective gets
 minimisation and upper limits). ``squared``: the elements are squares of the quantity (contact stress: the square
 of the Hertzian stress is smooth at zero load), limits are squared when imposed.
 
+``ppte_um_toleranced``: the largest PPTE of a mesh over the variants of its tip reliefs at the corners of their
+manufacturing tolerances (:class:`~gearopt.design.scene_options.ReliefToleranceOptions`,
+:func:`~gearopt.contact.relief_tolerances.relief_variants`; the PPTE requirement judged over the tolerances). In the
+NLP a vector, one smooth upper bound of the PPTE per blended variant (log-sum-exp maximum minus minimum of its TE),
+its rows by exchange; the exact check takes the largest exact PPTE over every variant, sharp starts included.
+
 Joint quantities: ``torque_margin`` and ``axial_margin`` (capacity / |demand|, infinite for a zero demand),
 ``slip_utilisation`` (combined demand over capacity, :func:`gearopt.joints.joint_margins`) and
 ``axial_utilisation`` (|axial force| / axial capacity = 1 / ``axial_margin``: the walk-off demand of a helical
@@ -112,6 +118,7 @@ def _quantities() -> dict[str, QuantityKind]:
          QuantityKind("scuffing_safety_factor_flash", "mesh", rate, "", True, scale=0.1),
          QuantityKind("scuffing_safety_factor_integral", "mesh", rate, "", True, scale=0.1),
          QuantityKind("ppte_um", "mesh", ("geometry", "ltca"), "um", True, shape="ppte", scale=5.0),
+         QuantityKind("ppte_um_toleranced", "mesh", ("geometry", "ltca"), "um", True, shape="max", scale=5.0),
          QuantityKind("max_contact_stress_MPa", "mesh", ("geometry", "ltca"), "MPa", True, shape="max",
                       squared=True, scale=100.0),
          QuantityKind("loaded_contact_ratio", "mesh", ("geometry", "ltca"), "", True, scale=0.1),

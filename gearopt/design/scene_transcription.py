@@ -372,6 +372,8 @@ class SceneTranscription:
             lower, upper, scale, unit = lim.lower, lim.upper, kind.scale, kind.unit
             if lower is not None:   # tightened by the refinement where the exact LTCA broke it (scene_refine)
                 lower = lower + self.options.backoff(label)
+            elif kind.name == "ppte_um_toleranced":
+                upper = upper - self.options.backoff(label)
             if kind.squared:
                 upper, scale, unit = upper ** 2, upper ** 2 / 100.0, f"({unit})^2"
             if nm.is_numeric(expr) or not nm.depends_on(expr, self.problem.opti.x):   # data only (parametric)
@@ -381,6 +383,8 @@ class SceneTranscription:
             if fraction is not None and kind.shape == "max" and upper is not None \
                     and int(expr.numel()) >= SCREEN_MIN_ELEMENTS:
                 screen = fraction * abs(upper)
+            if kind.name == "ppte_um_toleranced":      # a variant's LTCA enters Ipopt only when it can bind
+                screen = self.options.tolerance.toleranced_ppte_screen * abs(upper)
             self.problem.subject_to(label, expr, lower=lower, upper=upper, scale=scale, unit=unit, screen=screen)
 
     def _add_margin_limit(self, lim: Limit, kind: QuantityKind, lc: LoadCase, label: str) -> bool:

@@ -29,11 +29,14 @@ FORMER_DEFAULTS = {
 SEARCH_DEFAULTS = {"screen_samples": 64, "screen_positions": 320, "screen_max_variables": 8,
                    "polish_evaluations_per_variable": 25, "macro_starts": 4, "stop_without_progress": False,
                    "spring_limit_screen": 0.2, "count_width_um": 0.25}
+TOLERANCE_DEFAULTS = {"relief_tolerance_um": 2.0, "relief_start_tolerance_deg": 0.5, "relief_sharp_start": True,
+                      "toleranced_ppte_width_um": 0.05, "toleranced_ppte_screen": 0.2}
 """The options added since (issue 28: the exact screen, polish and a co-design's default starts,
 :class:`SearchOptions`; issue 29: the refinement's stop without progress, the per-spring limits by exchange; issue 26:
-the smooth loaded-contact count's width, :data:`gearopt.contact.ltca_smooth.DEFAULT_COUNT_WIDTH_UM`)."""
+the smooth loaded-contact count's width, :data:`gearopt.contact.ltca_smooth.DEFAULT_COUNT_WIDTH_UM`; issue 27: the
+relief tolerances of ``ppte_um_toleranced``, the requirement's defaults)."""
 
-DEFAULTS = {**FORMER_DEFAULTS, **SEARCH_DEFAULTS}
+DEFAULTS = {**FORMER_DEFAULTS, **SEARCH_DEFAULTS, **TOLERANCE_DEFAULTS}
 
 
 def test_defaults_equal_the_former_dict():
