@@ -230,8 +230,8 @@ def _contact_rows(system: System, design: TrainDesign, req: Requirements, meshes
                      + f", against {form}", fixed=not flanks_free, torques_Nm=torques)
             if r.verdict == "FAIL":
                 r.what_it_would_take = (f"the PPTE at {r.worst_case} must fall from {r.value:.3g} to {limit:.3g} µm: "
-                                        "tighter relief tolerances, or a robust design over them (the design NLP "
-                                        "minimising the worst PPTE over the tolerance corners)")
+                                        "tighter relief tolerances, or a design NLP that holds this limit over them "
+                                        "(a scene limit 'ppte_um_toleranced' with the same tolerances)")
             rows.append(r)
         temps += [(f"{mesh} at {t:g} N m", float(runs[t].max_flash_temperature_C)) for t in torques
                   if runs[t].max_flash_temperature_C is not None]

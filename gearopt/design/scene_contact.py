@@ -21,7 +21,7 @@ quantity that every mesh loading that flank sees -- a gear has one tooth form pe
 from __future__ import annotations
 
 from dataclasses import replace
-from typing import Any, Mapping
+from typing import Any, Mapping, Sequence
 
 import numpy as np
 import pandas as pd
@@ -460,7 +460,7 @@ class ContactModels:
     # -- exact check ---------------------------------------------------------------------------------------------
 
     def exact_check(self, values: Mapping[str, float], evaluate=None, *, train=None,
-                    positions: int | None = None, toleranced: bool = True) -> pd.DataFrame:
+                    positions: int | None = None, toleranced: bool | Sequence[str] = True) -> pd.DataFrame:
         """Exact LTCA (``check_positions``, the default slices) of every LTCA mesh at the optimum, per load case,
         beside the smooth model's values at the same design (``smooth_*``) and their relative differences
         (``*_error``, relative to the exact value). ``worst_fractions`` lists the mesh positions (fractions of a
@@ -468,9 +468,10 @@ class ContactModels:
         root stress and contact temperature peak (each a maximum over the mesh cycle: a semi-infinite limit like
         PPTE, refined the same way). ``positions``: a one-slice mesh's positions instead of ``check_positions``
         (coarser: the exact screen ranks designs with it). ``ppte_um_toleranced``: the largest exact PPTE over the
-        relief variants of a mesh that a ``ppte_um_toleranced`` quantity names (``toleranced=False``: left out)."""
+        relief variants of a mesh that a ``ppte_um_toleranced`` quantity names (``toleranced=False``: left out; a
+        list of meshes: those)."""
         rows = []
-        variant_meshes = self._toleranced_meshes() if toleranced else set()
+        variant_meshes = self._toleranced_meshes() if toleranced is True else set(toleranced or ())
         for mesh in self.ltca_meshes():
             mods = self.microgeometry_at(values, mesh)
             pair = self.graph.numeric_pair(mesh, values) if train is None else train.pairs[mesh]

@@ -252,8 +252,8 @@ class ReliefToleranceOptions:
     relief_tolerance_um: float = 2.0
     relief_start_tolerance_deg: float = 0.5
     relief_sharp_start: bool = True
-    toleranced_ppte_width_um: float = 0.05
-    toleranced_ppte_screen: float = 0.2
+    toleranced_ppte_width_um: float = 0.01
+    toleranced_ppte_screen: float = 0.05
 
     def __post_init__(self) -> None:
         _real(self, "relief_tolerance_um", 0.0, 50.0, unit="um")

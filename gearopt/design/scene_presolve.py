@@ -57,7 +57,9 @@ def scan_train_variable(built, values: Mapping[str, float], variable: str, grid:
                     break
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore", StiffnessValidityWarning)
-                violations = exact_limit_violations(built, built.exact_check(values, train=trial))
+                # without the relief variants of a toleranced PPTE limit (an exact LTCA each): a limit left out
+                # can only widen the feasible interval, so it never pins a variable the NLP could move
+                violations = exact_limit_violations(built, built.exact_check(values, train=trial, toleranced=False))
             row["violation"] = float(sum(violations.values()))
             worst = max(violations, key=violations.get) if violations else ""
             row["worst"] = worst if violations.get(worst, 0.0) > 0.0 else ""

@@ -27,7 +27,8 @@ of the Hertzian stress is smooth at zero load), limits are squared when imposed.
 manufacturing tolerances (:class:`~gearopt.design.scene_options.ReliefToleranceOptions`,
 :func:`~gearopt.contact.relief_tolerances.relief_variants`; the PPTE requirement judged over the tolerances). In the
 NLP a vector, one smooth upper bound of the PPTE per blended variant (log-sum-exp maximum minus minimum of its TE),
-its rows by exchange; the exact check takes the largest exact PPTE over every variant, sharp starts included.
+its rows by exchange; the exact check takes the largest exact PPTE over every variant, sharp starts included. A
+limit only (an upper one), beside a ``ppte_um`` objective.
 
 Joint quantities: ``torque_margin`` and ``axial_margin`` (capacity / |demand|, infinite for a zero demand),
 ``slip_utilisation`` (combined demand over capacity, :func:`gearopt.joints.joint_margins`) and

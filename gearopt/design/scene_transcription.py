@@ -304,6 +304,10 @@ class SceneTranscription:
         if kind.shape == "named":
             raise GearoptInputError(f"{obj.quantity!r} is a set of limits, not an objective")
         minimise = obj.sense == "min"
+        if kind.name == "ppte_um_toleranced":
+            raise GearoptInputError(f"objective {obj.quantity!r} on {obj.target!r}: the PPTE over the relief "
+                                    f"tolerances is a limit (its NLP form is a bound the exact check verifies); "
+                                    f"minimise 'ppte_um' and limit 'ppte_um_toleranced'")
         if (kind.shape in ("max", "ppte") and not minimise) or (kind.shape == "min" and minimise):
             raise GearoptInputError(f"objective {obj.quantity!r} with sense={obj.sense!r}: the {kind.shape} of a set "
                                     f"can only be {'minimised' if kind.shape != 'min' else 'maximised'} smoothly")

@@ -269,6 +269,19 @@ def test_codesign_study_pins_a_root_shift_the_limits_hold_and_says_why():
     assert "train.root_profile_shift" not in opt.codesign.values
     assert any("pinned" in line for line in study.report_lines())
     assert study.to_json()["options"]["spur"]["pinned"]["root_profile_shift"]["interval"] == [lo, hi]
+    # issue 27: the PPTE over the relief tolerances is a co-design limit where the sequential design (its warm
+    # start) meets it on the exact LTCA, and the co-design's design then meets it too
+    notes = study.settings["ppte_toleranced"]["spur"]
+    assert set(notes) == set(study.flanks)
+    carried = {lim.target: lim.upper for lim in opt.codesign.source.scene.limits
+               if lim.quantity == "ppte_um_toleranced"}
+    tolerance = study.settings["refine_stress_tolerance"]
+    for mesh, note in notes.items():
+        assert note["carried"] == (note["sequential_um"] <= note["limit_um"]) == (mesh in carried)
+        if mesh in carried:
+            rows = opt.codesign.exact_check[opt.codesign.exact_check["mesh"] == mesh]
+            assert float(rows["ppte_um_toleranced"].max()) <= carried[mesh] * (1.0 + tolerance)
+    assert any("within the relief tolerances" in line for line in study.report_lines())
     with pytest.raises(GearoptInputError, match="pin_width"):
         codesign_study(options=("spur",), quick=True, pin_width=-1.0)
 

@@ -8,13 +8,12 @@ Any train: the packaged minimal pair with its gears renamed (sun_gear/drum_gear)
 ``geometry()``) at the train rebuilt from the design's values."""
 
 import dataclasses
-import re
 
 import numpy as np
 import pytest
 
 from gearopt.contact.ltca import ltca
-from gearopt.data import default_data_path, load_default_data, train_from_data
+from gearopt.data import load_default_data, train_from_data
 from gearopt.design.scene import DesignVariable, Limit, LoadCase, Objective, Scene
 from gearopt.design.scene_search import exact_evaluation, exact_geometry_violations, search_scope
 
@@ -25,13 +24,8 @@ pytestmark = pytest.mark.filterwarnings("ignore::UserWarning")
 
 
 @pytest.fixture(scope="module")
-def train(tmp_path_factory):
-    text = (default_data_path().parent / "minimal_train.toml").read_text(encoding="utf-8")
-    for old, new in {"pinion": "sun_gear", "wheel": "drum_gear"}.items():
-        text = re.sub(rf"\b{old}\b", new, text)
-    path = tmp_path_factory.mktemp("renamed") / "renamed.toml"
-    path.write_text(text, encoding="utf-8")
-    return train_from_data(load_default_data(path))
+def train(renamed_minimal_path):
+    return train_from_data(load_default_data(renamed_minimal_path))
 
 
 def codesign_scene(train, variables=("tip_relief_1_um", "tip_relief_2_um"), **ltca_options) -> Scene:

@@ -5,12 +5,11 @@ tolerance corners written here (each gear's amount ±2 µm and start ±0.5° rol
 
 import dataclasses
 import itertools
-import re
 
 import pytest
 
 from gearopt.contact.ltca import ltca
-from gearopt.data import default_data_path, load_system, train_from_data
+from gearopt.data import load_system, train_from_data
 from gearopt.data.requirements import Requirements
 from gearopt.design.scene import DesignVariable, Limit, LoadCase, Objective, Scene
 from gearopt.design.scene_options import LTCAOptions
@@ -26,13 +25,8 @@ LIMIT_UM = 3.3
 
 
 @pytest.fixture(scope="module")
-def renamed(tmp_path_factory):
-    text = (default_data_path().parent / "minimal_train.toml").read_text(encoding="utf-8")
-    for old, new in {"pinion": "sun_gear", "wheel": "drum_gear"}.items():
-        text = re.sub(rf"\b{old}\b", new, text)
-    path = tmp_path_factory.mktemp("renamed") / "renamed.toml"
-    path.write_text(text, encoding="utf-8")
-    system = load_system(path)
+def renamed(renamed_minimal_path):
+    system = load_system(renamed_minimal_path)
     return system, train_from_data(system.data)
 
 
@@ -101,3 +95,7 @@ def test_bad_input_is_named(renamed):
                   ltca_options={"max_refinements": 0})
     with pytest.raises(GearoptInputError, match=r"ppte_um_toleranced\[sun_gear-drum_gear\]: nothing varies"):
         scene.build()
+    objective = Scene("as objective", train=train, load_cases=CASES, variables=VARIABLES,
+                      objectives=[Objective("ppte_um_toleranced", MESH)], data=system)
+    with pytest.raises(GearoptInputError, match="is a limit"):
+        objective.build()
