@@ -247,6 +247,10 @@ class ReliefToleranceOptions:
         toleranced_ppte_screen: a variant's PPTE further than this fraction of its limit below the limit at the
             start of a solve is held back from Ipopt (rows by exchange, :meth:`gearopt.nlp.problem.Problem.subject_to`
             ``screen``; 0 < fraction <= 1): only the variants that can bind cost Jacobians.
+        toleranced_ppte_lazy: the limit enters the NLP only once the exact check of a solve breaks it (by more
+            than ``refine_stress_tolerance``): the refinement's re-solve then carries it as stated, and tightens it
+            by 1.25 times the excess if the exact check breaks it again. A limit that never binds costs no smooth
+            variant models, only their exact checks.
     """
 
     relief_tolerance_um: float = 2.0
@@ -254,6 +258,7 @@ class ReliefToleranceOptions:
     relief_sharp_start: bool = True
     toleranced_ppte_width_um: float = 0.01
     toleranced_ppte_screen: float = 0.05
+    toleranced_ppte_lazy: bool = False
 
     def __post_init__(self) -> None:
         _real(self, "relief_tolerance_um", 0.0, 50.0, unit="um")
@@ -262,6 +267,8 @@ class ReliefToleranceOptions:
             raise GearoptInputError(f"relief_sharp_start={self.relief_sharp_start!r} must be true or false")
         _real(self, "toleranced_ppte_width_um", 0.0, None, unit="um", low_inclusive=False)
         _real(self, "toleranced_ppte_screen", 0.0, 1.0, low_inclusive=False)
+        if not isinstance(self.toleranced_ppte_lazy, bool):
+            raise GearoptInputError(f"toleranced_ppte_lazy={self.toleranced_ppte_lazy!r} must be true or false")
 
     @property
     def tolerances(self) -> ReliefTolerances:

@@ -388,8 +388,12 @@ class SceneRefinement:
             options = _remedies(current, ex, tol, raise_slices=stress_sliced)
             if shortfalls:      # tighten each broken limit by 1.25x its exact shortfall (excess) for the re-solve
                 backoff = dict(current.options.limit_backoff)
+                lazy = current.options.tolerance.toleranced_ppte_lazy
                 for label, amount in shortfalls.items():
-                    backoff[label] = backoff.get(label, 0.0) + 1.25 * amount
+                    if lazy and label.startswith("ppte_um_toleranced[") and label not in backoff:
+                        backoff[label] = 0.0        # a lazy limit the NLP did not carry: carried as stated
+                    else:
+                        backoff[label] = backoff.get(label, 0.0) + 1.25 * amount
                 options["limit_backoff"] = backoff
             if not added and not options:
                 status = "stalled: the exact worst positions are in the NLP's sets and the discretisation at its limits"
@@ -458,6 +462,8 @@ def _screen_candidate(built, screen: pd.DataFrame, candidates: list, tol: float,
         return []
     values = {n: float(top[n]) for n in built.variable_names}
     q0, ex0 = built.quantities_at(values), built.exact_check(values, built.evaluator_at(values))
+    if rank_key(objective, exact_limit_violation(built, ex0))[0]:    # the screen leaves out the relief variants
+        return []
     return [(objective, not ppte_agrees(built, q0, ex0, tol, abs_tol), "screen", (values, q0, ex0))]
 
 

@@ -369,6 +369,9 @@ class SceneTranscription:
             label = self.label(lim.quantity, lim.target, lc)
             if self._add_margin_limit(lim, kind, lc, label):
                 continue
+            if kind.name == "ppte_um_toleranced" and self.options.tolerance.toleranced_ppte_lazy \
+                    and label not in dict(self.options.limit_backoff):
+                continue     # lazy: carried once an exact check breaks it (the refinement's back-off names it)
             expr = self.elements(kind, lim.target, lc, lim.options)
             self._record(label, lim.quantity, lim.target, lc, kind, expr, lim.lower, lim.upper, "limit")
             if kind.shape == "ppte":

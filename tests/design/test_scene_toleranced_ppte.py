@@ -67,6 +67,21 @@ def test_the_nlp_holds_the_ppte_over_the_relief_tolerances(renamed):
     assert robust.refinement.attrs["chosen"].startswith("solve")    # an NLP optimum, not the start
 
 
+def test_a_lazy_limit_enters_the_nlp_when_an_exact_check_breaks_it(renamed):
+    """``toleranced_ppte_lazy``: the first solve carries no variant; its exact check breaks the limit, so the
+    refinement's re-solve carries it (tightened by its back-off) and the design returned meets it."""
+    system, train = renamed
+    built = _scene(system, train, [Limit("ppte_um_toleranced", MESH, upper=LIMIT_UM)], toleranced_ppte_lazy=True,
+                   screen_samples=0, polish_evaluations_per_variable=0).build()
+    assert not any(name.startswith("ppte_um_toleranced") for name in built.problem.constraint_names)
+    result = built.solve()
+    assert "ppte_um_toleranced" in result.refinement["exact_limit_shortfalls"].iloc[0]
+    assert any(name.startswith("ppte_um_toleranced") for name in result.source.problem.constraint_names)
+    micro = result.microgeometry[MESH]
+    for lc in CASES:
+        assert _corner_ppte(train, micro, lc.torque_Nm) <= LIMIT_UM * 1.01
+
+
 def test_a_limit_far_from_binding_costs_no_variant_rows(renamed):
     """Rows by exchange: variants more than ``toleranced_ppte_screen`` of the limit below it stay out of Ipopt."""
     system, train = renamed
