@@ -82,19 +82,10 @@ class LTCAResult:
         intensity at the contact point through ISO 6336-3 method B's Y_F Y_S generalised to that point (each slice
         bends its own strip of tooth: no load spreading across the face, no K factors; a helical pair's transverse
         contact positions are mapped onto its virtual spur gear, :func:`~gearopt.rating.root_stress.virtual_roll_length_mm`)."""
-        from ..rating.root_stress import root_stress_at_load_point, virtual_roll_length_mm
-
         lay = self.layout
         w = self.load_intensity_N_per_mm
-        out = []
-        for gear, rho in ((1, lay.rho1_mm), (2, lay.rho2_mm)):
-            r = np.where(lay.on_path, rho, np.nan)
-            sig = np.zeros_like(w)
-            m = lay.on_path
-            sig[m] = root_stress_at_load_point(lay.pair, gear, w[m],
-                                               load_roll_length_mm=virtual_roll_length_mm(lay.pair, gear, r[m]))
-            out.append(sig)
-        return tuple(out)
+        # sigma_F is linear in the load at a fixed load point: the layout keeps the stress per unit load
+        return tuple(np.where(lay.on_path, w * lay.root_stress_per_load(gear), 0.0) for gear in (1, 2))
 
     @property
     def max_root_stress_MPa(self) -> tuple[float, float]:

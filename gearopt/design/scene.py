@@ -290,15 +290,17 @@ class BuiltScene:
         return self.contact.positions_of(mesh)
 
     def exact_check(self, values: Mapping[str, float], evaluate: Callable | None = None, *,
-                    train=None, positions: int | None = None,
-                    toleranced: bool | Sequence[str] = True) -> pd.DataFrame:
+                    train=None, positions: int | None = None, toleranced: bool | Sequence[str] = True,
+                    fractions: bool = True) -> pd.DataFrame:
         """Exact LTCA of every LTCA mesh at a design, beside the smooth model's values when ``evaluate``
         (:meth:`ContactModels.exact_check`); ``train``: another numeric train's pairs instead of the scene's (e.g.
         another root profile shift: :func:`gearopt.design.scene_presolve.scan_train_variable`); ``positions``: a
         one-slice mesh's positions instead of ``check_positions`` (the exact screen's ``screen_positions``);
         ``toleranced``: the ``ppte_um_toleranced`` column where a quantity asks for it (False: leave out its relief
-        variants, as the exact screen and the polish's steps do; a list of meshes: for those)."""
-        return self.contact.exact_check(values, evaluate, train=train, positions=positions, toleranced=toleranced)
+        variants, as the exact screen and the polish's steps do; a list of meshes: for those); ``fractions=False``:
+        without the positions of the exact extremes (the refinement's, not the search's)."""
+        return self.contact.exact_check(values, evaluate, train=train, positions=positions, toleranced=toleranced,
+                                        fractions=fractions)
 
     # -- the NLP and its quantities (hooks of gearopt.studies) -------------------------------------------------
 

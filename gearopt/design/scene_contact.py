@@ -40,6 +40,8 @@ from .scene_models import SceneModels
 from .scene_spec import LoadCase
 from .scene_terms import FLANKS, quantity_kind
 
+UNMODIFIED = Microgeometry()
+"""The microgeometry of a mesh the scene gives none (made once: a record's checks run when it is made)."""
 MICRO_FIELDS = ("tip_relief_um", "tip_relief_start_roll_deg", "profile_crown_um", "lead_crown_um")
 START_WIDENING_DEG = 3.0
 APPROACH_SCALE_UM = 10.0
@@ -117,7 +119,7 @@ class ContactModels:
     # -- microgeometry -------------------------------------------------------------------------------------------
 
     def base_microgeometry(self, mesh: str) -> Microgeometry:
-        return self.scene.microgeometry.get(mesh, Microgeometry())
+        return self.scene.microgeometry.get(mesh, UNMODIFIED)
 
     def mesh_cases(self, mesh: str) -> list[LoadCase]:
         """Load cases at which the mesh's LTCA is evaluated: those its LTCA objectives and limits name (all when
@@ -460,7 +462,8 @@ class ContactModels:
     # -- exact check ---------------------------------------------------------------------------------------------
 
     def exact_check(self, values: Mapping[str, float], evaluate=None, *, train=None,
-                    positions: int | None = None, toleranced: bool | Sequence[str] = True) -> pd.DataFrame:
+                    positions: int | None = None, toleranced: bool | Sequence[str] = True,
+                    fractions: bool = True) -> pd.DataFrame:
         """Exact LTCA (``check_positions``, the default slices) of every LTCA mesh at the optimum, per load case,
         beside the smooth model's values at the same design (``smooth_*``) and their relative differences
         (``*_error``, relative to the exact value). ``worst_fractions`` lists the mesh positions (fractions of a
@@ -469,7 +472,8 @@ class ContactModels:
         PPTE, refined the same way). ``positions``: a one-slice mesh's positions instead of ``check_positions``
         (coarser: the exact screen ranks designs with it). ``ppte_um_toleranced``: the largest exact PPTE over the
         relief variants of a mesh that a ``ppte_um_toleranced`` quantity names (``toleranced=False``: left out; a
-        list of meshes: those)."""
+        list of meshes: those). ``fractions=False``: without ``worst_fractions`` and ``stress_fractions`` (only the
+        refinement reads them; the exact screen and polish do not)."""
         rows = []
         variant_meshes = self._toleranced_meshes() if toleranced is True else set(toleranced or ())
         for mesh in self.ltca_meshes():
@@ -486,13 +490,9 @@ class ContactModels:
                       friction_coefficient=self.options.temperature.friction_coefficient)
             for lc in self.mesh_cases(mesh):
                 r = ltca(pair, lc.mesh_torque_Nm(mesh), microgeometry=mods, **kw)
-                te = r.transmission_error_um
-                fractions = np.arange(mesh_positions) / mesh_positions
                 row = {"mesh": mesh, "load_case": lc.name, "torque_Nm": lc.mesh_torque_Nm(mesh), "slices": slices,
                        "ppte_um": r.ppte_um, "max_contact_stress_MPa": r.max_contact_stress_MPa,
-                       "loaded_contact_ratio": r.loaded_contact_ratio,
-                       "worst_fractions": extreme_fractions(te, fractions,
-                                                            neighbours=self.options.refinement.refine_neighbours)}
+                       "loaded_contact_ratio": r.loaded_contact_ratio}
                 peaks = [r.contact_stress_MPa]
                 if model.root_stress:
                     row["max_root_stress_MPa"] = max(r.max_root_stress_MPa)
@@ -500,7 +500,11 @@ class ContactModels:
                 if speed is not None:
                     row["max_contact_temperature_C"] = r.max_flash_temperature_C
                     peaks.append(r.flash_temperature_rise_K)
-                row["stress_fractions"] = peak_fractions(peaks, fractions, self.options.refinement.refine_neighbours)
+                if fractions:
+                    at = np.arange(mesh_positions) / mesh_positions
+                    neighbours = self.options.refinement.refine_neighbours
+                    row["worst_fractions"] = extreme_fractions(r.transmission_error_um, at, neighbours=neighbours)
+                    row["stress_fractions"] = peak_fractions(peaks, at, neighbours)
                 if mesh in variant_meshes:
                     row["ppte_um_toleranced"] = self._exact_toleranced_ppte(pair, mesh, mods, lc, kw, r.ppte_um)
                 if evaluate is not None:

@@ -227,7 +227,7 @@ def exact_evaluation(built, values: Mapping[str, float], *, positions: int | Non
     leave them out, the polish's acceptance judges them)."""
     try:
         geometry = sum(exact_geometry_violations(built, values).values())
-        exact = built.exact_check(values, positions=positions, toleranced=toleranced)
+        exact = built.exact_check(values, positions=positions, toleranced=toleranced, fractions=False)
     except GearoptError:
         return float("inf"), float("inf")
     return exact_ppte_objective(built, exact), exact_limit_violation(built, exact) + geometry

@@ -91,3 +91,28 @@ def test_few_slices_give_the_converged_ppte_of_a_low_helix_pair(helical_pair, to
            for J in (7, 25)}
     assert err[7] < 0.01
     assert err[25] < 0.25 * err[7]
+
+
+def test_a_layout_is_built_once_per_input_and_kept_read_only(helical_pair):
+    """The layout cache (issue 29: the exact search evaluates one pair hundreds of times): the same inputs give the
+    same layout; any changed input (a shift, the positions, the slices, the driving gear) another; the kept arrays
+    cannot be changed by a caller; and the LTCA on a cached layout equals one on a freshly built layout."""
+    from gearopt.contact import layout as layout_module
+
+    a = mesh_layout(helical_pair, positions=48, slices=5)
+    assert mesh_layout(helical_pair, positions=48, slices=5) is a
+    shifted = dataclasses.replace(helical_pair, profile_shifts=(helical_pair.profile_shifts[0] + 1e-9,
+                                                                helical_pair.profile_shifts[1]))
+    for other in (mesh_layout(shifted, positions=48, slices=5), mesh_layout(helical_pair, positions=49, slices=5),
+                  mesh_layout(helical_pair, positions=48, slices=7),
+                  mesh_layout(helical_pair, positions=48, slices=5, driving_gear=2),
+                  mesh_layout(helical_pair, positions=np.arange(48) / 48.0, slices=5)):
+        assert other is not a
+    with pytest.raises(ValueError):
+        a.spring_N_per_um[0, 0, 0] = 1.0
+    mods = Microgeometry(tip_relief_um=(8.0, 6.0), tip_relief_start_roll_deg=(24.0, 22.0))
+    cached = ltca(helical_pair, 300.0, microgeometry=mods, positions=48, slices=5)
+    layout_module._LAYOUTS.clear()
+    fresh = ltca(helical_pair, 300.0, microgeometry=mods, positions=48, slices=5)
+    np.testing.assert_array_equal(cached.transmission_error_um, fresh.transmission_error_um)
+    np.testing.assert_array_equal(cached.contact_stress_MPa, fresh.contact_stress_MPa)
