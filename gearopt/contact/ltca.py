@@ -116,24 +116,35 @@ class LTCAResult:
         """Blok flash temperature rise of every loaded contact [K], (positions, pairs, slices)
         (:func:`gearopt.rating.flash_temperature.flash_temperature_blok_K` with the LTCA's own load intensity and a
         Hertzian half-width from the normal-plane radii; helical pairs per slice in the transverse treatment)."""
+        w = self.load_intensity_N_per_mm
+        # theta = theta(w = 1) w^(3/4) exactly (b_H grows as sqrt(w)): the layout keeps theta(w = 1) per speed
+        key = (self.speed_rpm, self.friction_coefficient, repr(self.materials), self.settings["E_MPa"],
+               self.settings["poisson"])
+        cache = self.layout.__dict__.setdefault("_flash_per_load", {})
+        if key not in cache:
+            cache[key] = self._flash_rise_at_unit_load_K()
+        return np.where(w > 0.0, cache[key] * np.maximum(w, 0.0) ** 0.75, 0.0)
+
+    def _flash_rise_at_unit_load_K(self) -> np.ndarray:
+        """Blok flash temperature rise [K] of every spring on the path at a load intensity of 1 N/mm (0 off it)."""
         from ..rating.flash_temperature import flash_temperature_blok_K
         from ..rating.materials import material_pair
         from .tip_relief import plane_strain_compliance_per_MPa
 
         v1, v2 = self.rolling_velocity_m_s
         lay = self.layout
-        w = self.load_intensity_N_per_mm
-        loaded = lay.on_path & (w > 0.0)
+        on = lay.on_path
         cb = np.cos(lay.base_helix_angle_rad)
         # Hertz half-width (thesis Eq. 3.37, as tip_relief.hertz_half_width_mm, vectorised; both gears E, nu)
         compliance = 2.0 * plane_strain_compliance_per_MPa(self.settings["E_MPa"], self.settings["poisson"])
-        curvature = 0.5 * cb / lay.rho1_mm[loaded] + 0.5 * cb / lay.rho2_mm[loaded]
-        b_h = np.sqrt(2.0 * w[loaded] / np.pi * compliance / curvature)
+        curvature = 0.5 * cb / lay.rho1_mm[on] + 0.5 * cb / lay.rho2_mm[on]
+        b_h = np.sqrt(2.0 / np.pi * compliance / curvature)
         m1, m2 = material_pair(self.materials)
-        theta = np.zeros_like(w)
-        theta[loaded] = flash_temperature_blok_K(w[loaded], b_h, v1[loaded], v2[loaded], self.friction_coefficient,
-                                                 m1.thermal_contact_coefficient_N_per_mm_sqrt_s_K,
-                                                 m2.thermal_contact_coefficient_N_per_mm_sqrt_s_K)
+        theta = np.zeros(lay.shape)
+        theta[on] = flash_temperature_blok_K(np.ones(b_h.shape), b_h, v1[on], v2[on], self.friction_coefficient,
+                                             m1.thermal_contact_coefficient_N_per_mm_sqrt_s_K,
+                                             m2.thermal_contact_coefficient_N_per_mm_sqrt_s_K)
+        theta.flags.writeable = False
         return theta
 
     @property
