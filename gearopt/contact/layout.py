@@ -24,6 +24,7 @@ symbolic.
 from __future__ import annotations
 
 import math
+import threading
 from collections import OrderedDict
 from dataclasses import dataclass
 from typing import Any, Callable
@@ -200,6 +201,7 @@ evaluate the exact LTCA of the same pair hundreds of times at one resolution; bu
 each call (measured on the packaged spur train's first mesh, a tip-relief scene at 3 torques: 0.21 of 0.69 s per 100
 evaluations)."""
 _LAYOUTS: "OrderedDict[tuple, MeshLayout]" = OrderedDict()
+_LAYOUTS_LOCK = threading.Lock()
 
 
 def mesh_layout(pair: GearPair, *, driving_gear: int = 1, positions: Any = 40, slices: int = 1,
@@ -212,18 +214,20 @@ def mesh_layout(pair: GearPair, *, driving_gear: int = 1, positions: Any = 40, s
                                 "torque may be symbolic")
     key = (repr(pair), driving_gear, np.asarray(positions, dtype=float).tobytes(), np.ndim(positions), slices,
            repr(stiffness), E_MPa, poisson)
-    layout = _LAYOUTS.get(key)
-    if layout is None:
-        layout = _build_layout(pair, driving_gear=driving_gear, positions=positions, slices=slices,
-                               stiffness=stiffness, E_MPa=E_MPa, poisson=poisson)
-        for value in vars(layout).values():
-            if isinstance(value, np.ndarray):
-                value.flags.writeable = False
+    with _LAYOUTS_LOCK:
+        layout = _LAYOUTS.get(key)
+        if layout is not None:
+            _LAYOUTS.move_to_end(key)
+            return layout
+    layout = _build_layout(pair, driving_gear=driving_gear, positions=positions, slices=slices,
+                           stiffness=stiffness, E_MPa=E_MPa, poisson=poisson)
+    for value in vars(layout).values():
+        if isinstance(value, np.ndarray):
+            value.flags.writeable = False
+    with _LAYOUTS_LOCK:
         _LAYOUTS[key] = layout
-        if len(_LAYOUTS) > LAYOUT_CACHE_SIZE:
+        while len(_LAYOUTS) > LAYOUT_CACHE_SIZE:
             _LAYOUTS.popitem(last=False)
-    else:
-        _LAYOUTS.move_to_end(key)
     return layout
 
 
