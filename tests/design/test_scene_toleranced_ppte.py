@@ -114,3 +114,28 @@ def test_bad_input_is_named(renamed):
                       objectives=[Objective("ppte_um_toleranced", MESH)], data=system)
     with pytest.raises(GearoptInputError, match="is a limit"):
         objective.build()
+
+
+def test_the_nlp_form_has_the_derivatives_of_central_differences(renamed):
+    """The smooth variant bounds the NLP carries, differentiated by CasADi with respect to the relief amounts and
+    starts, against central differences (h = 1e-5 in each variable's unit)."""
+    import casadi as ca
+    import numpy as np
+
+    system, train = renamed
+    built = _scene(system, train, [Limit("ppte_um_toleranced", MESH, upper=LIMIT_UM)]).build()
+    (_, _, expr), = built.transcription.expressions("ppte_um_toleranced", MESH, ["design"])
+    entries = [built.problem._variables[f"{MESH}.{v.name}"] for v in VARIABLES]
+    symbols = [e.symbol for e in entries]
+    scales = np.array([float(e.scale[0]) for e in entries])
+    f = ca.Function("f", symbols, [expr])
+    J = ca.Function("J", symbols, [ca.jacobian(expr, ca.vertcat(*symbols))])
+    x0 = np.array([10.7, 9.1, 26.4, 23.8]) / scales            # the Opti symbols are scaled variables
+    jac = np.asarray(J(*x0).full()) / scales                    # per unit of each variable
+    h = 1e-5
+    for k in range(4):
+        e = np.zeros(4)
+        e[k] = h / scales[k]
+        fd = (np.asarray(f(*(x0 + e)).full()).ravel() - np.asarray(f(*(x0 - e)).full()).ravel()) / (2 * h)
+        scale = max(np.max(np.abs(jac[:, k])), 1e-3)
+        assert np.max(np.abs(jac[:, k] - fd)) / scale < 1e-4, k
