@@ -188,19 +188,7 @@ def exact_lower_limit_shortfalls(built, exact: pd.DataFrame, tolerance: float) -
     stresses): limit label -> shortfall in the quantity's unit. The smooth model's loaded contact ratio counts a pair
     whose gap has just closed as partly loaded, so an optimum can sit on the limit while the exact count lies
     below it."""
-    out: dict[str, float] = {}
-    if not len(exact):
-        return out
-    for lim in built.scene.limits:
-        if lim.quantity not in exact.columns or lim.lower is None:
-            continue
-        for _, row in exact[exact["mesh"] == lim.target].iterrows():
-            if lim.load_cases is not None and row["load_case"] not in lim.load_cases:
-                continue
-            value = float(row[lim.quantity])
-            if value < lim.lower - tolerance * abs(lim.lower):
-                out[f"{lim.quantity}[{lim.target}]@{row['load_case']}"] = lim.lower - value
-    return out
+    return _exact_breaks(built, exact, tolerance, lambda lim: lim.lower is not None, "lower")
 
 
 BACKED_OFF_UPPER_LIMITS = ("ppte_um_toleranced",)
@@ -214,18 +202,27 @@ def exact_limit_shortfalls(built, exact: pd.DataFrame, tolerance: float) -> dict
     """:func:`exact_lower_limit_shortfalls` and the excess over each upper limit of
     :data:`BACKED_OFF_UPPER_LIMITS` the exact LTCA breaks by more than ``tolerance`` (relative): limit label ->
     amount in the quantity's unit (the back-off of the re-solve, :meth:`LTCAOptions.backoff`)."""
-    out = exact_lower_limit_shortfalls(built, exact, tolerance)
+    upper = _exact_breaks(built, exact, tolerance,
+                          lambda lim: lim.quantity in BACKED_OFF_UPPER_LIMITS and lim.upper is not None, "upper")
+    return {**exact_lower_limit_shortfalls(built, exact, tolerance), **upper}
+
+
+def _exact_breaks(built, exact: pd.DataFrame, tolerance: float, applies, side: str) -> dict[str, float]:
+    """Limit label -> amount by which the exact check breaks the ``side`` bound of each scene limit ``applies``
+    selects, beyond ``tolerance`` (relative), per load case."""
+    out: dict[str, float] = {}
     if not len(exact):
         return out
     for lim in built.scene.limits:
-        if lim.quantity not in BACKED_OFF_UPPER_LIMITS or lim.quantity not in exact.columns or lim.upper is None:
+        if lim.quantity not in exact.columns or not applies(lim):
             continue
+        bound = lim.lower if side == "lower" else lim.upper
         for _, row in exact[exact["mesh"] == lim.target].iterrows():
             if lim.load_cases is not None and row["load_case"] not in lim.load_cases:
                 continue
-            value = float(row[lim.quantity])
-            if value > lim.upper + tolerance * abs(lim.upper):
-                out[f"{lim.quantity}[{lim.target}]@{row['load_case']}"] = value - lim.upper
+            amount = (bound - float(row[lim.quantity])) if side == "lower" else (float(row[lim.quantity]) - bound)
+            if amount > tolerance * abs(bound):
+                out[f"{lim.quantity}[{lim.target}]@{row['load_case']}"] = amount
     return out
 
 
