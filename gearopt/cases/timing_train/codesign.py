@@ -241,8 +241,15 @@ def unmodified_ppte_limits(train: GearTrain, meshes: Sequence[str], cases: Seque
     """The requirement "no load case worse than the unmodified flanks" as NLP limits: at every load case, each
     mesh's PPTE at most ``1 - margin`` times the exact LTCA PPTE of its unmodified flanks (of ``train``, the
     option's baseline macro design)."""
-    return [Limit("ppte_um", m, upper=(1.0 - margin) * float(ltca(train.pairs[m], c.mesh_torque_Nm(m)).ppte_um),
-                  load_cases=(c.name,)) for m in meshes for c in cases]
+    base = unmodified_ppte_um(train, meshes, cases)
+    return [Limit("ppte_um", m, upper=(1.0 - margin) * base[m][c.name], load_cases=(c.name,))
+            for m in meshes for c in cases]
+
+
+def unmodified_ppte_um(train: GearTrain, meshes: Sequence[str], cases: Sequence[LoadCase]
+                       ) -> dict[str, dict[str, float]]:
+    """mesh -> load case -> the exact LTCA PPTE [um] of the mesh's unmodified flanks in ``train`` at that case."""
+    return {m: {c.name: float(ltca(train.pairs[m], c.mesh_torque_Nm(m)).ppte_um) for c in cases} for m in meshes}
 
 
 def toleranced_ppte_limits(required: Requirements, train: GearTrain, meshes: Sequence[str],
@@ -255,14 +262,10 @@ def toleranced_ppte_limits(required: Requirements, train: GearTrain, meshes: Seq
     if not tol.varies:
         return []
     names = tuple(c.name for c in cases)
-    out = []
-    for m in meshes:
-        if required.ppte_form == "value":
-            limit = float(required.max_ppte_um)
-        else:
-            limit = max(float(ltca(train.pairs[m], c.mesh_torque_Nm(m)).ppte_um) for c in cases)
-        out.append(Limit("ppte_um_toleranced", m, upper=limit, load_cases=names))
-    return out
+    if required.ppte_form == "value":
+        return [Limit("ppte_um_toleranced", m, upper=float(required.max_ppte_um), load_cases=names) for m in meshes]
+    base = unmodified_ppte_um(train, meshes, cases)
+    return [Limit("ppte_um_toleranced", m, upper=max(base[m].values()), load_cases=names) for m in meshes]
 
 
 def carried_toleranced_limits(seq_built, sequential: SceneResult | None, limits: Sequence[Limit]
@@ -305,9 +308,9 @@ def requirement_tolerance_options(required: Requirements) -> dict[str, Any]:
     """The scene options of the relief tolerances the PPTE requirement is judged over, the co-design's screen of
     their variants (:data:`TOLERANCED_PPTE_SCREEN`) and the lazy form (the limit enters an NLP once an exact check
     breaks it)."""
-    return {"relief_tolerance_um": required.ppte_relief_tolerance_um,
-            "relief_start_tolerance_deg": required.ppte_relief_start_tolerance_deg,
-            "relief_sharp_start": required.ppte_sharp_start, "toleranced_ppte_screen": TOLERANCED_PPTE_SCREEN,
+    tol = requirement_tolerances(required)
+    return {"relief_tolerance_um": tol.amount_um, "relief_start_tolerance_deg": tol.start_deg,
+            "relief_sharp_start": tol.sharp_start, "toleranced_ppte_screen": TOLERANCED_PPTE_SCREEN,
             "toleranced_ppte_lazy": True}
 
 
