@@ -95,6 +95,33 @@ def test_derivatives_through_a_symbolic_train_match_central_differences(train, t
     assert np.abs(jac[:, 0]).max() > 0 and np.abs(jac[:, 1]).max() > 0
 
 
+def test_second_derivatives_match_central_differences_of_the_first(train, template):
+    """The approach's Newton steps run without derivatives and two more steps carry them (``_build``): at the
+    converged approach that gives the implicit-function Hessian exactly. The Hessian of a weighted sum of TE and
+    load intensity in (root shift, helix angle, tip relief) against central differences of the Jacobian, in MX
+    symbols as an NLP builds it (``SX`` symbols inline the approach and differentiate through every step)."""
+    m = MacroLTCAModel(template, positions=12, slices=3, helical=True, max_overlap_ratio=0.6, smoothing_um=0.05,
+                       engagement_width_mm=0.01)
+    x, beta, relief = ca.MX.sym("x"), ca.MX.sym("beta"), ca.MX.sym("relief")
+    pair = dataclasses.replace(train, root_profile_shift=x, helix_angle_deg=beta).pairs["crank-cam"]
+    micro = micro_vector(dataclasses.replace(MODS, tip_relief_um=(relief, 8.0)), template.geometry())
+    out = m.kernel(ca.vertcat(*macro_vector(pair)), ca.vertcat(*micro), 300.0)
+    names = m.output_names
+    weights = np.linspace(0.5, 1.5, 12)
+    y = ca.dot(ca.DM(weights), ca.vec(out[names.index("te_um")])) + \
+        ca.sum1(ca.sum2(out[names.index("load_N_per_mm")])) / 1e3
+    p = ca.vertcat(x, beta, relief)
+    f = ca.Function("f", [p], [ca.gradient(y, p), ca.hessian(y, p)[0]])
+    p0 = np.array([0.25, 5.0, 12.0])
+    _, hess = (np.array(v) for v in f(p0))
+    for i, h in enumerate((1e-5, 1e-4, 1e-4)):
+        d = np.zeros(3)
+        d[i] = h
+        fd = (np.array(f(p0 + d)[0]) - np.array(f(p0 - d)[0])).ravel() / (2 * h)
+        np.testing.assert_allclose(hess[:, i], fd, rtol=1e-4, atol=1e-5 * max(1.0, np.abs(fd).max()))
+    assert np.abs(hess).max() > 0
+
+
 def test_one_graph_for_every_macro_value_and_position_count(train, template):
     """The tooth pairs and positions are fixed at build: the same model evaluates a spur and a helical geometry
     (different numbers of pairs in contact), and the position function is the same for 20 and 400 positions."""
