@@ -141,7 +141,8 @@ class CodesignStudy:
             for mesh, note in notes.items():
                 seq = "" if note["sequential_um"] is None else f" {note['sequential_um']:.3g} um against"
                 lines += ["", f"PPTE within the relief tolerances, {mesh}, {name} option: the sequential design "
-                          f"gives{seq} {note['limit_um']:.3g} um; "
+                          f"gives{seq} {note['limit_um']:.3g} um (the requirement less "
+                          f"{100 * SMOOTH_MODEL_MARGIN:g} %); "
                           + ("carried as a co-design limit" if note["carried"] else
                              "not carried (no design of the space is known to meet it; the verdict judges it)")]
         for name, opt in self.options.items():
@@ -256,19 +257,23 @@ def unmodified_ppte_um(train: GearTrain, meshes: Sequence[str], cases: Sequence[
 
 
 def toleranced_ppte_limits(required: Requirements, train: GearTrain, meshes: Sequence[str],
-                           cases: Sequence[LoadCase]) -> list[Limit]:
+                           cases: Sequence[LoadCase], margin: float = SMOOTH_MODEL_MARGIN) -> list[Limit]:
     """The verdict's PPTE over the relief tolerances as NLP limits (``ppte_um_toleranced``, issue 27): at every load
-    case of the range, each mesh's PPTE over the relief variants at most the PPTE requirement's limit -- the
-    largest exact PPTE of its unmodified flanks (of ``train``, the option's baseline macro design) over the range,
-    or ``max_ppte_um``. None where the tolerances vary nothing."""
-    tol = requirement_tolerances(required)
-    if not tol.varies:
+    case of the range, each mesh's PPTE over the relief variants at most ``1 - margin`` times the requirement's
+    limit -- the largest exact PPTE of its unmodified flanks (of ``train``, the option's baseline macro design) over
+    the range, or ``max_ppte_um`` (the margin as for the other carried requirements, :data:`SMOOTH_MODEL_MARGIN`:
+    the refinement admits exact breaks of a carried limit up to 1 %, the verdict none; without it the default
+    data's spur co-design ended 0.9 % above cam-FP's limit). None where the tolerances vary nothing."""
+    if not requirement_tolerances(required).varies:
         return []
     names = tuple(c.name for c in cases)
     if required.ppte_form == "value":
-        return [Limit("ppte_um_toleranced", m, upper=float(required.max_ppte_um), load_cases=names) for m in meshes]
-    base = unmodified_ppte_um(train, meshes, cases)
-    return [Limit("ppte_um_toleranced", m, upper=max(base[m].values()), load_cases=names) for m in meshes]
+        limits = {m: float(required.max_ppte_um) for m in meshes}
+    else:
+        base = unmodified_ppte_um(train, meshes, cases)
+        limits = {m: max(base[m].values()) for m in meshes}
+    return [Limit("ppte_um_toleranced", m, upper=(1.0 - margin) * limit, load_cases=names)
+            for m, limit in limits.items()]
 
 
 def carried_toleranced_limits(seq_built, sequential: SceneResult | None, limits: Sequence[Limit]
