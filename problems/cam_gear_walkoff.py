@@ -942,8 +942,10 @@ def trade_off_stage(system: go.System, trains: dict, quick: bool = False):
     loaded contact ratio -- with the sensitivity report and the Monte Carlo robustness of the optimised design."""
     from gearopt.studies import relief_scene_from_data, scene_study
 
+    # each position's approach an NLP variable (the mesh's macro geometry is fixed): on the default data 50.8 ->
+    # 36.6 CPU-s in one process, the optimum 3.487 -> 3.478 um and every front point as good or better
     scene = relief_scene_from_data(system, trains["spur"], "crank-cam", positions=24 if quick else None,
-                                   ltca_options={"max_refinements": 1} if quick else None)
+                                   ltca_options={"approach": "lifted", **({"max_refinements": 1} if quick else {})})
     return scene_study(scene, "loaded_contact_ratio", "crank-cam", points=4 if quick else 9,
                        samples=64 if quick else 2000, starts=1 if quick else 4,
                        verify_ltca_options={"max_refinements": 0} if quick else None)
