@@ -84,14 +84,7 @@ def test_derivatives_through_a_symbolic_train_match_central_differences(train, t
     y = ca.vertcat(ca.vec(out[names.index("te_um")]), ca.vec(out[names.index("stress_sq_MPa2")]) / 1e4,
                    ca.vec(out[names.index("root_stress_1_MPa")]))
     p = ca.vertcat(x, beta, relief)
-    f = ca.Function("f", [p], [y, ca.jacobian(y, p)])
-    p0 = np.array([0.25, 5.0, 12.0])
-    _, jac = (np.array(v) for v in f(p0))
-    for i, h in enumerate((1e-5, 1e-4, 1e-4)):
-        d = np.zeros(3)
-        d[i] = h
-        fd = (np.array(f(p0 + d)[0]) - np.array(f(p0 - d)[0])).ravel() / (2 * h)
-        np.testing.assert_allclose(jac[:, i], fd, rtol=1e-4, atol=1e-5 * max(1.0, np.abs(fd).max()))
+    jac = _derivative_against_central_differences(ca.Function("f", [p], [y, ca.jacobian(y, p)]))
     assert np.abs(jac[:, 0]).max() > 0 and np.abs(jac[:, 1]).max() > 0
 
 
@@ -111,15 +104,21 @@ def test_second_derivatives_match_central_differences_of_the_first(train, templa
     y = ca.dot(ca.DM(weights), ca.vec(out[names.index("te_um")])) + \
         ca.sum1(ca.sum2(out[names.index("load_N_per_mm")])) / 1e3
     p = ca.vertcat(x, beta, relief)
-    f = ca.Function("f", [p], [ca.gradient(y, p), ca.hessian(y, p)[0]])
-    p0 = np.array([0.25, 5.0, 12.0])
-    _, hess = (np.array(v) for v in f(p0))
-    for i, h in enumerate((1e-5, 1e-4, 1e-4)):
-        d = np.zeros(3)
+    hess = _derivative_against_central_differences(ca.Function("f", [p], [ca.gradient(y, p),
+                                                                          ca.hessian(y, p)[0]]))
+    assert np.abs(hess).max() > 0
+
+
+def _derivative_against_central_differences(f, p0=(0.25, 5.0, 12.0), steps=(1e-5, 1e-4, 1e-4)) -> np.ndarray:
+    """``f(p) -> (y, dy/dp)``: the derivative at ``p0`` against central differences of ``y`` (rtol 1e-4), returned."""
+    p0 = np.asarray(p0, dtype=float)
+    derivative = np.array(f(p0)[1])
+    for i, h in enumerate(steps):
+        d = np.zeros(p0.size)
         d[i] = h
         fd = (np.array(f(p0 + d)[0]) - np.array(f(p0 - d)[0])).ravel() / (2 * h)
-        np.testing.assert_allclose(hess[:, i], fd, rtol=1e-4, atol=1e-5 * max(1.0, np.abs(fd).max()))
-    assert np.abs(hess).max() > 0
+        np.testing.assert_allclose(derivative[:, i], fd, rtol=1e-4, atol=1e-5 * max(1.0, np.abs(fd).max()))
+    return derivative
 
 
 def test_one_graph_for_every_macro_value_and_position_count(train, template):
