@@ -12,7 +12,7 @@ import gearopt as go
 from gearopt.contact.layout import default_slices
 from gearopt.contact.ltca import ltca
 from gearopt.design.scene import DesignVariable, Limit, LoadCase, Objective, Scene
-from gearopt.cases.timing_train.codesign import SMOOTH_MODEL_MARGIN
+from gearopt.cases.timing_train.codesign import SMOOTH_MODEL_MARGIN, toleranced_ppte_limits
 from gearopt.design.scene_refine import ppte_disagreement
 from gearopt.errors import GearoptInputError
 from gearopt.joints import joint_capacity
@@ -293,6 +293,8 @@ def test_codesign_study_pins_a_root_shift_the_limits_hold_and_says_why():
     assert any("within the relief tolerances" in line for line in study.report_lines())
     with pytest.raises(GearoptInputError, match="pin_width"):
         codesign_study(options=("spur",), quick=True, pin_width=-1.0)
+    with pytest.raises(GearoptInputError, match="margin"):
+        toleranced_ppte_limits(go.load_system().requirements, spur, list(carried), [], margin=1.0)
 
 
 def test_codesign_nlp_carries_the_verdicts_iso6336_limits_and_matches_its_rating_table():

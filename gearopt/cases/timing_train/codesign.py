@@ -264,6 +264,7 @@ def toleranced_ppte_limits(required: Requirements, train: GearTrain, meshes: Seq
     the range, or ``max_ppte_um`` (the margin as for the other carried requirements, :data:`SMOOTH_MODEL_MARGIN`:
     the refinement admits exact breaks of a carried limit up to 1 %, the verdict none; without it the default
     data's spur co-design ended 0.9 % above cam-FP's limit). None where the tolerances vary nothing."""
+    check_range("margin", margin, 0.0, 1.0, high_inclusive=False)
     if not requirement_tolerances(required).varies:
         return []
     names = tuple(c.name for c in cases)
