@@ -127,22 +127,29 @@ def constraint_table(constraints: list[ConstraintEntry], g: np.ndarray, lam_g: n
             ``d objective / d bound`` once divided by the constraint scale.
         tol: activity tolerance in scaled units (margin and multiplier).
     """
-    rows = []
+    names, bases, units, sources = [], [], [], []
+    columns: dict[str, list[np.ndarray]] = {k: [] for k in ("value", "lower", "upper", "lam", "scale")}
     offset = 0
     for c in constraints:
-        values = g[offset:offset + c.size]
-        offset += c.size
         lam = np.zeros(c.size)
         lam[c.passed] = lam_g[c.rows]
-        margin = np.minimum(values - c.lower, c.upper - values)
-        for i, label in enumerate(c.element_names()):
-            rows.append({
-                "name": label, "base": c.name, "value": float(values[i]), "lower": float(c.lower[i]),
-                "upper": float(c.upper[i]), "margin": float(margin[i]),
-                "multiplier": float(objective_factor * lam[i] / c.scale[i]),
-                "active": bool(abs(margin[i]) <= tol * c.scale[i] and abs(lam[i]) > tol),
-                "scale": float(c.scale[i]), "unit": c.unit, "source": c.source})
-    return pd.DataFrame(rows, columns=CONSTRAINT_COLUMNS)
+        columns["value"].append(np.asarray(g[offset:offset + c.size], dtype=float))
+        offset += c.size
+        for key, v in (("lower", c.lower), ("upper", c.upper), ("scale", c.scale), ("lam", lam)):
+            columns[key].append(np.asarray(v, dtype=float).reshape(-1)[:c.size])
+        names += c.element_names()
+        bases += [c.name] * c.size
+        units += [c.unit] * c.size
+        sources += [c.source] * c.size
+    if not names:
+        return pd.DataFrame([], columns=CONSTRAINT_COLUMNS)
+    value, lower, upper, lam, scale = (np.concatenate(columns[k]) for k in ("value", "lower", "upper", "lam",
+                                                                              "scale"))
+    margin = np.minimum(value - lower, upper - value)
+    return pd.DataFrame({"name": names, "base": bases, "value": value, "lower": lower, "upper": upper,
+                         "margin": margin, "multiplier": objective_factor * lam / scale,
+                         "active": (np.abs(margin) <= tol * scale) & (np.abs(lam) > tol), "scale": scale,
+                         "unit": units, "source": sources}, columns=CONSTRAINT_COLUMNS)
 
 
 def variable_table(variables: list[VariableEntry], values: dict[str, np.ndarray], inits: dict[str, np.ndarray],
@@ -183,17 +190,25 @@ def violations_from_tables(constraints: pd.DataFrame, variables: pd.DataFrame | 
     quantity Ipopt sees) and reported with their violation in their own units. Variable rows are named
     ``"<name> (bounds)"``. Non-finite values are not counted (the pre-solve check reports those).
     """
-    found: list[tuple[float, ViolatedConstraint]] = []
+    found: list[tuple] = []
     tables = [(constraints, "")] + ([(variables, " (bounds)")] if variables is not None else [])
+    order = 0
     for table, suffix in tables:
-        for row in table.itertuples(index=False):
-            violation = max(row.lower - row.value, row.value - row.upper, 0.0)
-            if violation > tol * row.scale:
-                item = ViolatedConstraint(f"{row.name}{suffix}", float(violation), float(row.value),
-                                          float(row.lower), float(row.upper), row.source)
-                found.append((violation / row.scale, item))
-    found.sort(key=lambda pair: -pair[0])
-    return [item for _, item in found[:n]]
+        value, lower, upper, scale = (table[k].to_numpy(dtype=float) for k in ("value", "lower", "upper", "scale"))
+        with np.errstate(invalid="ignore"):                       # inf - inf: NaN, not counted
+            below, above = lower - value, value - upper
+        violation = np.where(above > below, above, below)          # max(below, above, 0) as Python's max orders
+        violation = np.where(0.0 > violation, 0.0, violation)      # it: a NaN value is never counted
+        for i in np.flatnonzero(violation > tol * scale):
+            found.append((violation[i] / scale[i], order, table, suffix, float(violation[i]), int(i)))
+            order += 1
+    found.sort(key=lambda item: (-item[0], item[1]))
+    out = []
+    for _, _, table, suffix, violation, i in found[:n]:
+        row = table.iloc[i]
+        out.append(ViolatedConstraint(f"{row['name']}{suffix}", violation, float(row["value"]), float(row["lower"]),
+                                      float(row["upper"]), row["source"]))
+    return out
 
 
 def _fmt_number(v: float) -> str:
