@@ -314,7 +314,7 @@ class MacroLTCAModel:
                 g["base_diameter_mm"][0], g["base_diameter_mm"][1], c_single, kappa, g["sap_roll_deg"][0],
                 g["sap_roll_deg"][1], g["eap_roll_deg"][0], g["eap_roll_deg"][1]]
 
-    SPRINGS = ("rho1", "y_mm", "engaged", "spring", "roll1", "roll2", "stress_factor", "root_stress_1_per_load",
+    SPRINGS = ("y_mm", "engaged", "spring", "roll1", "roll2", "stress_factor", "root_stress_1_per_load",
                "root_stress_2_per_load", "flash_unit_K", "half_width_sq_per_load")
     """Per-spring columns of :meth:`_springs` (macro geometry and position only; no microgeometry, no load)."""
 
@@ -355,7 +355,7 @@ class MacroLTCAModel:
         r1, r2 = on1 / cb, on2 / cb
         e_term = 1.0 / (2.0 * (1.0 - self._materials["poisson"] ** 2) / self._materials["E_MPa"])
         zero = ca.SX.zeros(rho1.shape)
-        out = dict(rho1=rho1, y_mm=y_mm, engaged=engaged, spring=spring, roll1=roll1, roll2=roll2,
+        out = dict(y_mm=y_mm, engaged=engaged, spring=spring, roll1=roll1, roll2=roll2,
                    stress_factor=e_term * (r1 + r2) / (math.pi * r1 * r2), root_stress_1_per_load=zero,
                    root_stress_2_per_load=zero, flash_unit_K=zero, half_width_sq_per_load=zero)
         if self.root_stress:     # ISO 6336-3 method B's sigma_F is linear in the load at a fixed load point
@@ -397,16 +397,17 @@ class MacroLTCAModel:
         return x - (ca.sum1(s * nm.softplus(z, w)) - force) / ca.sum1(s * nm.sigmoid(z, w))
 
     def _build(self) -> ca.Function:
-        """Three ``SX`` functions mapped in one ``MX`` kernel ``(macro, micro, torque) -> outputs``:
+        """Four ``SX`` functions mapped in one ``MX`` kernel ``(macro, micro, torque) -> outputs``:
 
         - the springs (:meth:`_springs`) of each position, from the macro inputs only (mapped over the positions);
+        - the no-load gaps (:meth:`_gap`, the microgeometry) of each position;
         - the approach: ``approach_steps`` Newton steps from the start below, a function without derivatives
           (``is_diff_out``; an expression graph of ``SX`` symbols inlines it and differentiates through it, with the
           same values);
-        - the contact of each position and load case: the gaps (microgeometry), two more Newton steps from that
-          approach, and the outputs. At the converged approach these two steps give the implicit-function first and
-          second derivatives exactly (Newton's map has zero slope at its fixed point), so the derivatives never pass
-          through the unrolled steps. Measured on the packaged train's root mesh at 8 deg (11 slices, 40 positions x
+        - the contact of each position and load case: two more Newton steps from that approach, and the outputs.
+          At the converged approach these two steps give the implicit-function first and second derivatives
+          exactly (Newton's map has zero slope at its fixed point), so the derivatives never pass through the
+          unrolled steps. Measured on the packaged train's root mesh at 8 deg (11 slices, 40 positions x
           3 torques): the Jacobian took 197 ms through every step and per load case, 65-89 ms in these pieces.
 
         The graph is that of one position whatever their number."""
