@@ -115,6 +115,11 @@ JOINT_OUTPUTS = ("joint_torque_Nm", "thrust_N", "demand_tangential_N", "demand_a
 #: thrust (a spur gear) carries u_t only: its axial states would stay exactly 0 (``THRUST_FREE_STATES``).
 STATES_PER_JOINT = 4
 THRUST_FREE_STATES = 1
+#: Ways of integrating the slip states with the network (:class:`JointSimulator` ``integration``).
+INTEGRATIONS = ("sequential", "simultaneous")
+#: Most chunks of a cycle in which ``integration="sequential"`` integrates the slip states (each with its own
+#: forcing table; the integrator restarts at each chunk's start).
+SLIP_CHUNKS_PER_CYCLE = 16
 
 
 class JointIntegrationError(SolveError):
@@ -138,7 +143,13 @@ def _sign(v: float) -> float:
 class JointEquations:
     """Network equations augmented by the slip states (after the network's states, per joint from
     ``state_offsets[i]``: u_t, and where a thrust can act z, u_a and the axial velocity; ``thrust_free[i]``: the
-    joint carries u_t only)."""
+    joint carries u_t only).
+
+    The coupling is one-way, so the joints see the network only through their *forcing*: per distinct gear (node,
+    gear inertia, thrust signs) the joint torque [N m] and the unscaled thrust [N], ``forcing`` (expressions in
+    ``tau``, the network's states ``x[:n_network]`` and ``p``). ``joint_rhs`` and ``joint_outputs`` are the joints'
+    rates and outputs in terms of ``forcing_symbols`` instead (and of the slip states and ``p``), for integrating
+    the joints after the network (:class:`JointSimulator` ``integration="sequential"``)."""
 
     x: ca.SX
     p: ca.SX
@@ -150,6 +161,41 @@ class JointEquations:
     n_network: int
     state_offsets: tuple = ()
     thrust_free: tuple = ()
+    forcing: ca.SX | None = None
+    forcing_symbols: ca.SX | None = None
+    joint_rhs: ca.SX | None = None
+    joint_outputs: ca.SX | None = None
+
+
+def _joint_forcing(network: TorsionalNetwork, eq, joint: FrictionJoint):
+    """(joint torque [N m], unscaled thrust [N]) of ``joint`` as expressions of the network equations ``eq``:
+    the gear's net mesh torque minus its own inertia torque, and its meshes' axial forces with the joint's thrust
+    signs (module docstring, "Demand")."""
+    ratios = network.speed_ratios()
+    free = eq.free_nodes
+    omega = eq.p[eq.parameter_names.index(SPEED_PARAMETER)]
+    out_index = {name: i for i, name in enumerate(eq.output_names)}
+    if joint.gear_node not in network.inertias:
+        raise GearoptInputError(f"joint {joint.name!r}: gear_node={joint.gear_node!r} is not a network node")
+    if joint.gear_node in network.boundary_nodes:
+        raise GearoptInputError(f"joint {joint.name!r}: gear_node={joint.gear_node!r} is a speed boundary")
+    torque, thrust = 0.0, 0.0
+    signs = dict(joint.thrust_signs)
+    for m in network.meshes.values():
+        if joint.gear_node not in (m.gear_1, m.gear_2):
+            continue
+        s1 = _sign(ratios[m.gear_1])
+        r_gear_mm = m.base_radii_mm[0] if m.gear_1 == joint.gear_node else m.base_radii_mm[1]
+        force = eq.outputs[out_index[("mesh_force_N", m.name)]]
+        torque = torque - mesh_torque_Nm(force * s1, r_gear_mm)
+        thrust = thrust + float(signs.get(m.name, 0.0)) * eq.outputs[out_index[("axial_force_N", m.name)]]
+    unknown = set(signs) - {m.name for m in network.meshes.values() if joint.gear_node in (m.gear_1, m.gear_2)}
+    if unknown:
+        raise GearoptInputError(f"joint {joint.name!r}: thrust_signs name meshes {sorted(unknown)} that do not "
+                                f"touch node {joint.gear_node!r}")
+    n = len(free)
+    torque = torque - joint.gear_inertia_kgm2 * eq.rhs[n + free.index(joint.gear_node)] * omega
+    return ca.SX(torque), ca.SX(thrust)
 
 
 def joint_equations(network: TorsionalNetwork, joints, lash: bool = True) -> JointEquations:
@@ -162,41 +208,21 @@ def joint_equations(network: TorsionalNetwork, joints, lash: bool = True) -> Joi
     if len(set(names)) != len(names):
         raise GearoptInputError(f"joint names {names} must be unique")
     eq = network.equations(lash=lash)
-    ratios = network.speed_ratios()
-    free = eq.free_nodes
-    n = len(free)
-    par = {k: eq.p[i] for i, k in enumerate(eq.parameter_names)}
-    omega = par[SPEED_PARAMETER]
-    out_index = {name: i for i, name in enumerate(eq.output_names)}
-    acc = eq.rhs[n:] * omega
+    omega = eq.p[eq.parameter_names.index(SPEED_PARAMETER)]
     extra_names = [f"{j.name}.{k}" for j in joints for k in JOINT_PARAMETERS]
     p_joint = ca.SX.sym("p_joint", len(extra_names))
-    states, rates, outputs, out_names, offsets, thrust_free = [], [], [], [], [], []
+    forcing, forcing_row = [], {}       # per distinct gear: torque, unscaled thrust
+    states, rates, outputs, out_names, offsets, thrust_free, symbols = [], [], [], [], [], [], []
     for i, j in enumerate(joints):
-        if j.gear_node not in network.inertias:
-            raise GearoptInputError(f"joint {j.name!r}: gear_node={j.gear_node!r} is not a network node")
-        if j.gear_node in network.boundary_nodes:
-            raise GearoptInputError(f"joint {j.name!r}: gear_node={j.gear_node!r} is a speed boundary")
+        gear = (j.gear_node, j.gear_inertia_kgm2, tuple(sorted(dict(j.thrust_signs).items())))
+        if gear not in forcing_row:
+            forcing_row[gear] = len(forcing)
+            forcing += list(_joint_forcing(network, eq, j))
+            symbols += [ca.SX.sym(f"torque_{len(symbols) // 2}"), ca.SX.sym(f"thrust_{len(symbols) // 2}")]
+        torque, unscaled = symbols[forcing_row[gear]], symbols[forcing_row[gear] + 1]
         capacity, clearance_um, v_reg, scale = (p_joint[4 * i + k] for k in range(4))
-        torque = 0.0
-        thrust = 0.0
-        signs = dict(j.thrust_signs)
-        for m in network.meshes.values():
-            if j.gear_node not in (m.gear_1, m.gear_2):
-                continue
-            s1 = _sign(ratios[m.gear_1])
-            r_gear_mm = m.base_radii_mm[0] if m.gear_1 == j.gear_node else m.base_radii_mm[1]
-            force = eq.outputs[out_index[("mesh_force_N", m.name)]]
-            torque = torque - mesh_torque_Nm(force * s1, r_gear_mm)
-            thrust = thrust + float(signs.get(m.name, 0.0)) * eq.outputs[out_index[("axial_force_N", m.name)]]
-        unknown = set(signs) - {m.name for m in network.meshes.values()
-                                if j.gear_node in (m.gear_1, m.gear_2)}
-        if unknown:
-            raise GearoptInputError(f"joint {j.name!r}: thrust_signs name meshes {sorted(unknown)} that do not "
-                                    f"touch node {j.gear_node!r}")
-        torque = torque - j.gear_inertia_kgm2 * acc[free.index(j.gear_node)]
-        thrust = scale * thrust
-        free_of_thrust = ca.SX(thrust).is_zero()     # no mesh of this gear has an axial force
+        free_of_thrust = forcing[forcing_row[gear] + 1].is_zero()     # no mesh of this gear has an axial force
+        thrust = 0.0 if free_of_thrust else scale * unscaled
         offsets.append(sum(s.numel() for s in states))
         thrust_free.append(bool(free_of_thrust))
         u = ca.SX.sym(f"u_{i}", THRUST_FREE_STATES if free_of_thrust else STATES_PER_JOINT)
@@ -217,11 +243,16 @@ def joint_equations(network: TorsionalNetwork, joints, lash: bool = True) -> Joi
         outputs += [torque, thrust, d_t, d_a, rigid, util, jr["key_force_N"], jr["shoulder_force_N"], slip * 1e6,
                     axial * 1e6, nm.sqrt(v_t ** 2 + v_z ** 2), z * 1e6, w]
         out_names += [(q, j.name) for q in JOINT_OUTPUTS]
+    forcing, symbols = ca.vertcat(*forcing), ca.vertcat(*symbols)
+    joint_rhs, joint_outputs = ca.vertcat(*rates), ca.vertcat(*outputs)
     # the network's own equations do not depend on the joint states (one-way coupling)
+    coupled_rhs, coupled_outputs = ca.substitute([joint_rhs, joint_outputs], [symbols], [forcing])
     result = JointEquations(x=ca.vertcat(eq.x, *states), p=ca.vertcat(eq.p, p_joint), tau=eq.tau,
-                            rhs=ca.vertcat(eq.rhs, *rates), outputs=ca.vertcat(*outputs),
+                            rhs=ca.vertcat(eq.rhs, coupled_rhs), outputs=coupled_outputs,
                             parameter_names=list(eq.parameter_names) + extra_names, output_names=out_names,
-                            n_network=int(eq.x.numel()), state_offsets=tuple(offsets), thrust_free=tuple(thrust_free))
+                            n_network=int(eq.x.numel()), state_offsets=tuple(offsets), thrust_free=tuple(thrust_free),
+                            forcing=forcing, forcing_symbols=symbols, joint_rhs=joint_rhs,
+                            joint_outputs=joint_outputs)
     network._cache[key] = result
     return result
 
@@ -257,12 +288,27 @@ class JointSimulator:
     ``min_speed_rpm``), ``max_num_steps`` per cycle (the step budget: beyond it a :class:`JointIntegrationError`),
     ``jit`` (compile the integrator and outputs with the C compiler, once: :mod:`gearopt.compile_cache` keeps the
     binaries on disk across runs).
+
+    ``integration`` (the coupling is one-way, so the same model either way):
+
+    * ``"sequential"`` (default): each cycle integrates the network alone, evaluates the joints' forcing (joint
+      torque and thrust per gear) on its output grid of ``forcing_step_deg``, then integrates the slip states alone
+      driven by that forcing, interpolated linearly. The network keeps its own steps; the joints' stick-slip
+      transitions cost steps of the small slip system only. Approximation: the forcing between grid points is
+      linear (a lash impact of the default train lasts about a degree; the default 0.025 deg puts some 40 points
+      on it); its effect on the results is tested against ``forcing_step_deg`` halved.
+    * ``"simultaneous"``: network and slip states in one integration (every stick-slip transition also cuts the
+      network's steps).
     """
 
     def __init__(self, network: TorsionalNetwork, joints, *, lash: bool = True, rtol: float = 1e-6,
                  atol: float | None = None, output_step_deg: float = 0.5, max_step_deg: float | None = None,
-                 min_speed_rpm: float = 700.0, max_num_steps: int = 2_000_000, jit: bool = False):
+                 min_speed_rpm: float = 700.0, max_num_steps: int = 2_000_000, jit: bool = False,
+                 integration: str = "sequential", forcing_step_deg: float = 0.025):
         from .simulate import simulator
+        if integration not in INTEGRATIONS:
+            raise GearoptInputError(f"integration={integration!r} must be one of {INTEGRATIONS}")
+        self.integration = integration
         self.joints = tuple(joints)
         if not self.joints:
             raise GearoptInputError("joints must name at least one FrictionJoint")
@@ -292,10 +338,13 @@ class JointSimulator:
         dae = {"x": self.eq.x, "p": self.eq.p, "t": self.eq.tau, "ode": ode(self.eq.tau, self.eq.x, self.eq.p)}
         self.compiled: dict = {}
         self.jit = bool(jit)
-        self.integrator = self._build(
-            "joint_cycle", dae["ode"],
-            lambda extra: ca.integrator("joint_cycle", "cvodes", dae, 0.0, self.grid_rad, dict(opts, **extra)),
-            repr(("cvodes", sorted(opts.items()), self.grid_rad.tolist())))
+        if integration == "simultaneous":
+            self.integrator = self._build(
+                "joint_cycle", dae["ode"],
+                lambda extra: ca.integrator("joint_cycle", "cvodes", dae, 0.0, self.grid_rad, dict(opts, **extra)),
+                repr(("cvodes", sorted(opts.items()), self.grid_rad.tolist())))
+        else:
+            self._build_sequential(network, rtol, atol, opts, output_step_deg, forcing_step_deg, max_num_steps)
         self.output_function = self._build("joint_outputs", self.eq.outputs, lambda extra: ca.Function(
             "joint_outputs", [self.eq.tau, self.eq.x, self.eq.p], [self.eq.outputs],
             dict({"cse": True}, **extra)).map(self.n_out), repr(("map", self.n_out)))
@@ -303,13 +352,57 @@ class JointSimulator:
         self.build_time_s = time.perf_counter() - t0
         self.options = opts
 
-    def _build(self, name: str, expression, build, options_repr: str):
+    def _build_sequential(self, network, rtol, atol, opts, output_step_deg, forcing_step_deg, max_num_steps):
+        """The three functions of ``integration="sequential"``: the network's integrator over the forcing grid,
+        the forcing over that grid, and the slip states' integrator driven by the forcing interpolated linearly."""
+        from .simulate import simulator
+        check_range("forcing_step_deg", forcing_step_deg, 0.0, output_step_deg, low_inclusive=False, unit="deg")
+        ratio = output_step_deg / forcing_step_deg
+        if abs(ratio - round(ratio)) > 1e-9 * ratio:
+            raise GearoptInputError(f"forcing_step_deg={forcing_step_deg} must divide output_step_deg="
+                                    f"{output_step_deg}")
+        self.forcing_stride = round(ratio)
+        eq = self.eq
+        n_net, n_p_net = eq.n_network, network.equations(lash=self.lash).p.numel()
+        self.network_simulator = simulator(network, lash=self.lash, rtol=rtol, atol=atol,
+                                           output_step_deg=forcing_step_deg, max_step_deg=self.max_step_deg,
+                                           min_speed_rpm=self.min_speed_rpm, contact_quadratures=False,
+                                           max_steps_per_cycle=max_num_steps, jit=self.jit)
+        n_fine = self.n_out * self.forcing_stride
+        x_net, p_net = eq.x[:n_net], eq.p[:n_p_net]
+        self._forcing_point = ca.Function("joint_forcing", [eq.tau, x_net, p_net], [eq.forcing], {"cse": True})
+        self.forcing_function = self._build("joint_forcing", eq.forcing, lambda extra: ca.Function(
+            "joint_forcing", [eq.tau, x_net, p_net], [eq.forcing], dict({"cse": True}, **extra)).map(n_fine),
+            repr(("map", n_fine)), inputs=[eq.tau, x_net, p_net])
+        # the slip states are integrated chunk by chunk of the cycle, each chunk with its own forcing table (an
+        # interpreted Function copies its inputs on every evaluation: a whole cycle's table would cost more than
+        # the slip equations)
+        self.chunks = max(c for c in range(1, SLIP_CHUNKS_PER_CYCLE + 1) if self.n_out % c == 0)
+        per_chunk = self.n_out // self.chunks
+        n_f = eq.forcing_symbols.numel()
+        h = math.radians(forcing_step_deg)
+        grid = (h * np.arange(per_chunk * self.forcing_stride + 1)).tolist()
+        interpolate = ca.interpolant("joint_forcing_table", "linear", [grid], n_f, {"lookup_mode": ["exact"]})
+        u, rates = eq.x[n_net:], ca.Function("joint_rates", [eq.x[n_net:], eq.forcing_symbols, eq.p],
+                                              [eq.joint_rhs], {"cse": True})
+        tau, u_mx = ca.MX.sym("tau"), ca.MX.sym("u", u.numel())
+        p_mx, table = ca.MX.sym("p", eq.p.numel()), ca.MX.sym("forcing_table", n_f * len(grid))
+        ode = rates(u_mx, interpolate(tau, table), p_mx)
+        dae = {"x": u_mx, "p": ca.vertcat(p_mx, table), "t": tau, "ode": ode}
+        chunk_grid = self.grid_rad[:per_chunk]
+        self.integrator = self._build(
+            "joint_slip_chunk", ode,
+            lambda extra: ca.integrator("joint_slip_chunk", "cvodes", dae, 0.0, chunk_grid, dict(opts, **extra)),
+            repr(("cvodes", sorted(opts.items()), chunk_grid.tolist())), inputs=[tau, u_mx, p_mx, table])
+
+    def _build(self, name: str, expression, build, options_repr: str, inputs=None):
         """``build(extra_options)`` through the on-disk compile cache (:mod:`gearopt.compile_cache`) when ``jit``,
-        keyed by the serialized graph of ``expression`` over (tau, x, p) and ``options_repr``."""
+        keyed by the serialized graph of ``expression`` over ``inputs`` (default (tau, x, p)) and
+        ``options_repr``."""
         if not self.jit:
             self.compiled[name] = "interpreted"
             return build({})
-        graph = ca.Function(name, [self.eq.tau, self.eq.x, self.eq.p], [expression])
+        graph = ca.Function(name, inputs or [self.eq.tau, self.eq.x, self.eq.p], [expression])
         fun, how = compile_cache.compiled(name, graph.serialize() + options_repr, build)
         self.compiled[name] = how
         return fun
@@ -384,7 +477,7 @@ class JointSimulator:
                 raise GearoptInputError(f"x0 has {x.size} entries, the joint network has {self.eq.x.numel()} states")
         i_off = self.eq.parameter_names.index(OFFSET_PARAMETER)
         t0 = time.perf_counter()
-        integrate = BufferedFunction(self.integrator, ["x0", "p"], ["xf"])  # no DM conversions (buffered_call)
+        integrate = self._cycle_function()
         outputs = BufferedFunction(self.output_function, [0, 1, 2], [0])
         recorded, starts = [], []
         for c in range(run_in_cycles + cycles):
@@ -393,7 +486,7 @@ class JointSimulator:
             if c >= run_in_cycles:
                 starts.append(x.copy())
             try:
-                xs = integrate(x, p)[0]
+                xs = integrate(x, p)
             except RuntimeError as exc:
                 raise JointIntegrationError(
                     f"friction-joint integration at {speed_rpm:g} rpm failed in cycle {c + 1}: CVODES could not "
@@ -443,6 +536,31 @@ class JointSimulator:
                                crank_angle_deg=np.degrees(angle), frames=frames,
                                summary=pd.DataFrame(rows).set_index("joint"), final_state=x, stats=stats)
 
+    def _cycle_function(self):
+        """``(x, p) -> states over the output grid`` of one cycle (network and slip states, columns at
+        ``grid_rad``), in the chosen ``integration``; raises ``RuntimeError`` as the integrator does."""
+        integrate = BufferedFunction(self.integrator, ["x0", "p"], ["xf"])  # no DM conversions (buffered_call)
+        if self.integration == "simultaneous":
+            return lambda x, p: integrate(x, p)[0]
+        n_net, n_p_net = self.eq.n_network, self.network.equations(lash=self.lash).p.numel()
+        network = BufferedFunction(self.network_simulator.integrator, ["x0", "p"], ["xf"])
+        forcing = BufferedFunction(self.forcing_function, [0, 1, 2], [0])
+        grid, stride = self.network_simulator.grid_rad, self.forcing_stride
+        per_chunk = self.n_out // self.chunks * stride
+
+        def cycle(x, p):
+            p_net = p[:n_p_net]
+            xs_net = network(x[:n_net], p_net)[0]
+            start = np.array(self._forcing_point(0.0, x[:n_net], p_net)).ravel()
+            table = np.column_stack([start, forcing(grid, xs_net, np.tile(p_net, grid.size))[0]])
+            u, us = x[n_net:], []
+            for c in range(self.chunks):
+                chunk = table[:, c * per_chunk:(c + 1) * per_chunk + 1]
+                us.append(integrate(u, np.concatenate([p, chunk.ravel(order="F")]))[0])
+                u = us[-1][:, -1]
+            return np.vstack([xs_net[:, stride - 1::stride], np.hstack(us)])
+        return cycle
+
 
 def joint_simulator(network: TorsionalNetwork, joints, **options) -> JointSimulator:
     """The network's cached :class:`JointSimulator` for these joints and options (built on first use)."""
@@ -464,6 +582,7 @@ def walked_distance_mm(creep_um_per_cycle, speed_rpm, hours, cycle_deg: float = 
 
 
 __all__ = [
+    "INTEGRATIONS",
     "JOINT_OUTPUTS",
     "JOINT_PARAMETERS",
     "SLIP_UNIT_M",

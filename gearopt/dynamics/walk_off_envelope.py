@@ -54,7 +54,8 @@ JOINT_FRICTION_DATA = {
     "slip_speed_m_s_source": "regularisation (not a material property): slip speed at 100 % overstress (V -> inf: "
                              "rate-independent Coulomb slip). Measured on the default helical model (copies with V = "
                              "10 and 100 m/s on one trajectory, crank joint, 2 cycles after 1): slip path per cycle "
-                             "within 2 %; creep per cycle at the nominal fit 0.29/0.29 (2500 rpm, nominal damper), "
+                             "within 2 % (0.1-0.2 % on most lash trajectories, 8 % on one with a harder impact: "
+                             "the lash model is chaotic); creep per cycle at the nominal fit 0.29/0.29 (2500 rpm, nominal damper), "
                              "0.51/0.71 (2500, seized), 0.22/0.23 um (3300, seized); at the weakest fit 14.5/15.7 um "
                              "(2500, seized). The gear's axial inertia is modelled; its circumferential slip is "
                              "massless and bounded by the key",

@@ -579,6 +579,8 @@ class Calibration:
         w = self.weights
         keep = np.flatnonzero(w >= 1e-9 * w.max())
         x = self.grid.get(joint)
+        columns = {u.name: self.samples[u.name].to_numpy(dtype=float) for u in self.inputs
+                   if u.name in self.samples}
         values, weights = [], []
         for m in self.mountings[joint]:
             share = w * self._mounting_share(joint, m)
@@ -589,8 +591,7 @@ class Calibration:
                     values.append(np.zeros(1))
                     weights.append(np.array([share[i]]))
                     continue
-                theta = {u.name: float(self.samples.iloc[i][u.name]) for u in self.inputs
-                         if u.name in self.samples}
+                theta = {name: float(column[i]) for name, column in columns.items()}
                 for k, v in offsets.items():
                     theta[k] = theta.get(k, 0.0) + float(v)
                 side = m if (m == "as_modelled" or model.flippable.get(joint)) else "as_modelled"

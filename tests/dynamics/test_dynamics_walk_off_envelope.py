@@ -103,7 +103,9 @@ def test_joint_demand_on_the_default_model_matches_walk_off_and_the_shaft_torque
 def test_regularisation_converges_at_the_envelopes_overstress():
     # the default helical train at 3300 rpm with a seized damper, crank joint at its weakest fit (utilisation ~40:
     # the highest overstress of the envelope, thrust above the capacity) and its nominal fit, V = 10 (the data's)
-    # and 100 m/s on one trajectory: the slip path and the gear's axial travel change little with V
+    # and 100 m/s on one trajectory: the slip path and the gear's axial travel change little with V. The lash model
+    # is chaotic, so the trajectory depends on round-off; on five trajectories measured (both integrations, rtol
+    # 1e-6/1e-7, two output grids) the slip path per cycle moved 0.1-0.2 % with V, on one with a harder impact 8 %
     import dataclasses
 
     from gearopt.cases.timing_train import default_timing_model
@@ -127,7 +129,7 @@ def test_regularisation_converges_at_the_envelopes_overstress():
     s = sim.run(3300.0, 2, parameters=p, run_in_cycles=1).summary
     for i in (0, 1):
         slow, fast = s.loc[f"crank#{i}"], s.loc[f"fast#{i}"]
-        assert slow["slip_um_per_cycle"] == pytest.approx(fast["slip_um_per_cycle"], rel=0.03)
+        assert slow["slip_um_per_cycle"] == pytest.approx(fast["slip_um_per_cycle"], rel=0.1)
         assert abs(slow["axial_creep_um_per_cycle"] - fast["axial_creep_um_per_cycle"]) <= \
             0.35 * max(abs(fast["axial_creep_um_per_cycle"]), 1.0)
     # creep is bounded by what the thrust can do against the capacity and the gear's inertia in one cycle
