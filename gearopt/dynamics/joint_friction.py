@@ -147,9 +147,10 @@ class JointEquations:
 
     The coupling is one-way, so the joints see the network only through their *forcing*: per distinct gear (node,
     gear inertia, thrust signs) the joint torque [N m] and the unscaled thrust [N], ``forcing`` (expressions in
-    ``tau``, the network's states ``x[:n_network]`` and ``p``). ``joint_rhs`` and ``joint_outputs`` are the joints'
-    rates and outputs in terms of ``forcing_symbols`` instead (and of the slip states and ``p``), for integrating
-    the joints after the network (:class:`JointSimulator` ``integration="sequential"``)."""
+    ``tau``, the network's states ``x[:n_network]`` and ``p``; rows ``2 g`` and ``2 g + 1`` for the gear
+    ``g = gear_of_joint[i]`` of joint ``i``). ``joint_rhs`` and ``joint_outputs`` are the joints' rates and outputs
+    in terms of ``forcing_symbols`` instead (and of the slip states and ``p``), for integrating the joints after
+    the network (:class:`JointSimulator` ``integration="sequential"``)."""
 
     x: ca.SX
     p: ca.SX
@@ -165,6 +166,7 @@ class JointEquations:
     forcing_symbols: ca.SX | None = None
     joint_rhs: ca.SX | None = None
     joint_outputs: ca.SX | None = None
+    gear_of_joint: tuple = ()
 
 
 def _joint_forcing(network: TorsionalNetwork, eq, joint: FrictionJoint):
@@ -212,7 +214,7 @@ def joint_equations(network: TorsionalNetwork, joints, lash: bool = True) -> Joi
     extra_names = [f"{j.name}.{k}" for j in joints for k in JOINT_PARAMETERS]
     p_joint = ca.SX.sym("p_joint", len(extra_names))
     forcing, forcing_row = [], {}       # per distinct gear: torque, unscaled thrust
-    states, rates, outputs, out_names, offsets, thrust_free, symbols = [], [], [], [], [], [], []
+    states, rates, outputs, out_names, offsets, thrust_free, symbols, gear_of = [], [], [], [], [], [], [], []
     for i, j in enumerate(joints):
         gear = (j.gear_node, j.gear_inertia_kgm2, tuple(sorted(dict(j.thrust_signs).items())))
         if gear not in forcing_row:
@@ -220,6 +222,7 @@ def joint_equations(network: TorsionalNetwork, joints, lash: bool = True) -> Joi
             forcing += list(_joint_forcing(network, eq, j))
             symbols += [ca.SX.sym(f"torque_{len(symbols) // 2}"), ca.SX.sym(f"thrust_{len(symbols) // 2}")]
         torque, unscaled = symbols[forcing_row[gear]], symbols[forcing_row[gear] + 1]
+        gear_of.append(forcing_row[gear] // 2)
         capacity, clearance_um, v_reg, scale = (p_joint[4 * i + k] for k in range(4))
         free_of_thrust = forcing[forcing_row[gear] + 1].is_zero()     # no mesh of this gear has an axial force
         thrust = 0.0 if free_of_thrust else scale * unscaled
@@ -252,7 +255,7 @@ def joint_equations(network: TorsionalNetwork, joints, lash: bool = True) -> Joi
                             parameter_names=list(eq.parameter_names) + extra_names, output_names=out_names,
                             n_network=int(eq.x.numel()), state_offsets=tuple(offsets), thrust_free=tuple(thrust_free),
                             forcing=forcing, forcing_symbols=symbols, joint_rhs=joint_rhs,
-                            joint_outputs=joint_outputs)
+                            joint_outputs=joint_outputs, gear_of_joint=tuple(gear_of))
     network._cache[key] = result
     return result
 
@@ -379,21 +382,35 @@ class JointSimulator:
         # the slip equations)
         self.chunks = max(c for c in range(1, SLIP_CHUNKS_PER_CYCLE + 1) if self.n_out % c == 0)
         per_chunk = self.n_out // self.chunks
-        n_f = eq.forcing_symbols.numel()
         h = math.radians(forcing_step_deg)
         grid = (h * np.arange(per_chunk * self.forcing_stride + 1)).tolist()
-        interpolate = ca.interpolant("joint_forcing_table", "linear", [grid], n_f, {"lookup_mode": ["exact"]})
-        u, rates = eq.x[n_net:], ca.Function("joint_rates", [eq.x[n_net:], eq.forcing_symbols, eq.p],
-                                              [eq.joint_rhs], {"cse": True})
-        tau, u_mx = ca.MX.sym("tau"), ca.MX.sym("u", u.numel())
-        p_mx, table = ca.MX.sym("p", eq.p.numel()), ca.MX.sym("forcing_table", n_f * len(grid))
-        ode = rates(u_mx, interpolate(tau, table), p_mx)
-        dae = {"x": u_mx, "p": ca.vertcat(p_mx, table), "t": tau, "ode": ode}
+        interpolate = ca.interpolant("joint_forcing_table", "linear", [grid], 2, {"lookup_mode": ["exact"]})
         chunk_grid = self.grid_rad[:per_chunk]
-        self.integrator = self._build(
-            "joint_slip_chunk", ode,
-            lambda extra: ca.integrator("joint_slip_chunk", "cvodes", dae, 0.0, chunk_grid, dict(opts, **extra)),
-            repr(("cvodes", sorted(opts.items()), chunk_grid.tolist())), inputs=[tau, u_mx, p_mx, table])
+        # the joints of each gear in an integration of their own: a gear whose joints stick does not take the
+        # steps of one whose joints slip
+        self.gear_rows, self.integrators = [], []
+        u_all = eq.x[n_net:]
+        for g in range(eq.forcing_symbols.numel() // 2):
+            rows = np.concatenate([np.arange(eq.state_offsets[i], eq.state_offsets[i] + self._joint_states(i))
+                                   for i in range(len(self.joints)) if eq.gear_of_joint[i] == g]).astype(int)
+            u = u_all[rows.tolist()]
+            rates = ca.Function(f"joint_rates_{g}", [u, eq.forcing_symbols[2 * g:2 * g + 2], eq.p],
+                                [eq.joint_rhs[rows.tolist()]], {"cse": True})
+            tau, u_mx = ca.MX.sym("tau"), ca.MX.sym("u", rows.size)
+            p_mx, table = ca.MX.sym("p", eq.p.numel()), ca.MX.sym("forcing_table", 2 * len(grid))
+            ode = rates(u_mx, interpolate(tau, table), p_mx)
+            dae = {"x": u_mx, "p": ca.vertcat(p_mx, table), "t": tau, "ode": ode}
+            self.gear_rows.append(rows)
+            self.integrators.append(self._build(
+                f"joint_slip_{g}", ode,
+                lambda extra, dae=dae, g=g: ca.integrator(f"joint_slip_{g}", "cvodes", dae, 0.0, chunk_grid,
+                                                          dict(opts, **extra)),
+                repr(("cvodes", sorted(opts.items()), chunk_grid.tolist())), inputs=[tau, u_mx, p_mx, table]))
+        self.integrator = self.integrators[0]
+
+    def _joint_states(self, i: int) -> int:
+        """Number of slip states of joint ``i``."""
+        return THRUST_FREE_STATES if self.eq.thrust_free[i] else STATES_PER_JOINT
 
     def _build(self, name: str, expression, build, options_repr: str, inputs=None):
         """``build(extra_options)`` through the on-disk compile cache (:mod:`gearopt.compile_cache`) when ``jit``,
@@ -539,12 +556,13 @@ class JointSimulator:
     def _cycle_function(self):
         """``(x, p) -> states over the output grid`` of one cycle (network and slip states, columns at
         ``grid_rad``), in the chosen ``integration``; raises ``RuntimeError`` as the integrator does."""
-        integrate = BufferedFunction(self.integrator, ["x0", "p"], ["xf"])  # no DM conversions (buffered_call)
         if self.integration == "simultaneous":
+            integrate = BufferedFunction(self.integrator, ["x0", "p"], ["xf"])  # no DM conversions (buffered_call)
             return lambda x, p: integrate(x, p)[0]
         n_net, n_p_net = self.eq.n_network, self.network.equations(lash=self.lash).p.numel()
         network = BufferedFunction(self.network_simulator.integrator, ["x0", "p"], ["xf"])
         forcing = BufferedFunction(self.forcing_function, [0, 1, 2], [0])
+        gears = [(rows, BufferedFunction(f, ["x0", "p"], ["xf"])) for rows, f in zip(self.gear_rows, self.integrators)]
         grid, stride = self.network_simulator.grid_rad, self.forcing_stride
         per_chunk = self.n_out // self.chunks * stride
 
@@ -553,12 +571,15 @@ class JointSimulator:
             xs_net = network(x[:n_net], p_net)[0]
             start = np.array(self._forcing_point(0.0, x[:n_net], p_net)).ravel()
             table = np.column_stack([start, forcing(grid, xs_net, np.tile(p_net, grid.size))[0]])
-            u, us = x[n_net:], []
-            for c in range(self.chunks):
-                chunk = table[:, c * per_chunk:(c + 1) * per_chunk + 1]
-                us.append(integrate(u, np.concatenate([p, chunk.ravel(order="F")]))[0])
-                u = us[-1][:, -1]
-            return np.vstack([xs_net[:, stride - 1::stride], np.hstack(us)])
+            us = np.empty((x.size - n_net, self.n_out))
+            for g, (rows, integrate) in enumerate(gears):
+                u = x[n_net + rows]
+                for c in range(self.chunks):
+                    chunk = table[2 * g:2 * g + 2, c * per_chunk:(c + 1) * per_chunk + 1]
+                    part = integrate(u, np.concatenate([p, chunk.ravel(order="F")]))[0]
+                    us[rows, c * (self.n_out // self.chunks):(c + 1) * (self.n_out // self.chunks)] = part
+                    u = part[:, -1]
+            return np.vstack([xs_net[:, stride - 1::stride], us])
         return cycle
 
 
