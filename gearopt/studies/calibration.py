@@ -312,22 +312,29 @@ class WalkOffModel:
         distance = float(theta.get("walk_off_distance_mm", 3.0))
         check_range("walk_off_distance_mm", distance, 0.0, None, low_inclusive=False, unit="mm")
         caps = {b: np.log(np.atleast_2d(self.capacities_N(joint, b, theta, shifts))) for b in self.bands}
+        medians, sigmas = [], []
+        for b in self.bands:
+            median, sigma = self.exposure[b]
+            # bands whose name contains "overspeed" scale with overspeed_exposure_scale, the others with
+            # running_exposure_scale
+            scale = float(theta.get("overspeed_exposure_scale" if "overspeed" in b else "running_exposure_scale",
+                                    1.0))
+            medians.append(median * scale)
+            sigmas.append(sigma)
+        medians, sigmas = np.array(medians), np.array(sigmas)
         by_state = {}
         for state in self.states:
-            rates, medians, sigmas = [], [], []
-            for b, speed in self.bands.items():
-                log_c, c = self.tables[(label, float(speed), state)]
-                creep = np.maximum(np.interp(caps[b], log_c, c), 0.0)       # um per engine cycle
+            tables = [self.tables[(label, float(speed), state)] for speed in self.bands.values()]
+            if not any(np.any(c > 0.0) for _, c in tables):  # no creep off the nose at any fit: never walks off
+                by_state[state] = np.zeros(next(iter(caps.values())).shape[:-1])
+                continue
+            rates = []
+            for (b, speed), (log_c, c) in zip(self.bands.items(), tables):
+                creep = np.maximum(np.interp(caps[b], log_c, c), 0.0) if np.any(c > 0.0) else \
+                    np.zeros_like(caps[b])                                      # um per engine cycle
                 rates.append(creep * speed * 30.0 * 1e-3)                     # mm per hour (720 deg cycles)
-                median, sigma = self.exposure[b]
-                # bands whose name contains "overspeed" scale with overspeed_exposure_scale, the others with
-                # running_exposure_scale
-                scale = float(theta.get("overspeed_exposure_scale" if "overspeed" in b
-                                        else "running_exposure_scale", 1.0))
-                medians.append(median * scale)
-                sigmas.append(sigma)
-            by_state[state] = _conditional_walk_off(np.array(rates), np.array(medians), np.array(sigmas),
-                                                    self._z_hours(), distance).mean(axis=-1)
+            by_state[state] = _conditional_walk_off(np.array(rates), medians, sigmas, self._z_hours(),
+                                                    distance).mean(axis=-1)
         weights = damper_weights(theta, self.states)
         return sum(weights[s] * by_state[s] for s in self.states), by_state
 
@@ -355,15 +362,22 @@ def _conditional_walk_off(rates, medians, sigmas, z, distance):
     shape = rates.shape
     rates = rates.reshape(shape[0], -1, shape[-1])
     hours = (medians[:, None] * np.exp(sigmas[:, None] * z))[:, None, :]
-    mean_contribution = rates * (medians * np.exp(0.5 * sigmas ** 2))[:, None, None]
-    star = np.argmax(mean_contribution, axis=0)[None]
-    r_star = np.take_along_axis(rates, star, axis=0)[0]
-    h_star = np.take_along_axis(np.broadcast_to(hours, rates.shape), star, axis=0)[0]
+    mean_hours = medians * np.exp(0.5 * sigmas ** 2)
+    # the largest contributor per engine (the first of equals), band by band: cheaper than an argmax over bands
+    best, star = rates[0] * mean_hours[0], np.zeros(rates.shape[1:], dtype=int)
+    r_star, h_star = rates[0], np.broadcast_to(hours[0], rates.shape[1:])
+    for k in range(1, rates.shape[0]):
+        contribution = rates[k] * mean_hours[k]
+        larger = contribution > best
+        best = np.where(larger, contribution, best)
+        star = np.where(larger, k, star)
+        r_star = np.where(larger, rates[k], r_star)
+        h_star = np.where(larger, hours[k], h_star)
     remaining = distance - ((rates * hours).sum(axis=0) - r_star * h_star)
     out = np.where(remaining <= 0.0, 1.0, 0.0)
     live = (remaining > 0.0) & (r_star > 0.0)
     if np.any(live):
-        b = star[0][live]
+        b = star[live]
         zc = (np.log(remaining[live] / r_star[live]) - np.log(medians[b])) / np.maximum(sigmas[b], 1e-12)
         out[live] = 0.5 * special.erfc(zc / math.sqrt(2.0))
     return out.reshape(shape[1:])
