@@ -33,7 +33,7 @@ class IntegratorBuild:
                  min_speed_rpm: float = 700.0, fixed_step_deg: float = 0.02, options: dict | None = None,
                  jit: bool = False, external_torques: bool = False, contact_quadratures: bool = True,
                  max_steps_per_cycle: int = budget.DEFAULT_MAX_STEPS_PER_CYCLE,
-                 max_wall_time_s: float = budget.DEFAULT_MAX_WALL_TIME_S):
+                 max_wall_time_s: float = budget.DEFAULT_MAX_WALL_TIME_S, output_functions: bool = True):
         self.max_steps_per_cycle, self.max_wall_time_s = budget.check_budget_settings(max_steps_per_cycle,
                                                                                       max_wall_time_s)
         if method not in INTEGRATORS:
@@ -85,25 +85,31 @@ class IntegratorBuild:
             repr((method, sorted(opts.items()), self.grid_rad.tolist())))
         self._dae = {"x": self.eq.x, "p": self.eq.p, "t": self.eq.tau, "ode": rhs}
         self._shooting_cache: dict = {}
+        self.build_time_s = time.perf_counter() - t0
+        self._torque_map = None  # nominal torques over the static state's samples (static_state)
+        self.last_cycle_stats: dict = {}  # integrator statistics of the last cycle run (Simulator.run)
+        self.cycle_rad = cycle_rad
+        self.output_function = self.check_function = None
+        if output_functions:
+            self._build_output_functions(external_torques)
+            self.build_time_s = time.perf_counter() - t0
+
+    def _build_output_functions(self, external_torques: bool) -> None:
+        """The output and check functions over the output grid (``output_functions``)."""
         names = self.eq.output_names
         keep = [i for i, (q, _) in enumerate(names) if external_torques or q != "external_torque_Nm"]
         self.output_names = [names[i] for i in keep]
         args = [self.eq.tau, self.eq.x, self.eq.p]
         out_expr = {"outputs": self.eq.outputs[keep]}
+        # the point functions are compiled and mapped here: a saved map takes ~1 s to load (tens of MB)
         self.output_function = self._build("outputs", out_expr, lambda extra: ca.Function(
-            "outputs", args, [out_expr["outputs"]], dict({"cse": True}, **extra)).map(self.n_out),
-            repr(("map", self.n_out)))
+            "outputs", args, [out_expr["outputs"]], dict({"cse": True}, **extra)), "point").map(self.n_out)
         check = [i for i, (q, _) in enumerate(names) if q in ("mesh_force_N", "shaft_torque_Nm")]
         self._check_rows = [i for i, (q, _) in enumerate(self.output_names)
                             if q in ("mesh_force_N", "shaft_torque_Nm")]
         check_expr = {"check": self.eq.outputs[check]}
         self.check_function = self._build("check", check_expr, lambda extra: ca.Function(
-            "check", args, [check_expr["check"]], dict({"cse": True}, **extra)).map(self.n_out),
-            repr(("map", self.n_out)))
-        self.build_time_s = time.perf_counter() - t0
-        self._torque_map = None  # nominal torques over the static state's samples (static_state)
-        self.last_cycle_stats: dict = {}  # integrator statistics of the last cycle run (Simulator.run)
-        self.cycle_rad = cycle_rad
+            "check", args, [check_expr["check"]], dict({"cse": True}, **extra)), "point").map(self.n_out)
 
     def _build(self, name: str, expressions: dict, build, options_repr: str):
         """``build(extra_options)`` through the on-disk compile cache (:mod:`gearopt.compile_cache`) when ``jit``:

@@ -326,7 +326,15 @@ class JointSimulator:
         self.network = network
         self.lash = bool(lash)
         self.min_speed_rpm = float(min_speed_rpm)
-        self.base = simulator(network, lash=self.lash, rtol=rtol, min_speed_rpm=min_speed_rpm)
+        self.jit = bool(jit)
+        if integration == "sequential":  # the network's integrator over the forcing grid (_build_sequential)
+            check_range("forcing_step_deg", forcing_step_deg, 0.0, output_step_deg, low_inclusive=False, unit="deg")
+            self.base = simulator(network, lash=self.lash, rtol=rtol, atol=atol, output_step_deg=forcing_step_deg,
+                                  max_step_deg=max_step_deg, min_speed_rpm=self.min_speed_rpm,
+                                  contact_quadratures=False, max_steps_per_cycle=max_num_steps, jit=self.jit,
+                                  output_functions=False)
+        else:
+            self.base = simulator(network, lash=self.lash, rtol=rtol, min_speed_rpm=min_speed_rpm)
         self.eq = joint_equations(network, self.joints, self.lash)
         self.n_out = round(n_out)
         self.cycle_rad = math.radians(network.cycle_deg)
@@ -337,29 +345,27 @@ class JointSimulator:
         if self.max_step_deg is not None:
             opts["max_step_size"] = math.radians(self.max_step_deg)
         t0 = time.perf_counter()
-        ode = ca.Function("joint_ode", [self.eq.tau, self.eq.x, self.eq.p], [self.eq.rhs], {"cse": True})
-        dae = {"x": self.eq.x, "p": self.eq.p, "t": self.eq.tau, "ode": ode(self.eq.tau, self.eq.x, self.eq.p)}
         self.compiled: dict = {}
-        self.jit = bool(jit)
         if integration == "simultaneous":
+            ode = ca.Function("joint_ode", [self.eq.tau, self.eq.x, self.eq.p], [self.eq.rhs], {"cse": True})
+            dae = {"x": self.eq.x, "p": self.eq.p, "t": self.eq.tau, "ode": ode(self.eq.tau, self.eq.x, self.eq.p)}
             self.integrator = self._build(
                 "joint_cycle", dae["ode"],
                 lambda extra: ca.integrator("joint_cycle", "cvodes", dae, 0.0, self.grid_rad, dict(opts, **extra)),
                 repr(("cvodes", sorted(opts.items()), self.grid_rad.tolist())))
         else:
-            self._build_sequential(network, rtol, atol, opts, output_step_deg, forcing_step_deg, max_num_steps)
+            self._build_sequential(network, opts, output_step_deg, forcing_step_deg)
         self.output_function = self._build("joint_outputs", self.eq.outputs, lambda extra: ca.Function(
             "joint_outputs", [self.eq.tau, self.eq.x, self.eq.p], [self.eq.outputs],
-            dict({"cse": True}, **extra)).map(self.n_out), repr(("map", self.n_out)))
+            dict({"cse": True}, **extra)), "point").map(self.n_out)  # mapped here: a saved map loads slowly
         self._point_outputs = ca.Function("joint_outputs", [self.eq.tau, self.eq.x, self.eq.p], [self.eq.outputs])
         self.build_time_s = time.perf_counter() - t0
         self.options = opts
 
-    def _build_sequential(self, network, rtol, atol, opts, output_step_deg, forcing_step_deg, max_num_steps):
-        """The three functions of ``integration="sequential"``: the network's integrator over the forcing grid,
-        the forcing over that grid, and the slip states' integrator driven by the forcing interpolated linearly."""
-        from .simulate import simulator
-        check_range("forcing_step_deg", forcing_step_deg, 0.0, output_step_deg, low_inclusive=False, unit="deg")
+    def _build_sequential(self, network, opts, output_step_deg, forcing_step_deg):
+        """The functions of ``integration="sequential"`` beside the network's integrator over the forcing grid
+        (``self.base``): the forcing over that grid, and per gear the slip states' integrator driven by the forcing
+        interpolated linearly."""
         ratio = output_step_deg / forcing_step_deg
         if abs(ratio - round(ratio)) > 1e-9 * ratio:
             raise GearoptInputError(f"forcing_step_deg={forcing_step_deg} must divide output_step_deg="
@@ -367,16 +373,12 @@ class JointSimulator:
         self.forcing_stride = round(ratio)
         eq = self.eq
         n_net, n_p_net = eq.n_network, network.equations(lash=self.lash).p.numel()
-        self.network_simulator = simulator(network, lash=self.lash, rtol=rtol, atol=atol,
-                                           output_step_deg=forcing_step_deg, max_step_deg=self.max_step_deg,
-                                           min_speed_rpm=self.min_speed_rpm, contact_quadratures=False,
-                                           max_steps_per_cycle=max_num_steps, jit=self.jit)
         n_fine = self.n_out * self.forcing_stride
         x_net, p_net = eq.x[:n_net], eq.p[:n_p_net]
         self._forcing_point = ca.Function("joint_forcing", [eq.tau, x_net, p_net], [eq.forcing], {"cse": True})
         self.forcing_function = self._build("joint_forcing", eq.forcing, lambda extra: ca.Function(
-            "joint_forcing", [eq.tau, x_net, p_net], [eq.forcing], dict({"cse": True}, **extra)).map(n_fine),
-            repr(("map", n_fine)), inputs=[eq.tau, x_net, p_net])
+            "joint_forcing", [eq.tau, x_net, p_net], [eq.forcing], dict({"cse": True}, **extra)), "point",
+            inputs=[eq.tau, x_net, p_net]).map(n_fine)
         # the slip states are integrated chunk by chunk of the cycle, each chunk with its own forcing table (an
         # interpreted Function copies its inputs on every evaluation: a whole cycle's table would cost more than
         # the slip equations)
@@ -560,10 +562,10 @@ class JointSimulator:
             integrate = BufferedFunction(self.integrator, ["x0", "p"], ["xf"])  # no DM conversions (buffered_call)
             return lambda x, p: integrate(x, p)[0]
         n_net, n_p_net = self.eq.n_network, self.network.equations(lash=self.lash).p.numel()
-        network = BufferedFunction(self.network_simulator.integrator, ["x0", "p"], ["xf"])
+        network = BufferedFunction(self.base.integrator, ["x0", "p"], ["xf"])
         forcing = BufferedFunction(self.forcing_function, [0, 1, 2], [0])
         gears = [(rows, BufferedFunction(f, ["x0", "p"], ["xf"])) for rows, f in zip(self.gear_rows, self.integrators)]
-        grid, stride = self.network_simulator.grid_rad, self.forcing_stride
+        grid, stride = self.base.grid_rad, self.forcing_stride
         per_chunk = self.n_out // self.chunks * stride
 
         def cycle(x, p):

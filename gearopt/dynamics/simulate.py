@@ -83,6 +83,8 @@ class Simulator(IntegratorBuild, Shooting):
     default train -- without them only the sampled contact counts are reported), the budgets ``max_steps_per_cycle``
     (estimated steps per cycle before a run; also CVODES/IDAS ``max_num_steps``) and ``max_wall_time_s`` (checked
     between cycles), each raising :class:`~gearopt.errors.BudgetExceededError` (:mod:`gearopt.dynamics.budget`).
+    ``output_functions=False`` builds the integrator alone (for a caller that evaluates its own outputs on the states,
+    as the friction joints' sequential integration does; :meth:`run` then refuses).
     ``last_cycle_stats``: the integrator statistics (CasADi's, e.g. ``nsteps``, ``nfevals``, ``t_wall_daeF``) of the
     last cycle :meth:`run` integrated.
     """
@@ -103,6 +105,9 @@ class Simulator(IntegratorBuild, Shooting):
         1e-4) and says so in ``Simulation.steady_state_method`` and ``Simulation.shooting``. Raises
         ``GearoptInputError`` below ``min_speed_rpm`` (the impact step limit would not hold).
         """
+        if self.output_function is None:
+            raise GearoptInputError("this simulator was built with output_functions=False: it has no outputs to "
+                                    "record; build it with output_functions=True to run it")
         check_range("speed_rpm", speed_rpm, self.min_speed_rpm, None, unit="rpm")
         cycles = check_int("cycles", cycles, 1, budget.MAX_CYCLES)
         run_in_cycles = check_int("run_in_cycles", run_in_cycles, 0, budget.MAX_CYCLES)
