@@ -295,11 +295,15 @@ class JointSimulator:
     ``integration`` (the coupling is one-way, so the same model either way):
 
     * ``"sequential"`` (default): each cycle integrates the network alone, evaluates the joints' forcing (joint
-      torque and thrust per gear) on its output grid of ``forcing_step_deg``, then integrates the slip states alone
-      driven by that forcing, interpolated linearly. The network keeps its own steps; the joints' stick-slip
-      transitions cost steps of the small slip system only. Approximation: the forcing between grid points is
-      linear (a lash impact of the default train lasts about a degree; the default 0.025 deg puts some 40 points
-      on it); its effect on the results is tested against ``forcing_step_deg`` halved.
+      torque and thrust per gear) on its output grid of ``forcing_step_deg``, then integrates the slip states of
+      each gear alone (in :data:`SLIP_CHUNKS_PER_CYCLE` chunks of the cycle), driven by that forcing interpolated
+      linearly. The network keeps its own steps, and a gear whose joints stick does not take the steps of one whose
+      joints slip. Approximation: the forcing between grid points is linear (a lash impact of the default train
+      lasts about a degree; the default 0.025 deg puts some 40 points on it). Measured: on a ratcheting joint both
+      integrations agree to 1e-5 and a 20x coarser grid moves slip and creep by less than 0.1 % (tested); on the
+      default helical model with lash, on one network trajectory, halving the grid moved the creep of the fits
+      from the weakest up by less than 0.1 %, that of half the weakest fit (a gear whose thrust exceeds its
+      capacity) by 3 % at 3300 rpm and changed its sign at 2500 rpm, where it is below 1 um per cycle.
     * ``"simultaneous"``: network and slip states in one integration (every stick-slip transition also cuts the
       network's steps).
     """
