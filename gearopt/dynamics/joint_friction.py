@@ -148,9 +148,9 @@ class JointEquations:
     The coupling is one-way, so the joints see the network only through their *forcing*: per distinct gear (node,
     gear inertia, thrust signs) the joint torque [N m] and the unscaled thrust [N], ``forcing`` (expressions in
     ``tau``, the network's states ``x[:n_network]`` and ``p``; rows ``2 g`` and ``2 g + 1`` for the gear
-    ``g = gear_of_joint[i]`` of joint ``i``). ``joint_rhs`` and ``joint_outputs`` are the joints' rates and outputs
-    in terms of ``forcing_symbols`` instead (and of the slip states and ``p``), for integrating the joints after
-    the network (:class:`JointSimulator` ``integration="sequential"``)."""
+    ``g = gear_of_joint[i]`` of joint ``i``). ``joint_rhs`` are the joints' rates in terms of ``forcing_symbols``
+    instead (and of the slip states and ``p``), for integrating the joints after the network
+    (:class:`JointSimulator` ``integration="sequential"``)."""
 
     x: ca.SX
     p: ca.SX
@@ -165,7 +165,6 @@ class JointEquations:
     forcing: ca.SX | None = None
     forcing_symbols: ca.SX | None = None
     joint_rhs: ca.SX | None = None
-    joint_outputs: ca.SX | None = None
     gear_of_joint: tuple = ()
 
 
@@ -247,15 +246,15 @@ def joint_equations(network: TorsionalNetwork, joints, lash: bool = True) -> Joi
                     axial * 1e6, nm.sqrt(v_t ** 2 + v_z ** 2), z * 1e6, w]
         out_names += [(q, j.name) for q in JOINT_OUTPUTS]
     forcing, symbols = ca.vertcat(*forcing), ca.vertcat(*symbols)
-    joint_rhs, joint_outputs = ca.vertcat(*rates), ca.vertcat(*outputs)
+    joint_rhs = ca.vertcat(*rates)
     # the network's own equations do not depend on the joint states (one-way coupling)
-    coupled_rhs, coupled_outputs = ca.substitute([joint_rhs, joint_outputs], [symbols], [forcing])
+    coupled_rhs, coupled_outputs = ca.substitute([joint_rhs, ca.vertcat(*outputs)], [symbols], [forcing])
     result = JointEquations(x=ca.vertcat(eq.x, *states), p=ca.vertcat(eq.p, p_joint), tau=eq.tau,
                             rhs=ca.vertcat(eq.rhs, coupled_rhs), outputs=coupled_outputs,
                             parameter_names=list(eq.parameter_names) + extra_names, output_names=out_names,
                             n_network=int(eq.x.numel()), state_offsets=tuple(offsets), thrust_free=tuple(thrust_free),
                             forcing=forcing, forcing_symbols=symbols, joint_rhs=joint_rhs,
-                            joint_outputs=joint_outputs, gear_of_joint=tuple(gear_of))
+                            gear_of_joint=tuple(gear_of))
     network._cache[key] = result
     return result
 
@@ -350,6 +349,7 @@ class JointSimulator:
             opts["max_step_size"] = math.radians(self.max_step_deg)
         t0 = time.perf_counter()
         self.compiled: dict = {}
+        self.integrator = None      # "simultaneous": the one integrator; "sequential": self.integrators, per gear
         if integration == "simultaneous":
             ode = ca.Function("joint_ode", [self.eq.tau, self.eq.x, self.eq.p], [self.eq.rhs], {"cse": True})
             dae = {"x": self.eq.x, "p": self.eq.p, "t": self.eq.tau, "ode": ode(self.eq.tau, self.eq.x, self.eq.p)}
@@ -412,7 +412,6 @@ class JointSimulator:
                 lambda extra, dae=dae, g=g: ca.integrator(f"joint_slip_{g}", "cvodes", dae, 0.0, chunk_grid,
                                                           dict(opts, **extra)),
                 repr(("cvodes", sorted(opts.items()), chunk_grid.tolist())), inputs=[tau, u_mx, p_mx, table]))
-        self.integrator = self.integrators[0]
 
     def _joint_states(self, i: int) -> int:
         """Number of slip states of joint ``i``."""
