@@ -90,6 +90,7 @@ class IntegratorBuild:
         self.last_cycle_stats: dict = {}  # integrator statistics of the last cycle run (Simulator.run)
         self.cycle_rad = cycle_rad
         self.output_function = self.check_function = None
+        self.output_names, self._check_rows = [], []
         if output_functions:
             self._build_output_functions(external_torques)
             self.build_time_s = time.perf_counter() - t0

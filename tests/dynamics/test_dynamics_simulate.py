@@ -160,4 +160,8 @@ def test_simulator_input_errors():
         Simulator(net, method="euler")
     with pytest.raises(GearoptInputError, match="must divide cycle_deg"):
         Simulator(net, output_step_deg=0.7)
+    bare = Simulator(net, lash=True, output_step_deg=1.0, output_functions=False)   # the integrator alone
+    assert bare.output_function is None and bare.output_names == []
+    with pytest.raises(GearoptInputError, match="output_functions=False"):
+        bare.run(1500.0, 1)
     assert sim.max_step_deg == pytest.approx(math.degrees(700 * math.pi / 30 / W_MESH), rel=1e-9)
