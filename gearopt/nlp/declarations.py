@@ -18,7 +18,7 @@ import numpy as np
 
 from gearopt.nlp.entries import (ArrayLike, ConstraintEntry, ParameterEntry, VariableEntry, as_bound, as_elements,
                                     as_mx, caller_source, check_name, check_ordered, check_positive, check_size,
-                                    last_line)
+                                    element_rows, last_line)
 from gearopt.errors import GearoptInputError, InfeasibleProblemError, ViolatedConstraint
 
 
@@ -261,7 +261,7 @@ class Declarations:
         if not new.size:
             return
         idx = new.tolist()
-        scaled = (entry.expr[idx] - ca.DM(entry.ref[new])) / ca.DM(entry.scale[new])
+        scaled = (element_rows(entry.expr, idx) - ca.DM(entry.ref[new])) / ca.DM(entry.scale[new])
         lb = np.where(np.isfinite(entry.lower[new]), 0.0, -np.inf)
         ub = np.where(np.isfinite(entry.upper[new]), (entry.upper[new] - entry.ref[new]) / entry.scale[new], np.inf)
         self._opti.subject_to(self._opti.bounded(ca.DM(lb), scaled, ca.DM(ub)))

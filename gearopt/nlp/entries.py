@@ -236,6 +236,25 @@ def as_mx(expr: Any, owner: str, *, allow_constant: bool = False) -> ca.MX:
     return ca.MX(dm)
 
 
+def element_rows(expr: ca.MX, elements: list[int]) -> ca.MX:
+    """``expr[elements]`` of a column ``expr`` (``elements`` ascending), built from only the blocks that hold them
+    where ``expr`` is a vertical concatenation of dense columns. A slice of a concatenation depends on every block:
+    CasADi evaluates (and differentiates) them all, so a screened constraint whose elements come from independent
+    models -- the LTCA of each relief variant -- would cost every model for the few rows passed to Ipopt."""
+    if expr.op() != ca.OP_VERTCAT:
+        return expr[elements]
+    blocks = [expr.dep(i) for i in range(expr.n_dep())]
+    if any(not b.is_dense() or b.size2() != 1 for b in blocks):
+        return expr[elements]
+    starts = np.cumsum([0] + [b.size1() for b in blocks])
+    which = np.searchsorted(starts, elements, side="right") - 1
+    parts = []
+    for k in dict.fromkeys(which.tolist()):
+        local = (np.asarray(elements)[which == k] - starts[k]).tolist()
+        parts.append(blocks[k] if len(local) == blocks[k].size1() else blocks[k][local])
+    return ca.vertcat(*parts)
+
+
 def last_line(exc: BaseException | None) -> str:
     """The informative last line of a (multi-line) CasADi error message."""
     text = str(exc).strip() if exc is not None else ""

@@ -420,6 +420,28 @@ def test_screened_constraint_rows_by_exchange_reach_the_full_optimum():
     assert f"{result.exchanges} re-solve" in result.report().splitlines()[0]
 
 
+def test_held_back_blocks_of_a_stacked_screened_constraint_stay_out_of_ipopts_functions():
+    """A screened constraint stacked from independent blocks (one model per element, as the LTCAs of relief
+    variants are): Ipopt's constraint functions depend on the blocks of the passed rows only. Each side of the
+    polygon of :func:`_polygon_problem` is its own block with its own offset parameter (1 = the unit circle's
+    tangent); the optimum is the full problem's, and the parameters of sides never passed are not in Opti's g --
+    a plain slice of the stack would depend on (and evaluate) every block."""
+    p = Problem("polygon_blocks")
+    x = p.variable("x", init=0.0, lower=-3.0, upper=3.0)
+    y = p.variable("y", init=0.0, lower=-3.0, upper=3.0)
+    t = np.linspace(0.0, 2.0 * np.pi, 400, endpoint=False)
+    offsets = [p.parameter(f"offset_{i}", 0.0) for i in range(t.size)]
+    p.subject_to("side", ca.vertcat(*[np.cos(a) * x + np.sin(a) * y - r for a, r in zip(t, offsets)]), upper=1.0,
+                 screen=0.05)
+    p.maximize(x + 2.0 * y)
+    result = p.solve()
+    assert result.objective == pytest.approx(_polygon_problem(None).solve().objective, rel=1e-7)
+    in_graph = {str(v) for v in ca.symvar(p.opti.g)}           # symbols of the graph Ipopt's functions evaluate
+    passed = [i for i, r in enumerate(offsets) if str(r) in in_graph]
+    assert 0 < len(passed) <= t.size // 2
+    assert p.opti.ng - 2 == len(passed)                       # one row per passed side (minus the bound rows)
+
+
 def test_screen_must_be_a_nonnegative_margin():
     p = Problem("bad_screen")
     x = p.variable("x", init=0.0, lower=-1.0, upper=1.0)
