@@ -142,7 +142,9 @@ class Declarations:
                 with every element then within ``screen`` of its bound, and the problem is re-solved warm
                 (:data:`~gearopt.nlp.problem.MAX_EXCHANGES` rounds, then every element). The optimum meets the
                 whole constraint; Ipopt's linear algebra and the Jacobian see only the passed rows. Results
-                report every element (a held-back one with a zero multiplier).
+                report every element (a held-back one with a zero multiplier). An ``expr`` stacked with
+                ``vertcat`` from blocks of independent models (one relief variant's LTCA per element) hands Ipopt
+                the blocks of its passed rows only: the held-back models are not evaluated in a solve.
 
         Raises:
             GearoptInputError: duplicate name, no bound, inverted bounds, ``scale <= 0``, a constant expression or

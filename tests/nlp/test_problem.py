@@ -423,8 +423,8 @@ def test_screened_constraint_rows_by_exchange_reach_the_full_optimum():
 def test_held_back_blocks_of_a_stacked_screened_constraint_stay_out_of_ipopts_functions():
     """A screened constraint stacked from independent blocks (one model per element, as the LTCAs of relief
     variants are): Ipopt's constraint functions depend on the blocks of the passed rows only. Each side of the
-    polygon of :func:`_polygon_problem` is its own block with its own offset parameter (1 = the unit circle's
-    tangent); the optimum is the full problem's, and the parameters of sides never passed are not in Opti's g --
+    polygon of :func:`_polygon_problem` is its own block with its own offset parameter (at 0 the side is that
+    polygon's); the optimum is the full problem's, and the parameters of sides never passed are not in Opti's g --
     a plain slice of the stack would depend on (and evaluate) every block."""
     p = Problem("polygon_blocks")
     x = p.variable("x", init=0.0, lower=-3.0, upper=3.0)
