@@ -325,12 +325,13 @@ class WalkOffModel:
         by_state = {}
         for state in self.states:
             tables = [self.tables[(label, float(speed), state)] for speed in self.bands.values()]
-            if not any(np.any(c > 0.0) for _, c in tables):  # no creep off the nose at any fit: never walks off
+            creeps = [bool(np.any(c > 0.0)) for _, c in tables]      # a band with creep off the nose at some fit
+            if not any(creeps):                                       # none: this state never walks off
                 by_state[state] = np.zeros(next(iter(caps.values())).shape[:-1])
                 continue
             rates = []
-            for (b, speed), (log_c, c) in zip(self.bands.items(), tables):
-                creep = np.maximum(np.interp(caps[b], log_c, c), 0.0) if np.any(c > 0.0) else \
+            for (b, speed), (log_c, c), creeps_here in zip(self.bands.items(), tables, creeps):
+                creep = np.maximum(np.interp(caps[b], log_c, c), 0.0) if creeps_here else \
                     np.zeros_like(caps[b])                                      # um per engine cycle
                 rates.append(creep * speed * 30.0 * 1e-3)                     # mm per hour (720 deg cycles)
             by_state[state] = _conditional_walk_off(np.array(rates), medians, sigmas, self._z_hours(),
