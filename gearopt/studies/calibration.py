@@ -224,7 +224,7 @@ class WalkOffModel:
         self.u_mu = {j: rng.uniform(-1.0, 1.0, samples) for j in self.joints}
         self.u_smooth = {j: rng.uniform(-1.0, 1.0, samples) for j in self.joints}
         self.z_hours = {b: rng.standard_normal(samples) for b in bands}
-        self.fits, self.tables = {}, {}
+        self.fits, self.tables, self._creep_free = {}, {}, {}
         states = sorted(envelope["damper_state"].astype(str).unique())
         self.states = tuple(s for s in DAMPER_STATE_NAMES if s in states) + tuple(
             s for s in states if s not in DAMPER_STATE_NAMES)
@@ -247,6 +247,8 @@ class WalkOffModel:
                     k = int(np.searchsorted(cap, demand))
                     cap, c = np.insert(cap, k, demand), np.insert(c, k, 0.0)
             self.tables[(str(label), float(speed), str(state))] = (np.log(cap), c)
+            if np.any(c > 0.0):
+                self._creep_free[(str(label), float(speed), str(state))] = _creep_free_capacity_N(np.log(cap), c)
         self.labels = sorted({k[0] for k in self.tables})
         for j in self.joints:
             self.check_label(j)
@@ -266,16 +268,25 @@ class WalkOffModel:
         """Fit capacity [N] of each sampled engine's ``joint`` at ``band``'s speed under the inputs ``theta``
         (``[engines]``), or for each interference shift of ``shifts_um`` (``[shifts, engines]``, replacing
         ``theta``'s)."""
+        return self._capacities_N(joint, (band,), theta, shifts_um)[band]
+
+    def _capacities_N(self, joint: str, bands, theta: dict, shifts_um=None) -> dict:
+        """{band: :meth:`capacities_N`} for each of ``bands`` (the engines' interference, friction and smoothing
+        drawn once)."""
         mean, sigma, rz, lines = self.fits[joint]
-        slope, loss, mu0 = lines[band]
         shift = float(theta.get(f"{joint}.interference_shift_um", 0.0)) if shifts_um is None else \
             np.asarray(shifts_um, dtype=float)[:, None]
         spread = float(theta.get(f"{joint}.interference_spread_scale", 1.0))
         delta = mean + spread * sigma * self.z_fit[joint] + shift
         mu = float(theta.get("friction_coefficient_mean", 0.12)) * (1.0 + self.u_mu[joint] / 3.0)
         smoothing = np.maximum(float(theta.get("smoothing_factor_mean", 0.6)) + 0.2 * self.u_smooth[joint], 0.0) * rz
-        eff = np.maximum(delta - smoothing - loss, 0.0)
-        return np.maximum(slope * eff * mu / mu0, 1e-3)
+        held = delta - smoothing                                   # interference after smoothing [um]
+        out = {}
+        for band in bands:
+            slope, loss, mu0 = lines[band]
+            eff = np.maximum(held - loss, 0.0)
+            out[band] = np.maximum(slope * eff * mu / mu0, 1e-3)
+        return out
 
     def median_capacity_N(self, joint: str, theta: dict, band: str | None = None) -> float:
         """Axial capacity [N] of the median engine's ``joint`` fit under ``theta`` (mean interference plus the
@@ -311,7 +322,8 @@ class WalkOffModel:
         self.check_label(label)
         distance = float(theta.get("walk_off_distance_mm", 3.0))
         check_range("walk_off_distance_mm", distance, 0.0, None, low_inclusive=False, unit="mm")
-        caps = {b: np.log(np.atleast_2d(self.capacities_N(joint, b, theta, shifts))) for b in self.bands}
+        caps = {b: np.atleast_2d(c) for b, c in self._capacities_N(joint, self.bands, theta, shifts).items()}
+        shape = next(iter(caps.values())).shape
         medians, sigmas = [], []
         for b in self.bands:
             median, sigma = self.exposure[b]
@@ -322,20 +334,34 @@ class WalkOffModel:
             medians.append(median * scale)
             sigmas.append(sigma)
         medians, sigmas = np.array(medians), np.array(sigmas)
+        hours = medians[:, None] * np.exp(sigmas[:, None] * self._z_hours())     # [bands x engines]
         by_state = {}
         for state in self.states:
-            tables = [self.tables[(label, float(speed), state)] for speed in self.bands.values()]
-            creeps = [bool(np.any(c > 0.0)) for _, c in tables]      # a band with creep off the nose at some fit
+            keys = [(label, float(speed), state) for speed in self.bands.values()]
+            tables = [self.tables[k] for k in keys]
+            creeps = [k in self._creep_free for k in keys]           # a band with creep off the nose at some fit
             if not any(creeps):                                       # none: this state never walks off
-                by_state[state] = np.zeros(next(iter(caps.values())).shape[:-1])
+                by_state[state] = np.zeros(shape[:-1])
+                continue
+            # an engine whose fit is creep-free at every band never walks off (probability exactly 0, as the full
+            # computation gives it): only the others are computed
+            live = np.zeros(shape, dtype=bool)
+            for b, k, creeps_here in zip(self.bands, keys, creeps):
+                if creeps_here:
+                    live |= caps[b] < self._creep_free[k]
+            if not live.any():
+                by_state[state] = np.zeros(shape[:-1])
                 continue
             rates = []
             for (b, speed), (log_c, c), creeps_here in zip(self.bands.items(), tables, creeps):
-                creep = np.maximum(np.interp(caps[b], log_c, c), 0.0) if creeps_here else \
-                    np.zeros_like(caps[b])                                      # um per engine cycle
+                creep = np.maximum(np.interp(np.log(caps[b][live]), log_c, c), 0.0) if creeps_here else \
+                    np.zeros(np.count_nonzero(live))                          # um per engine cycle
                 rates.append(creep * speed * 30.0 * 1e-3)                     # mm per hour (720 deg cycles)
-            by_state[state] = _conditional_walk_off(np.array(rates), medians, sigmas, self._z_hours(),
-                                                    distance).mean(axis=-1)
+            engines = np.broadcast_to(np.arange(shape[-1]), shape)[live]
+            conditional = np.zeros(shape)
+            conditional[live] = _conditional_walk_off(np.array(rates), medians, sigmas, hours[:, engines],
+                                                      distance)
+            by_state[state] = conditional.mean(axis=-1)
         weights = damper_weights(theta, self.states)
         return sum(weights[s] * by_state[s] for s in self.states), by_state
 
@@ -356,13 +382,22 @@ def damper_weights(theta: dict, states=DAMPER_STATE_NAMES) -> dict:
     return {s: p.get(s, 0.0) / total if total > 0 else 1.0 / len(states) for s in states}
 
 
-def _conditional_walk_off(rates, medians, sigmas, z, distance):
+def _creep_free_capacity_N(log_capacities, creeps) -> float:
+    """The capacity [N] from which a creep map (creep [um/cycle] at the log-capacities ``log_capacities``, linear in
+    between, constant beyond the ends) gives no creep off the nose: the grid point after its last positive creep
+    (``inf`` if that is the last point), with a relative margin of 1e-9 over its exponential (a capacity just below
+    is computed in full, whose creep there is 0)."""
+    last = int(np.flatnonzero(creeps > 0.0)[-1])
+    return float(np.exp(log_capacities[last + 1]) * (1.0 + 1e-9)) if last + 1 < len(creeps) else math.inf
+
+
+def _conditional_walk_off(rates, medians, sigmas, hours, distance):
     """P(sum_b rates_b h_b >= distance | the hours of every band but the largest contributor) per engine:
-    ``rates`` [bands x ... x engines] mm/h, ``medians``/``sigmas`` per band, ``z`` [bands x engines] standard
-    normals of the hours (common to every leading index of ``rates``)."""
+    ``rates`` [bands x ... x engines] mm/h, ``medians``/``sigmas`` per band, ``hours`` [bands x engines] the sampled
+    hours ``median exp(sigma z)`` (common to every leading index of ``rates``)."""
     shape = rates.shape
     rates = rates.reshape(shape[0], -1, shape[-1])
-    hours = (medians[:, None] * np.exp(sigmas[:, None] * z))[:, None, :]
+    hours = hours[:, None, :]
     mean_hours = medians * np.exp(0.5 * sigmas ** 2)
     # the largest contributor per engine (the first of equals), band by band: cheaper than an argmax over bands
     best, star = rates[0] * mean_hours[0], np.zeros(rates.shape[1:], dtype=int)
@@ -546,8 +581,8 @@ class Calibration:
             c = self.consistent()[u.name]
             cons = [float(c.min()), float(c.max())]
         return {"prior": [u.low, u.high], "prior_scale": u.scale, "nominal": u.nominal, "unit": u.unit,
-                "source": u.source, "posterior": {q: _weighted_quantile(x, w, v) for q, v in
-                                                  (("median", 0.5), ("q05", 0.05), ("q95", 0.95))},
+                "source": u.source, "posterior": dict(zip(("median", "q05", "q95"),
+                                                          _weighted_quantiles(x, w, (0.5, 0.05, 0.95)))),
                 "consistent_range": cons}
 
     def mounting_summary(self, joint: str) -> dict:
@@ -631,7 +666,7 @@ class Calibration:
         v, wt = np.concatenate(values), np.concatenate(weights)
         wt = wt / wt.sum()
         return {"walk_off_probability": float(np.sum(wt * v)),
-                "interval_90": [_weighted_quantile(v, wt, 0.05), _weighted_quantile(v, wt, 0.95)]}
+                "interval_90": _weighted_quantiles(v, wt, (0.05, 0.95))}
 
     def rules_out(self) -> list[str]:
         """What the field evidence rules out, in words: each mounting whose posterior probability is below 1 %, and
@@ -688,13 +723,16 @@ class Calibration:
                                    "dynamics runs (the creep maps), not a re-weighting"}}
 
 
-def _weighted_quantile(x, w, q) -> float:
+def _weighted_quantiles(x, w, qs) -> list[float]:
+    """The weighted quantiles ``qs`` of the values ``x`` with weights ``w`` (the first value whose cumulative
+    weight reaches q of the total; NaN without weight), from one sort."""
     x, w = np.asarray(x, dtype=float), np.asarray(w, dtype=float)
     order = np.argsort(x)
     cw = np.cumsum(w[order])
     if len(x) == 0 or cw[-1] <= 0:
-        return float("nan")
-    return float(x[order][min(np.searchsorted(cw, q * cw[-1]), len(x) - 1)])
+        return [float("nan")] * len(qs)
+    ordered = x[order]
+    return [float(ordered[min(np.searchsorted(cw, q * cw[-1]), len(x) - 1)]) for q in qs]
 
 
 def calibrate_walk_off(model: "WalkOffModel", evidence, inputs=None, *, prior_samples: int = 256,

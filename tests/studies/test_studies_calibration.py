@@ -220,3 +220,39 @@ def test_a_train_without_creep_predicts_exactly_zero():
     spur = WalkOffModel(env.assign(axial_creep_um_per_cycle=0.0), SYSTEM, ["cam"],
                         exposure_hours=RECORD.exposure_hours, samples=200)
     assert cal.predict("cam", model=spur) == {"walk_off_probability": 0.0, "interval_90": [0.0, 0.0]}
+
+
+def test_skipping_creep_free_engines_changes_no_probability():
+    """The estimator computes only the engines whose fit creeps at some speed band; the others walk off with
+    probability exactly 0. Against the plain computation over every engine (each band's creep interpolated on its
+    map, the conditional probability per engine, averaged), on creep maps whose creep stops inside the grid, at
+    the last grid point and never: the same probabilities to the last bit, over a grid of shifts."""
+    from gearopt.studies.calibration import _conditional_walk_off, damper_weights
+    env = synthetic_envelope({"cam": 0.05})
+    last = env["capacity_N"] == env.groupby(["joint", "speed_rpm", "damper_state"])["capacity_N"].transform("max")
+    env.loc[last & (env["damper_state"] == "seized") & (env["speed_rpm"] == env["speed_rpm"].max()),
+            "axial_creep_um_per_cycle"] = 0.02                       # creeps at the strongest fit: every engine live
+    env.loc[env["damper_state"] == "nominal", "axial_creep_um_per_cycle"] = 0.0    # a state that never creeps
+    model = WalkOffModel(env, SYSTEM, ["cam"], exposure_hours=RECORD.exposure_hours, samples=400, seed=5)
+    theta = {**RECORD.nominal_theta(), "friction_coefficient_mean": 0.09}
+    shifts = np.linspace(-20.0, 60.0, 7)
+    got, by_state = model._probabilities("cam", theta, "as_modelled", None, shifts)
+
+    caps = {b: np.atleast_2d(model.capacities_N("cam", b, theta, shifts)) for b in model.bands}
+    medians = np.array([model.exposure[b][0] * theta.get("overspeed_exposure_scale" if "overspeed" in b else
+                                                         "running_exposure_scale", 1.0) for b in model.bands])
+    sigmas = np.array([model.exposure[b][1] for b in model.bands])
+    hours = medians[:, None] * np.exp(sigmas[:, None] * model._z_hours())
+    plain = {}
+    for state in model.states:
+        rates = np.array([np.maximum(np.interp(np.log(caps[b]), *model.tables[("cam", speed, state)]), 0.0)
+                          * speed * 30.0 * 1e-3 for b, speed in model.bands.items()])
+        plain[state] = _conditional_walk_off(rates, medians, sigmas, hours, theta["walk_off_distance_mm"]).mean(
+            axis=-1)
+    weights = damper_weights(theta, model.states)
+    assert set(by_state) == set(plain)
+    for state in plain:
+        assert np.array_equal(by_state[state], plain[state]), state
+    assert np.array_equal(got, sum(weights[s] * plain[s] for s in model.states))
+    assert np.all(by_state["nominal"] == 0.0) and np.all(by_state["seized"] > 0.0)
+    assert 0.0 < by_state["degraded"].min() < by_state["degraded"].max()
