@@ -90,6 +90,7 @@ from ..errors import GearoptInputError, SolveError
 from ..geometry.forces import mesh_torque_Nm
 from ..validation import check_range
 from .buffered_call import BufferedFunction
+from .implicit_steps import implicit_steps
 from .joint_element import (  # noqa: F401 -- the element's names are part of this module's interface
     DEMAND_FLOOR_N,
     STICK_DAMPING_FADE_M_S,
@@ -120,6 +121,14 @@ INTEGRATIONS = ("sequential", "simultaneous")
 #: Most chunks of a cycle in which ``integration="sequential"`` integrates the slip states (each with its own
 #: forcing table; the integrator restarts at each chunk's start).
 SLIP_CHUNKS_PER_CYCLE = 16
+#: Integrators of the slip states of a gear whose joints carry no thrust (:class:`JointSimulator`
+#: ``thrust_free_integrator``).
+THRUST_FREE_INTEGRATORS = ("bdf2", "cvodes")
+#: Newton tolerance of the fixed-step integration, a fraction of the absolute tolerance ``atol`` (a step is accepted
+#: when its largest residual entry is at most ``atol``).
+BDF2_NEWTON_TOLERANCE = 1e-3
+#: Fixed steps per interval of the forcing grid (the forcing linear in between, as CVODES reads it).
+BDF2_STEPS_PER_FORCING_STEP = 2
 
 
 class JointIntegrationError(SolveError):
@@ -305,16 +314,29 @@ class JointSimulator:
       capacity) by 3 % at 3300 rpm and changed its sign at 2500 rpm, where it is below 1 um per cycle.
     * ``"simultaneous"``: network and slip states in one integration (every stick-slip transition also cuts the
       network's steps).
+
+    ``thrust_free_integrator`` (``"sequential"`` only), for a gear on which no mesh puts a thrust (one slip state
+    per joint): ``"bdf2"`` (default) fixed implicit steps, :data:`BDF2_STEPS_PER_FORCING_STEP` per forcing step,
+    each joint copy its own Newton solve (:mod:`gearopt.dynamics.implicit_steps`), so that the copies do not share
+    each other's stick-slip transitions as one adaptive integration does; a chunk whose steps leave a residual
+    above ``atol`` is integrated by CVODES instead (counted in the run's ``stats["fallback_chunks"]``).
+    Approximation, measured on the default spur model's joints: slip path within 0.6 %, key force within 1.5 %,
+    utilisation within 1 % of CVODES; about 2.5x cheaper there. ``"cvodes"``: CVODES as for the other gears.
     """
 
     def __init__(self, network: TorsionalNetwork, joints, *, lash: bool = True, rtol: float = 1e-6,
                  atol: float | None = None, output_step_deg: float = 0.5, max_step_deg: float | None = None,
                  min_speed_rpm: float = 700.0, max_num_steps: int = 2_000_000, jit: bool = False,
-                 integration: str = "sequential", forcing_step_deg: float = 0.025):
+                 integration: str = "sequential", forcing_step_deg: float = 0.025,
+                 thrust_free_integrator: str = "bdf2"):
         from .simulate import simulator
         if integration not in INTEGRATIONS:
             raise GearoptInputError(f"integration={integration!r} must be one of {INTEGRATIONS}")
+        if thrust_free_integrator not in THRUST_FREE_INTEGRATORS:
+            raise GearoptInputError(f"thrust_free_integrator={thrust_free_integrator!r} must be one of "
+                                    f"{THRUST_FREE_INTEGRATORS}")
         self.integration = integration
+        self.thrust_free_integrator = thrust_free_integrator
         self.joints = tuple(joints)
         if not self.joints:
             raise GearoptInputError("joints must name at least one FrictionJoint")
@@ -345,6 +367,7 @@ class JointSimulator:
         self.output_step_deg = float(output_step_deg)
         self.max_step_deg = self.base.max_step_deg if max_step_deg is None else float(max_step_deg)
         opts = {"reltol": float(rtol), "abstol": float(atol), "max_num_steps": int(max_num_steps)}
+        self.atol = float(atol)
         if self.max_step_deg is not None:
             opts["max_step_size"] = math.radians(self.max_step_deg)
         t0 = time.perf_counter()
@@ -394,24 +417,42 @@ class JointSimulator:
         chunk_grid = self.grid_rad[:per_chunk]
         # the joints of each gear in an integration of their own: a gear whose joints stick does not take the
         # steps of one whose joints slip
-        self.gear_rows, self.integrators = [], []
+        self.gear_rows, self.integrators, self.fixed_steps, self._cvodes = [], [], [], []
         u_all = eq.x[n_net:]
+        steps = per_chunk * self.forcing_stride
         for g in range(eq.forcing_symbols.numel() // 2):
-            rows = np.concatenate([np.arange(eq.state_offsets[i], eq.state_offsets[i] + self._joint_states(i))
-                                   for i in range(len(self.joints)) if eq.gear_of_joint[i] == g]).astype(int)
+            members = [i for i in range(len(self.joints)) if eq.gear_of_joint[i] == g]
+            blocks = [np.arange(eq.state_offsets[i], eq.state_offsets[i] + self._joint_states(i)) for i in members]
+            rows = np.concatenate(blocks).astype(int)
+            forcing = eq.forcing_symbols[2 * g:2 * g + 2]
             u = u_all[rows.tolist()]
-            rates = ca.Function(f"joint_rates_{g}", [u, eq.forcing_symbols[2 * g:2 * g + 2], eq.p],
-                                [eq.joint_rhs[rows.tolist()]], {"cse": True})
+            rates = ca.Function(f"joint_rates_{g}", [u, forcing, eq.p], [eq.joint_rhs[rows.tolist()]], {"cse": True})
             tau, u_mx = ca.MX.sym("tau"), ca.MX.sym("u", rows.size)
             p_mx, table = ca.MX.sym("p", eq.p.numel()), ca.MX.sym("forcing_table", 2 * len(grid))
             ode = rates(u_mx, interpolate(tau, table), p_mx)
             dae = {"x": u_mx, "p": ca.vertcat(p_mx, table), "t": tau, "ode": ode}
             self.gear_rows.append(rows)
-            self.integrators.append(self._build(
+            self._cvodes.append(lambda dae=dae, g=g, ode=ode, ins=[tau, u_mx, p_mx, table]: self._build(
                 f"joint_slip_{g}", ode,
-                lambda extra, dae=dae, g=g: ca.integrator(f"joint_slip_{g}", "cvodes", dae, 0.0, chunk_grid,
-                                                          dict(opts, **extra)),
-                repr(("cvodes", sorted(opts.items()), chunk_grid.tolist())), inputs=[tau, u_mx, p_mx, table]))
+                lambda extra: ca.integrator(f"joint_slip_{g}", "cvodes", dae, 0.0, chunk_grid, dict(opts, **extra)),
+                repr(("cvodes", sorted(opts.items()), chunk_grid.tolist())), inputs=ins))
+            if self.thrust_free_integrator == "bdf2" and all(eq.thrust_free[i] for i in members):
+                # joints without thrust: one slip state each, fixed implicit steps on the forcing grid; CVODES is
+                # built only for a chunk those steps do not resolve
+                pairs = [(u_all[b.tolist()], eq.joint_rhs[b.tolist()]) for b in blocks]
+                tol = BDF2_NEWTON_TOLERANCE * self.atol
+                fine = steps * BDF2_STEPS_PER_FORCING_STEP
+                _, one = implicit_steps(f"joint_slip_bdf2_{g}", pairs, forcing, eq.p, fine, tolerance=tol)
+                ins = one.mx_in()
+                self.fixed_steps.append(self._build(
+                    f"joint_slip_bdf2_{g}", ca.vertcat(*one(*ins)),
+                    lambda extra, pairs=pairs, g=g, forcing=forcing, tol=tol: implicit_steps(
+                        f"joint_slip_bdf2_{g}", pairs, forcing, eq.p, fine, tolerance=tol, options=extra)[0],
+                    repr(("bdf2", fine, tol)), inputs=ins))
+                self.integrators.append(None)
+            else:
+                self.fixed_steps.append(None)
+                self.integrators.append(self._cvodes[g]())
 
     def _joint_states(self, i: int) -> int:
         """Number of slip states of joint ``i``."""
@@ -553,6 +594,7 @@ class JointSimulator:
                          "max_key_force_N": float(frames["key_force_N"][j.name].abs().max()),
                          "max_off_nose_thrust_N": float(frames["thrust_N"][j.name].max())})
         stats = {"integration_time_s": time.perf_counter() - t0, "build_time_s": self.build_time_s,
+                 "fallback_chunks": getattr(integrate, "counts", {}).get("fallback_chunks", 0),
                  "cycles_integrated": run_in_cycles + cycles}
         return JointSimulation(speed_rpm=float(speed_rpm), cycles=int(cycles), run_in_cycles=int(run_in_cycles),
                                crank_angle_deg=np.degrees(angle), frames=frames,
@@ -567,9 +609,24 @@ class JointSimulator:
         n_net, n_p_net = self.eq.n_network, self.network.equations(lash=self.lash).p.numel()
         network = BufferedFunction(self.base.integrator, ["x0", "p"], ["xf"])
         forcing = BufferedFunction(self.forcing_function, [0, 1, 2], [0])
-        gears = [(rows, BufferedFunction(f, ["x0", "p"], ["xf"])) for rows, f in zip(self.gear_rows, self.integrators)]
+        calls, counts = {}, {"fallback_chunks": 0}
+
+        def integrator(g):          # CVODES over one chunk of gear g (built on first use for a fixed-step gear)
+            if g not in calls:
+                if self.integrators[g] is None:
+                    self.integrators[g] = self._cvodes[g]()
+                calls[g] = BufferedFunction(self.integrators[g], ["x0", "p"], ["xf"])
+            return calls[g]
+        fixed = {g: BufferedFunction(f, ["start", "forcing_table", "p", "h"], ["trajectory", "residuals"])
+                 for g, f in enumerate(self.fixed_steps) if f is not None}
         grid, stride = self.base.grid_rad, self.forcing_stride
         per_chunk = self.n_out // self.chunks * stride
+        out_chunk = self.n_out // self.chunks
+        sub = BDF2_STEPS_PER_FORCING_STEP
+        h = np.array([grid[0] / sub])
+        at = (np.arange(1, per_chunk * sub + 1) / sub)             # fixed steps' times in forcing steps
+        lower = np.minimum(np.floor(at).astype(int), per_chunk - 1)
+        weight = at - lower
 
         def cycle(x, p):
             p_net = p[:n_p_net]
@@ -577,14 +634,27 @@ class JointSimulator:
             start = np.array(self._forcing_point(0.0, x[:n_net], p_net)).ravel()
             table = np.column_stack([start, forcing(grid, xs_net, np.tile(p_net, grid.size))[0]])
             us = np.empty((x.size - n_net, self.n_out))
-            for g, (rows, integrate) in enumerate(gears):
+            for g, rows in enumerate(self.gear_rows):
                 u = x[n_net + rows]
+                history = np.concatenate([u, u, [0.0]])            # a start by backward Euler
                 for c in range(self.chunks):
                     chunk = table[2 * g:2 * g + 2, c * per_chunk:(c + 1) * per_chunk + 1]
-                    part = integrate(u, np.concatenate([p, chunk.ravel(order="F")]))[0]
-                    us[rows, c * (self.n_out // self.chunks):(c + 1) * (self.n_out // self.chunks)] = part
+                    part = None
+                    if g in fixed:
+                        new = chunk[:, lower] * (1.0 - weight) + chunk[:, lower + 1] * weight
+                        trajectory, residuals = fixed[g](history, new, p, h)
+                        if residuals.max() <= self.atol:
+                            part = trajectory[:rows.size, stride * sub - 1::stride * sub]
+                            history = trajectory[:, -1]
+                        else:
+                            counts["fallback_chunks"] += 1
+                    if part is None:
+                        part = integrator(g)(u, np.concatenate([p, chunk.ravel(order="F")]))[0]
+                        history = np.concatenate([part[:, -1], part[:, -1], [0.0]])
+                    us[rows, c * out_chunk:(c + 1) * out_chunk] = part
                     u = part[:, -1]
             return np.vstack([xs_net[:, stride - 1::stride], us])
+        cycle.counts = counts
         return cycle
 
 

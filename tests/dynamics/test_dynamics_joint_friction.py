@@ -2,6 +2,7 @@
 key and shoulder stops, ratcheting direction, spur limit, regularisation convergence, typed failures."""
 
 import math
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -214,6 +215,8 @@ def test_bad_input_names_the_parameter():
         JointSimulator(gear_on_shaft(), [joint()], lash=False, forcing_step_deg=0.3)
     with pytest.raises(GearoptInputError, match="forcing_step_deg"):
         JointSimulator(gear_on_shaft(), [joint()], lash=False, forcing_step_deg=1.0)
+    with pytest.raises(GearoptInputError, match="thrust_free_integrator='euler'"):
+        JointSimulator(gear_on_shaft(), [joint()], lash=False, thrust_free_integrator="euler")
 
 
 def test_sequential_integration_matches_the_simultaneous_one():
@@ -232,6 +235,37 @@ def test_sequential_integration_matches_the_simultaneous_one():
     assert reference["slip_um_per_cycle"] > 5.0 and reference["axial_creep_um_per_cycle"] > 1.0  # it ratchets
     assert results["sequential"].to_numpy() == pytest.approx(reference.to_numpy(), rel=1e-5)
     assert results["coarse"].to_numpy() == pytest.approx(reference.to_numpy(), rel=1e-3)
+
+
+def test_thrust_free_slip_by_fixed_steps_matches_cvodes():
+    """A spur gear's joints (no thrust: one slip state each) are integrated by fixed BDF2 steps on the forcing grid
+    (the default ``thrust_free_integrator``): on a key-ratcheting spur joint with three capacities, every chunk's
+    steps converge, and slip path, key force and utilisation agree with CVODES at rtol 1e-8 within 0.5 %."""
+    net = gear_on_shaft(0.0, 100.0, 250.0)
+    joints = [replace(joint(1.0, key=10.0, capacity=c), name=f"j{i}") for i, c in enumerate((3000.0, 6000.0, 12000.0))]
+    quantities = ["slip_um_per_cycle", "max_key_force_N", "max_utilisation", "max_rigid_utilisation"]
+    results = {}
+    for integrator in ("cvodes", "bdf2"):
+        sim = JointSimulator(net, joints, lash=False, rtol=1e-8, thrust_free_integrator=integrator)
+        assert all(sim.eq.thrust_free)
+        res = sim.run(SPEED, 2, run_in_cycles=0)
+        assert res.stats["fallback_chunks"] == 0
+        results[integrator] = res.summary[quantities]
+    ref = results["cvodes"]
+    assert ref.loc["j0", "slip_um_per_cycle"] > 20.0 and ref.loc["j0", "max_key_force_N"] > 100.0  # rides the key
+    assert results["bdf2"].to_numpy() == pytest.approx(ref.to_numpy(), rel=5e-3)
+
+
+def test_unresolved_fixed_steps_fall_back_to_cvodes():
+    """A chunk whose fixed steps leave a residual above the absolute tolerance is integrated by CVODES instead (here
+    every chunk, the tolerance made unreachable): the result is CVODES' own, and the run counts the chunks."""
+    net = gear_on_shaft(0.0, 100.0, 250.0)
+    reference = JointSimulator(net, [joint(1.0, key=10.0)], lash=False, thrust_free_integrator="cvodes")
+    sim = JointSimulator(net, [joint(1.0, key=10.0)], lash=False)
+    sim.atol = 1e-300
+    a, b = reference.run(SPEED, 1, run_in_cycles=0), sim.run(SPEED, 1, run_in_cycles=0)
+    assert b.stats["fallback_chunks"] == sim.chunks
+    assert b.summary.to_numpy() == pytest.approx(a.summary.to_numpy(), rel=1e-12, abs=1e-12)
 
 
 def test_walked_distance_counts_four_stroke_cycles():
