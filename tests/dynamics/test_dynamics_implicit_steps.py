@@ -30,7 +30,7 @@ def test_second_order_on_a_stiff_linear_ode():
         h = t_end / n
         t = h * np.arange(1, n + 1)
         exact = b * t - (b / lam_value) * (1 - np.exp(-lam_value * t)) + np.exp(-lam_value * t)
-        traj, res = run([(u, -lam * (u - f))], f, lam, (b * t)[None, :], [lam_value], h, [1.0, 1.0, 0.0])
+        traj, res = run([(u, -lam * (u - f))], f, lam, (b * t)[None, :], [lam_value], h, [1.0, 1.0, 0.0, 0.0])
         errors.append(np.max(np.abs(traj[0] - exact)))
         assert res.max() <= 1e-12
     ratios = np.array(errors[:-1]) / np.array(errors[1:])
@@ -63,7 +63,7 @@ def test_stick_slip_against_the_key_matches_lsoda():
         blocks.append((s, slip_rate(s, f, capacity=c, np_=ca)))
     runs = {}
     for every in (2, 1):                                    # the grid of 1000 steps, then of 2000
-        traj, res = run(blocks, f, ca.SX.sym("unused"), torque[None, every::every], [0.0], every * t[1], [0.0] * 5,
+        traj, res = run(blocks, f, ca.SX.sym("unused"), torque[None, every::every], [0.0], every * t[1], [0.0] * 6,
                         tolerance=1e-13)
         assert res.max() <= 1e-13
         runs[every] = traj
@@ -75,7 +75,7 @@ def test_stick_slip_against_the_key_matches_lsoda():
     coarse = np.max(np.abs(runs[2][0] - ref.y[0][1::2]))
     finer = np.max(np.abs(runs[1][0] - ref.y[0]))
     assert finer < 0.55 * coarse and finer < 5e-3 * span, (coarse / span, finer / span)
-    alone, _ = run(blocks[1:], f, ca.SX.sym("unused"), torque[None, 1:], [0.0], t[1], [0.0] * 3, tolerance=1e-13)
+    alone, _ = run(blocks[1:], f, ca.SX.sym("unused"), torque[None, 1:], [0.0], t[1], [0.0] * 4, tolerance=1e-13)
     assert np.allclose(alone[0], runs[1][1], rtol=0.0, atol=1e-12)    # the other copy: as if integrated alone
     assert not np.allclose(runs[1][0], runs[1][1])
 
