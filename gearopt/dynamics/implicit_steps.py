@@ -9,11 +9,12 @@ Scheme. Step ``k -> k + 1`` of width ``h`` solves, per block, ``R(u1) = u1 - c0 
 F_{k+1}, p) = 0``, with the forcing ``F`` at the new grid point. BDF2: ``(c0, c1, beta) = (4/3, -1/3, 2/3)``,
 second order and L-stable; the first step after a start is backward Euler ``(1, 0, 1)``. Newton from ``u_k``:
 the first full step unless it raises the residual's largest entry more than :data:`FIRST_STEP_GROWTH` times, each
-later one when it lowers that entry; else the best of the step halved up to five times. A step whose iterations do
-not converge is redone by :data:`FALLBACK_SUBSTEPS` backward-Euler substeps (first order there).
-A block stops iterating once that largest entry is at most ``tolerance`` (the remaining iterations are skipped);
-after ``newton_iterations`` it keeps its last iterate. Each step reports the largest residual entry over the blocks,
-so that the caller can judge every step (a step whose residual exceeds its tolerance is not converged).
+later one when it lowers that entry; else the best of the step halved up to five times. A block stops iterating
+once that largest entry is at most ``tolerance`` (the remaining iterations are skipped); a step that has not
+converged after ``newton_iterations`` is redone by :data:`FALLBACK_SUBSTEPS` backward-Euler substeps across it
+(first order there), each solved the same way. Each step reports the largest residual entry over the blocks (of
+the substeps where they were taken), so that the caller can judge every step (a step whose residual exceeds its
+tolerance is not converged).
 
 Accuracy: second order between kinks of ``f``, first order over a step that crosses one (tested: against the closed
 form of a stiff linear ODE, and against SciPy's LSODA on a hub slipping against its key). On the default spur
