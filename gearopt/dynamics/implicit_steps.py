@@ -33,7 +33,8 @@ from ..validation import check_range
 LINE_SEARCH_FRACTIONS = (0.5, 0.25, 0.125, 0.0625, 0.03125)
 #: Growth of the residual's largest entry up to which the first full Newton step of a time step is still taken:
 #: from the previous state the Jacobian may be nearly singular (a block about to slip), the first step then raises
-#: the residual by up to some 100x and the next ones land on the solution. Later steps must lower it.
+#: the residual (by up to about 160x on the default helical joints) and the next ones land on the solution; a
+#: first step that grows it more is shortened like the later ones, which must lower it.
 FIRST_STEP_GROWTH = 1e6
 #: Backward-Euler substeps that redo a step whose Newton iterations did not converge (the forcing linear across it).
 FALLBACK_SUBSTEPS = 8
@@ -152,4 +153,4 @@ def implicit_steps(name: str, blocks, forcing, parameters, steps: int, *, tolera
                        ["trajectory", "residuals"], dict(options or {})), one
 
 
-__all__ = ["LINE_SEARCH_FRACTIONS", "implicit_steps"]
+__all__ = ["FALLBACK_SUBSTEPS", "FIRST_STEP_GROWTH", "LINE_SEARCH_FRACTIONS", "implicit_steps"]

@@ -348,7 +348,8 @@ class WalkOffModel:
             live = np.zeros(shape, dtype=bool)
             for b, k, creeps_here in zip(self.bands, keys, creeps):
                 if creeps_here:
-                    live |= caps[b] < self._creep_free[k]
+                    free = self._creep_free[k]
+                    live |= (caps[b] < free) if math.isfinite(free) else True    # creeps at any capacity
             if not live.any():
                 by_state[state] = np.zeros(shape[:-1])
                 continue

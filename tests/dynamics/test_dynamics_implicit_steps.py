@@ -22,7 +22,7 @@ def run(blocks, forcing_symbols, p_symbols, table, p, h, start, tolerance=1e-12)
 def test_second_order_on_a_stiff_linear_ode():
     """u' = -lam (u - F(t)), F = b t, u(0) = 1: closed form u = b t - (b/lam)(1 - e^(-lam t)) + e^(-lam t). The
     largest error over the steps falls by about 4 per halving of h (BDF2) once lam h <= 1 (the backward-Euler
-    start step's local error is of the same order), and the steady ramp is exact."""
+    start step's local error is of the same order)."""
     u, f, lam = ca.SX.sym("u"), ca.SX.sym("F"), ca.SX.sym("lam")
     b, lam_value, t_end = 2.0, 5.0, 1.0
     errors = []
