@@ -86,7 +86,8 @@ def _block_newton(state, rate, forcing, parameters, tolerance: float, iterations
 
 
 def _block_step(state, rate, forcing, parameters, tolerance: float, iterations: int) -> ca.Function:
-    """``(u_k, u_{k-1}, order, F_k, F_{k+1}, p, h) -> (u_{k+1}, largest residual entry)`` of one block: the implicit
+    """``(u_k, u_{k-1}, order, F_k, F_{k+1}, p, h) -> (u_{k+1}, largest residual entry, 1 where redone by substeps
+    else 0)`` of one block: the implicit
     step of :func:`_block_newton`; where its Newton iterations do not converge, :data:`FALLBACK_SUBSTEPS` backward-
     Euler substeps across the step instead (the forcing linear in between; the residual then the largest of theirs).
     """
@@ -106,7 +107,7 @@ def _block_step(state, rate, forcing, parameters, tolerance: float, iterations: 
     redo = ca.Function.conditional("redo_if_needed", [keep], substeps)         # 0: the step converged
     x1, r1 = newton(u0, um, order, f_new, p, h)
     x2, r2 = redo(r1 > tolerance, x1, r1, *args)
-    return ca.Function("block_step", args, [x2, r2])
+    return ca.Function("block_step", args, [x2, r2, r1 > tolerance])
 
 
 def implicit_steps(name: str, blocks, forcing, parameters, steps: int, *, tolerance: float,
@@ -117,12 +118,12 @@ def implicit_steps(name: str, blocks, forcing, parameters, steps: int, *, tolera
     ``blocks``: ``(state, rate)`` pairs, each ``state`` an SX symbol vector and ``rate`` its time derivative, an SX
     expression of ``state``, of the forcing symbols ``forcing`` and of the parameter symbols ``parameters`` (and of
     no other block's state). Returns ``(function, step)``: ``function(start, forcing_table, p, h) ->
-    (trajectory, residuals)`` with ``start`` = [u_k; u_{k-1}; order; F_k] (the block states stacked in ``blocks``
+    (trajectory, residuals, substeps)`` with ``start`` = [u_k; u_{k-1}; order; F_k] (the block states stacked in ``blocks``
     order, ``order`` 0 for a start by backward Euler, 1 to continue BDF2 from u_{k-1}, the forcing at the start),
     ``forcing_table`` the forcing at the ``steps`` new grid points (columns), ``h`` the step; ``trajectory`` the
     same stack after each step (columns),
-    ``residuals`` the largest residual entry of each step; ``step`` the one-step Function (its graph keys a
-    compile cache). ``options``: CasADi options of ``function`` (e.g. JIT compilation)."""
+    ``residuals`` the largest residual entry of each step, ``substeps`` the number of blocks whose step was redone
+    by substeps; ``step`` the one-step Function (its graph keys a compile cache). ``options``: CasADi options of ``function`` (e.g. JIT compilation)."""
     check_range("steps", steps, 1, None)
     check_range("newton_iterations", newton_iterations, 1, None)
     check_range("tolerance", tolerance, 0.0, None, low_inclusive=False)
@@ -134,23 +135,21 @@ def implicit_steps(name: str, blocks, forcing, parameters, steps: int, *, tolera
     start, f_new = ca.MX.sym("start", 2 * n + 1 + nf), ca.MX.sym("forcing", nf)
     p, h = ca.MX.sym("p", n_p), ca.MX.sym("h")
     now, before, order, f_old = start[:n], start[n:2 * n], start[2 * n], start[2 * n + 1:]
-    ends, residuals, offset = [], [], 0
+    ends, offset = [], 0
+    largest, redone = 0.0, 0.0
     for (state, rate), size in zip(blocks, sizes):
         solve = _block_step(state, rate, forcing, parameters, tolerance, newton_iterations)
-        u, r = solve(now[offset:offset + size], before[offset:offset + size], order, f_old, f_new, p, h)
+        u, r, sub = solve(now[offset:offset + size], before[offset:offset + size], order, f_old, f_new, p, h)
         ends.append(u)
-        residuals.append(r)
+        largest, redone = ca.fmax(largest, r), redone + sub
         offset += size
-    largest = residuals[0]
-    for r in residuals[1:]:
-        largest = ca.fmax(largest, r)
-    one = ca.Function(f"{name}_step", [start, f_new, p, h], [ca.vertcat(*ends, now, 1.0, f_new), largest])
+    one = ca.Function(f"{name}_step", [start, f_new, p, h], [ca.vertcat(*ends, now, 1.0, f_new), largest, redone])
     loop = one.mapaccum(f"{name}_steps", steps)
     s0, table = ca.MX.sym("start", 2 * n + 1 + nf), ca.MX.sym("forcing_table", nf, steps)
     p0, h0 = ca.MX.sym("p", n_p), ca.MX.sym("h")
-    trajectory, res = loop(s0, table, ca.repmat(p0, 1, steps), ca.repmat(h0, 1, steps))
-    return ca.Function(name, [s0, table, p0, h0], [trajectory, res], ["start", "forcing_table", "p", "h"],
-                       ["trajectory", "residuals"], dict(options or {})), one
+    trajectory, res, subs = loop(s0, table, ca.repmat(p0, 1, steps), ca.repmat(h0, 1, steps))
+    return ca.Function(name, [s0, table, p0, h0], [trajectory, res, subs], ["start", "forcing_table", "p", "h"],
+                       ["trajectory", "residuals", "substeps"], dict(options or {})), one
 
 
 __all__ = ["FALLBACK_SUBSTEPS", "FIRST_STEP_GROWTH", "LINE_SEARCH_FRACTIONS", "implicit_steps"]

@@ -249,7 +249,7 @@ def test_thrust_free_slip_by_fixed_steps_matches_cvodes():
         sim = JointSimulator(net, joints, lash=False, rtol=1e-8, thrust_free_integrator=integrator)
         assert all(sim.eq.thrust_free)
         res = sim.run(SPEED, 2, run_in_cycles=0)
-        assert res.stats["fallback_chunks"] == 0
+        assert res.stats["fallback_chunks"] == 0 and res.stats["substep_steps"] >= 0
         results[integrator], slips[integrator] = res.summary[quantities], res.frames["slip_um"].to_numpy()
     ref = results["cvodes"]
     assert ref.loc["j0", "slip_um_per_cycle"] > 20.0 and ref.loc["j0", "max_key_force_N"] > 100.0  # rides the key
@@ -259,15 +259,24 @@ def test_thrust_free_slip_by_fixed_steps_matches_cvodes():
 
 
 def test_unresolved_fixed_steps_fall_back_to_cvodes():
-    """A chunk whose fixed steps leave a residual above the absolute tolerance is integrated by CVODES instead (here
-    every chunk, the tolerance made unreachable): the result is CVODES' own, and the run counts the chunks."""
+    """A chunk whose fixed steps leave a residual above the absolute tolerance is integrated by CVODES instead: with
+    every chunk rejected the result is CVODES' own; with every other chunk rejected the fixed steps restart after
+    each CVODES chunk and the slip follows CVODES' point by point; the run counts the chunks."""
     net = gear_on_shaft(0.0, 100.0, 250.0)
-    reference = JointSimulator(net, [joint(1.0, key=10.0)], lash=False, thrust_free_integrator="cvodes")
-    sim = JointSimulator(net, [joint(1.0, key=10.0)], lash=False)
-    sim.atol = 1e-300
-    a, b = reference.run(SPEED, 1, run_in_cycles=0), sim.run(SPEED, 1, run_in_cycles=0)
+    reference = JointSimulator(net, [joint(1.0, key=10.0)], lash=False, rtol=1e-8, thrust_free_integrator="cvodes")
+    a = reference.run(SPEED, 1, run_in_cycles=0)
+    sim = JointSimulator(net, [joint(1.0, key=10.0)], lash=False, rtol=1e-8)
+    sim._fixed_steps_resolved = lambda residuals: False
+    b = sim.run(SPEED, 1, run_in_cycles=0)
     assert b.stats["fallback_chunks"] == sim.chunks
     assert b.summary.to_numpy() == pytest.approx(a.summary.to_numpy(), rel=1e-12, abs=1e-12)
+    verdicts = iter([True, False] * sim.chunks)
+    sim._fixed_steps_resolved = lambda residuals: next(verdicts)
+    c = sim.run(SPEED, 1, run_in_cycles=0)
+    assert c.stats["fallback_chunks"] == sim.chunks // 2
+    slip_a, slip_c = a.frames["slip_um"].to_numpy(), c.frames["slip_um"].to_numpy()
+    assert slip_a.max() - slip_a.min() > 5.0
+    assert np.abs(slip_c - slip_a).max() < 2e-3 * (slip_a.max() - slip_a.min())
 
 
 def test_walked_distance_counts_four_stroke_cycles():
