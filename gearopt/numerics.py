@@ -315,6 +315,30 @@ def column(values, like=None):
     return ca.DM(flat) if is_casadi(like) else flat
 
 
+def evaluate_stacked(evaluate, exprs) -> list[np.ndarray]:
+    """The values of several expressions of the same symbols by ONE call of ``evaluate`` (``expr -> value``, e.g.
+    :meth:`casadi.Opti.value` at a point or a solve result's ``value``), each flattened column-major to a 1-D array.
+    One call builds one function over all of them, so a model the expressions share (an LTCA evaluation behind every
+    limit of a mesh) is evaluated once instead of once per expression. Numbers pass through unevaluated."""
+    exprs = list(exprs)
+    out: list = [None] * len(exprs)
+    symbolic = []
+    for i, e in enumerate(exprs):
+        if is_numeric(e):
+            number = ca.DM(ca.evalf(e)) if isinstance(e, _SYMBOLIC_TYPES) else e
+            out[i] = np.asarray(number.full() if isinstance(number, ca.DM) else number,
+                                dtype=float).reshape(-1, order="F")
+        else:
+            symbolic.append(i)
+    if symbolic:
+        flat = [ca.vec(exprs[i]) for i in symbolic]
+        values = np.atleast_1d(np.asarray(evaluate(ca.vertcat(*flat)), dtype=float)).reshape(-1, order="F")
+        ends = np.cumsum([int(f.numel()) for f in flat])
+        for i, part in zip(symbolic, np.split(values, ends[:-1])):
+            out[i] = part
+    return out
+
+
 def reshape(x, rows: int, cols: int):
     """Column-major reshape (CasADi convention) for CasADi expressions and numpy arrays alike."""
     if isinstance(x, _CASADI_TYPES):
@@ -427,5 +451,5 @@ __all__ = [
     "is_casadi", "depends_on", "is_symbolic", "is_numeric", "to_float", "value", "sin", "cos", "tan", "asin", "acos", "atan",
     "atan2", "tanh", "exp", "log", "log1p", "sqrt", "fabs", "sign", "floor", "fmax", "fmin", "clip", "where", "vertcat",
     "sum1", "softplus", "sigmoid", "smooth_max", "smooth_min", "smooth_abs", "sqrt_safe", "acos_safe", "involute",
-    "inverse_involute", "INVOLUTE_MAX", "column", "reshape", "symbol", "function", "implicit_scalar_root", "column_max", "column_softmin", "column_sum", "matrix", "hcat", "vcat", "matmul", "row", "repeat_rows",
+    "inverse_involute", "INVOLUTE_MAX", "column", "evaluate_stacked", "reshape", "symbol", "function", "implicit_scalar_root", "column_max", "column_softmin", "column_sum", "matrix", "hcat", "vcat", "matmul", "row", "repeat_rows",
 ]

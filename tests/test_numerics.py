@@ -172,3 +172,30 @@ def test_column_softmin_lies_between_the_minimum_and_width_ln_rows_below_it():
     grad = np.asarray(ca.Function("g", [X], [ca.jacobian(nm.column_softmin(X, w)[0], X)])(x)).reshape(3, 3, order="F")
     weights = np.exp(-(x[:, 0] - x[:, 0].min()) / w)
     np.testing.assert_allclose(grad[:, 0], weights / weights.sum(), rtol=1e-10)
+
+
+def test_evaluate_stacked_is_one_call_with_each_value_of_its_own():
+    """Several expressions evaluated by one call: each value equals its own evaluation (matrices column-major,
+    like ``ca.vec``), numbers pass through without a call, and a shared subexpression needs no second call."""
+    x = ca.MX.sym("x", 2)
+    shared = ca.sin(x[0]) * x[1]
+    exprs = [shared, ca.horzcat(ca.vertcat(x[0], x[1]), ca.vertcat(2 * x[0], shared)), 3.5, np.array([[1.0, 2.0]]),
+             ca.DM([[4.0], [5.0]])]
+    point = [0.7, -1.3]
+    calls = []
+
+    def evaluate(expr):
+        calls.append(expr)
+        return np.asarray(ca.Function("f", [x], [expr])(point))
+
+    out = nm.evaluate_stacked(evaluate, exprs)
+    assert len(calls) == 1
+    s = math.sin(0.7) * -1.3
+    np.testing.assert_allclose(out[0], [s], rtol=1e-15)
+    np.testing.assert_allclose(out[1], [0.7, -1.3, 1.4, s], rtol=1e-15)      # column by column
+    np.testing.assert_array_equal(out[2], [3.5])
+    np.testing.assert_array_equal(out[3], [1.0, 2.0])
+    np.testing.assert_array_equal(out[4], [4.0, 5.0])
+    calls.clear()
+    assert [a.tolist() for a in nm.evaluate_stacked(evaluate, [1.0, ca.DM(2.0)])] == [[1.0], [2.0]]
+    assert calls == []                                       # numbers only: nothing to evaluate

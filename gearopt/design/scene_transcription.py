@@ -383,7 +383,7 @@ class SceneTranscription:
                 upper = upper - self.options.backoff(label)
             if kind.squared:
                 upper, scale, unit = upper ** 2, upper ** 2 / 100.0, f"({unit})^2"
-            if nm.is_numeric(expr) or not nm.depends_on(expr, self.problem.opti.x):   # data only (parametric)
+            if nm.is_numeric(expr) or not self.problem.depends_on_variables(expr):   # data only (parametric)
                 _check_constant(label, self.initial(expr), lower, upper, unit)
                 continue
             screen, fraction = None, self.options.model.spring_limit_screen
@@ -444,9 +444,9 @@ class SceneTranscription:
         (``expr -> value``), at any design."""
         evaluate = evaluate or solved.value
         rows = []
-        for r in self._records:
-            kind, expr = r["kind"], r["expr"]
-            v = np.atleast_1d(np.asarray(expr if nm.is_numeric(expr) else evaluate(expr), dtype=float))
+        # one evaluation of every record: the models they share (each mesh's LTCA) run once, not once per record
+        for r, v in zip(self._records, nm.evaluate_stacked(evaluate, [r["expr"] for r in self._records])):
+            kind = r["kind"]
             if kind.squared:
                 v = np.sqrt(np.maximum(v, 0.0))
             value = {"ppte": np.ptp(v), "max": np.max(v), "min": np.min(v)}.get(kind.shape, float(v.ravel()[0]))

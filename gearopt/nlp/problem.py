@@ -116,6 +116,14 @@ class Problem(Declarations, Evaluation):
         """Names of the constraints, in declaration order."""
         return tuple(self._constraints)
 
+    def depends_on_variables(self, expr: Any) -> bool:
+        """Whether ``expr`` (a CasADi expression or a number) depends on any declared design variable. Cheaper than
+        testing against ``opti.x``: reading that makes CasADi assemble the whole problem again, about 5 ms per read
+        once it carries LTCA limits."""
+        if not isinstance(expr, (ca.MX, ca.SX)) or not self._variables:
+            return False
+        return bool(ca.depends_on(ca.vec(expr), ca.vertcat(*[v.symbol for v in self._variables.values()])))
+
     def __repr__(self) -> str:
         return (f"Problem({self._name!r}: {len(self._variables)} variables, {len(self._parameters)} parameters, "
                 f"{len(self._constraints)} constraints)")

@@ -447,3 +447,18 @@ def test_screen_must_be_a_nonnegative_margin():
     x = p.variable("x", init=0.0, lower=-1.0, upper=1.0)
     with pytest.raises(GearoptInputError, match=r"screen=-0\.5.*below its limit 0"):
         p.subject_to("c", ca.vertcat(x, 2 * x), upper=1.0, screen=-0.5)
+
+
+def test_depends_on_variables_tells_variables_from_parameters_and_numbers():
+    """An expression of a variable depends on the variables; one of a parameter alone, a number or a DM does not
+    (the check a scene makes before imposing a limit, without reading ``opti.x``)."""
+    p = Problem("dependence")
+    assert not p.depends_on_variables(ca.MX(1.0))                 # no variables declared yet
+    x = p.variable("x", init=1.0)
+    k = p.parameter("k", 2.0)
+    assert p.depends_on_variables(x * k + 1.0)
+    assert p.depends_on_variables(ca.vertcat(k, ca.sin(x)))
+    assert not p.depends_on_variables(k ** 2)
+    assert not p.depends_on_variables(3.0)
+    assert not p.depends_on_variables(ca.DM([1.0, 2.0]))
+    assert not p.depends_on_variables(ca.MX.sym("stranger") * k)  # a symbol not declared through the problem
