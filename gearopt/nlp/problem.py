@@ -29,6 +29,7 @@ from typing import Any
 import casadi as ca
 import numpy as np
 
+import gearopt.numerics as nm
 from gearopt.nlp import failures
 from gearopt.nlp.declarations import ConstantConstraint, Declarations
 from gearopt.nlp.entries import ConstraintEntry, ParameterEntry, VariableEntry, check_name, last_line
@@ -120,9 +121,9 @@ class Problem(Declarations, Evaluation):
         """Whether ``expr`` (a CasADi expression or a number) depends on any declared design variable. Cheaper than
         testing against ``opti.x``: reading that makes CasADi assemble the whole problem again, about 5 ms per read
         once it carries LTCA limits."""
-        if not isinstance(expr, (ca.MX, ca.SX)) or not self._variables:
+        if not nm.is_symbolic(expr) or not self._variables:
             return False
-        return bool(ca.depends_on(ca.vec(expr), ca.vertcat(*[v.symbol for v in self._variables.values()])))
+        return nm.depends_on(expr, ca.vertcat(*[v.symbol for v in self._variables.values()]))
 
     def __repr__(self) -> str:
         return (f"Problem({self._name!r}: {len(self._variables)} variables, {len(self._parameters)} parameters, "
