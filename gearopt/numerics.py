@@ -59,6 +59,8 @@ def is_numeric(*xs) -> bool:
 
 def to_float(x) -> float:
     """Convert a numeric scalar (float, 0-d/1-element array, DM, constant SX/MX) to ``float``."""
+    if type(x) is float or type(x) is np.float64:      # the common case, called ~40 times per exact LTCA
+        return float(x)
     if isinstance(x, _SYMBOLIC_TYPES):
         x = ca.DM(ca.evalf(x))
     if isinstance(x, ca.DM):

@@ -41,6 +41,8 @@ def _kind_error(name: str, value, error) -> GearoptInputError:
 
 def as_number(name: str, value, *, error: type[GearoptInputError] = GearoptInputError) -> float:
     """``value`` as a float, rejecting strings, bools, ``None``, complex numbers and non-scalars by name."""
+    if type(value) is float:                            # the common case first (every check_range of a model)
+        return value
     if isinstance(value, (str, bytes, bool, np.bool_)) or value is None or isinstance(value, complex):
         raise _kind_error(name, value, error)
     if isinstance(value, np.ndarray) and value.dtype.kind not in "iuf":

@@ -291,16 +291,17 @@ class BuiltScene:
 
     def exact_check(self, values: Mapping[str, float], evaluate: Callable | None = None, *,
                     train=None, positions: int | None = None, toleranced: bool | Sequence[str] = True,
-                    fractions: bool = True) -> pd.DataFrame:
+                    fractions: bool = True, table: bool = True) -> pd.DataFrame | dict[str, np.ndarray]:
         """Exact LTCA of every LTCA mesh at a design, beside the smooth model's values when ``evaluate``
         (:meth:`ContactModels.exact_check`); ``train``: another numeric train's pairs instead of the scene's (e.g.
         another root profile shift: :func:`gearopt.design.scene_presolve.scan_train_variable`); ``positions``: a
         one-slice mesh's positions instead of ``check_positions`` (the exact screen's ``screen_positions``);
         ``toleranced``: the ``ppte_um_toleranced`` column where a quantity asks for it (False: leave out its relief
         variants, as the exact screen and the polish's steps do; a list of meshes: for those); ``fractions=False``:
-        without the positions of the exact extremes (the refinement's, not the search's)."""
+        without the positions of the exact extremes (the refinement's, not the search's); ``table=False``: the
+        columns as numpy arrays instead of a DataFrame (cheaper where only a few columns are read)."""
         return self.contact.exact_check(values, evaluate, train=train, positions=positions, toleranced=toleranced,
-                                        fractions=fractions)
+                                        fractions=fractions, table=table)
 
     # -- the NLP and its quantities (hooks of gearopt.studies) -------------------------------------------------
 

@@ -463,7 +463,7 @@ class ContactModels:
 
     def exact_check(self, values: Mapping[str, float], evaluate=None, *, train=None,
                     positions: int | None = None, toleranced: bool | Sequence[str] = True,
-                    fractions: bool = True) -> pd.DataFrame:
+                    fractions: bool = True, table: bool = True) -> pd.DataFrame | dict[str, np.ndarray]:
         """Exact LTCA (``check_positions``, the default slices) of every LTCA mesh at the optimum, per load case,
         beside the smooth model's values at the same design (``smooth_*``) and their relative differences
         (``*_error``, relative to the exact value). ``worst_fractions`` lists the mesh positions (fractions of a
@@ -473,7 +473,10 @@ class ContactModels:
         (coarser: the exact screen ranks designs with it). ``ppte_um_toleranced``: the largest exact PPTE over the
         relief variants of a mesh that a ``ppte_um_toleranced`` quantity names (``toleranced=False``: left out; a
         list of meshes: those). ``fractions=False``: without ``worst_fractions`` and ``stress_fractions`` (only the
-        refinement reads them; the exact screen and polish do not)."""
+        refinement reads them; the exact screen and polish do not). ``table=False``: the columns as numpy arrays
+        (``{column: array}``, NaN where a row lacks the column) instead of a DataFrame -- the screen's and the
+        polish's thousands of evaluations read a few columns, and building a DataFrame cost about as much as one
+        exact LTCA."""
         rows, smooth = [], []
         variant_meshes = self._toleranced_meshes() if toleranced is True else set(toleranced or ())
         for mesh in self.ltca_meshes():
@@ -516,7 +519,7 @@ class ContactModels:
             s = _smooth_value(q, v)
             row[f"smooth_{q}"] = s
             row[f"{q}_error"] = abs(s - row[q]) / max(abs(row[q]), 1e-12)
-        return pd.DataFrame(rows)
+        return pd.DataFrame(rows) if table else _columns(rows)
 
     def _dense_smooth_ppte(self, mesh: str, values: Mapping[str, float], lc: LoadCase, positions: int) -> float:
         """PPTE of the smooth model at the optimum on the exact check's uniform grid: separates the error of the
@@ -543,6 +546,23 @@ class ContactModels:
     def _model_positions(self, model) -> int:
         return model.positions if isinstance(model, MacroLTCAModel) else model.layout.positions
 
+
+
+def _columns(rows: list[dict]) -> dict[str, np.ndarray]:
+    """Rows (dicts) as columns of numpy arrays, in the order a DataFrame of them has its columns (NaN where a row
+    lacks a column)."""
+    names = list(dict.fromkeys(k for r in rows for k in r))
+    return {k: _column([r.get(k, np.nan) for r in rows]) for k in names}
+
+
+def _column(values: list) -> np.ndarray:
+    """A 1-D array of ``values``; an object array where they are sequences themselves (positions of extremes)."""
+    if not any(isinstance(v, (list, tuple, np.ndarray)) for v in values):
+        return np.asarray(values)
+    out = np.empty(len(values), dtype=object)
+    for i, v in enumerate(values):
+        out[i] = v
+    return out
 
 
 SMOOTH_COMPARED = ("ppte_um", "max_contact_stress_MPa", "max_root_stress_MPa", "max_contact_temperature_C")

@@ -60,7 +60,7 @@ def scan_train_variable(built, values: Mapping[str, float], variable: str, grid:
                 # without the relief variants of a toleranced PPTE limit (an exact LTCA each): a limit left out
                 # can only widen the feasible interval, so it never pins a variable the NLP could move
                 violations = exact_limit_violations(built, built.exact_check(values, train=trial, toleranced=False,
-                                                                               fractions=False))
+                                                                               fractions=False, table=False))
             row["violation"] = float(sum(violations.values()))
             worst = max(violations, key=violations.get) if violations else ""
             row["worst"] = worst if violations.get(worst, 0.0) > 0.0 else ""

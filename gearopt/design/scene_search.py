@@ -70,22 +70,23 @@ POLISH_STEP = 0.05
 """First simplex of the polish: this fraction of each variable's bound range from the start."""
 
 
-def exact_limit_violations(built, exact: pd.DataFrame) -> dict[str, float]:
+def exact_limit_violations(built, exact: pd.DataFrame | Mapping[str, np.ndarray]) -> dict[str, float]:
     """``{"<quantity> <target>": relative violation}`` of each of the scene's limits on LTCA quantities in the exact
-    check (summed over its load cases; 0 where it is met)."""
+    check (summed over its load cases; 0 where it is met). ``exact``: the exact check's table, or its columns as
+    arrays (``exact_check(..., table=False)``)."""
     out: dict[str, float] = {}
-    if not len(exact):
+    if "mesh" not in exact or not len(exact["mesh"]):
         return out
     # plain arrays, not pandas masks: this runs once per exact evaluation of the screen and the polish
-    mesh, case = exact["mesh"].to_numpy(), exact["load_case"].to_numpy()
+    mesh, case = np.asarray(exact["mesh"]), np.asarray(exact["load_case"])
     for lim in built.scene.limits:
-        if lim.quantity not in EXACT_LIMIT_COLUMNS or lim.quantity not in exact.columns:
+        if lim.quantity not in EXACT_LIMIT_COLUMNS or lim.quantity not in exact:
             continue
         rows = mesh == lim.target
         if lim.load_cases is not None:
             rows &= np.isin(case, list(lim.load_cases))
         key = f"{lim.quantity} {lim.target}"
-        out[key] = out.get(key, 0.0) + _relative_violation(lim, exact[lim.quantity].to_numpy(float)[rows])
+        out[key] = out.get(key, 0.0) + _relative_violation(lim, np.asarray(exact[lim.quantity], dtype=float)[rows])
     return out
 
 
@@ -154,9 +155,9 @@ def exact_geometry_violations(built, values: Mapping[str, float]) -> dict[str, f
     return out
 
 
-def exact_limit_violation(built, exact: pd.DataFrame) -> float:
+def exact_limit_violation(built, exact: pd.DataFrame | Mapping[str, np.ndarray]) -> float:
     """Sum over the scene's limits on LTCA quantities of the exact check's relative violations (0: every exact
-    limit met)."""
+    limit met); ``exact`` as in :func:`exact_limit_violations`."""
     return float(sum(exact_limit_violations(built, exact).values()))
 
 
@@ -167,12 +168,13 @@ def rank_key(objective: float, violation: float) -> tuple[bool, float, float]:
     return over, violation if over else 0.0, objective
 
 
-def exact_ppte_objective(built, exact: pd.DataFrame) -> float:
+def exact_ppte_objective(built, exact: pd.DataFrame | Mapping[str, np.ndarray]) -> float:
     """The scene's objective from the exact check alone, for a scene whose objectives are all PPTE: each
     objective's PPTE over its load cases (largest or mean), weighted and scaled as in the NLP, summed or (with
-    ``objective_aggregate="max"``) their largest."""
+    ``objective_aggregate="max"``) their largest. ``exact`` as in :func:`exact_limit_violations`."""
     names = [lc.name for lc in built.load_cases]
-    mesh, case, ppte = exact["mesh"].to_numpy(), exact["load_case"].to_numpy(), exact["ppte_um"].to_numpy(float)
+    mesh, case = np.asarray(exact["mesh"]), np.asarray(exact["load_case"])
+    ppte = np.asarray(exact["ppte_um"], dtype=float)
     terms = []
     for obj in built.scene.objectives:
         cases = names if obj.load_cases is None else list(obj.load_cases)
@@ -227,7 +229,7 @@ def exact_evaluation(built, values: Mapping[str, float], *, positions: int | Non
     leave them out, the polish's acceptance judges them)."""
     try:
         geometry = sum(exact_geometry_violations(built, values).values())
-        exact = built.exact_check(values, positions=positions, toleranced=toleranced, fractions=False)
+        exact = built.exact_check(values, positions=positions, toleranced=toleranced, fractions=False, table=False)
     except GearoptError:
         return float("inf"), float("inf")
     return exact_ppte_objective(built, exact), exact_limit_violation(built, exact) + geometry

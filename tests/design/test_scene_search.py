@@ -123,3 +123,32 @@ def test_given_multistart_points_are_checked():
         built.problem.multistart(1, variables=names, points=outside)
     ms = built.problem.multistart(1, variables=names, points=np.array([0.5 * (low + high)]), origin="mid")
     assert ms.table["origin"].tolist() == ["mid"] and ms.best is not None
+
+
+def test_the_exact_checks_columns_are_its_tables_columns():
+    """``exact_check(..., table=False)`` (the screen's and the polish's cheaper form) gives the DataFrame's columns
+    as arrays, value for value, and the exact objective and violation read from either agree to the last bit --
+    on a scene with root stress and contact temperature limits, whose rows carry more columns."""
+    from gearopt.design.scene_search import exact_limit_violations, exact_ppte_objective
+
+    scene = Scene("relief", train=go.load_default_train("spur"),
+                  load_cases=[LoadCase(f"T{t:g}", t, speed_rpm=2500.0) for t in TORQUES],
+                  variables=[DesignVariable(v, MESH) for v in RELIEF],
+                  objectives=[Objective("ppte_um", MESH, aggregate="max")],
+                  limits=[Limit("loaded_contact_ratio", MESH, lower=1.45),
+                          Limit("max_root_stress_MPa", MESH, upper=250.0),
+                          Limit("max_contact_temperature_C", MESH, upper=110.0)])
+    built = scene.build()
+    low, high = variable_bounds(built)
+    values = dict(zip(built.variable_names, low + 0.3 * (high - low)))
+    frame = built.exact_check(values, fractions=False)
+    columns = built.exact_check(values, fractions=False, table=False)
+    assert list(columns) == list(frame.columns)
+    for name in frame.columns:
+        np.testing.assert_array_equal(columns[name], frame[name].to_numpy())
+    assert exact_ppte_objective(built, columns) == exact_ppte_objective(built, frame)
+    violations = exact_limit_violations(built, columns)
+    assert violations == exact_limit_violations(built, frame)
+    assert set(violations) == {f"{q} {MESH}" for q in ("loaded_contact_ratio", "max_root_stress_MPa",
+                                                        "max_contact_temperature_C")}
+    assert all(v > 0.0 for v in violations.values())      # a design breaking all three: every sum is read
