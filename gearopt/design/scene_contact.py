@@ -28,7 +28,7 @@ import pandas as pd
 
 from .. import numerics as nm
 from ..contact.layout import default_positions, default_slices, position_fractions
-from ..contact.ltca import ltca
+from ..contact.ltca import ltca, ltca_torques
 from ..contact.ltca_macro import MacroLTCAModel, macro_vector, micro_vector
 from ..contact.ltca_smooth import LTCAModel
 from ..contact.microgeometry import Microgeometry
@@ -491,8 +491,10 @@ class ContactModels:
                       positions=mesh_positions, slices=slices, speed_rpm=speed,
                       bulk_temperature_C=self.options.temperature.bulk_temperature_C,
                       friction_coefficient=self.options.temperature.friction_coefficient)
-            for lc in self.mesh_cases(mesh):
-                r = ltca(pair, lc.mesh_torque_Nm(mesh), microgeometry=mods, **kw)
+            cases = self.mesh_cases(mesh)
+            # the layout, gaps and load curves once for every load case of the mesh (one design, several torques)
+            torques = [lc.mesh_torque_Nm(mesh) for lc in cases]
+            for lc, r in zip(cases, ltca_torques(pair, torques, microgeometry=mods, **kw) if cases else []):
                 row = {"mesh": mesh, "load_case": lc.name, "torque_Nm": lc.mesh_torque_Nm(mesh), "slices": slices,
                        "ppte_um": r.ppte_um, "max_contact_stress_MPa": r.max_contact_stress_MPa,
                        "loaded_contact_ratio": r.loaded_contact_ratio}

@@ -115,3 +115,40 @@ def test_bad_inputs_named(spur):
         ltca(spur, 1.0, stiffness="soft")
     with pytest.raises(GearoptInputError, match="needs a start"):
         Microgeometry(tip_relief_um=(5.0, 0.0))
+
+
+@pytest.mark.parametrize("helix_deg, lead_crown_um", [(0.0, 0.0), (0.0, 6.0), (12.0, 0.0)])
+def test_several_torques_at_once_are_each_torques_own_ltca_to_the_last_bit(helix_deg, lead_crown_um):
+    """``ltca_torques`` shares the layout, gaps and load curves between torques: every output must be that of the
+    torque's own ``ltca`` call exactly (spur one-slice, spur with lead crowning (sliced), helical), including the
+    flash temperature and root stress computed from them, and a torque whose load reaches past a gap the others
+    leave open."""
+    from gearopt.contact.ltca import ltca_torques
+
+    pair = go.GearPair.from_profile_shifts(teeth=(30, 60), profile_shifts=(0.2, -0.1), module_mm=3.0,
+                                           face_width_mm=20.0, helix_angle_deg=helix_deg)
+    mods = Microgeometry(tip_relief_um=(15.0, 10.0), tip_relief_start_diameter_mm=(94.5, 184.0),
+                         lead_crown_um=(lead_crown_um, 0.0))
+    torques = [20.0, 250.0, 900.0]
+    kw = dict(microgeometry=mods, speed_rpm=3000.0, positions=60)
+    together = ltca_torques(pair, torques, **kw)
+    assert len(together) == 3
+    for t, r in zip(torques, together):
+        alone = ltca(pair, t, **kw)
+        for name in ("transmission_error_um", "load_sharing", "load_intensity_N_per_mm", "contact_stress_MPa",
+                     "loaded_pairs", "flash_temperature_rise_K"):
+            np.testing.assert_array_equal(getattr(r, name), getattr(alone, name), err_msg=f"{name} at {t} N m")
+        assert r.max_root_stress_MPa == alone.max_root_stress_MPa
+        assert r.transverse_force_N == alone.transverse_force_N
+    # the torques differ in what they load: the light one leaves relieved contact open that the heavy one closes
+    assert together[0].loaded_contact_ratio < together[2].loaded_contact_ratio
+
+
+def test_several_torques_name_the_bad_one(spur):
+    from gearopt.contact.ltca import ltca_torques
+
+    with pytest.raises(GearoptInputError, match="torque_Nm"):
+        ltca_torques(spur, [100.0, -5.0])
+    with pytest.raises(GearoptInputError, match="torque_Nm"):
+        ltca_torques(spur, [100.0, "high"])
+    assert ltca_torques(spur, []) == []
