@@ -336,6 +336,9 @@ def evaluate_stacked(evaluate, exprs) -> list[np.ndarray]:
         flat = [ca.vec(exprs[i]) for i in symbolic]
         values = np.atleast_1d(np.asarray(evaluate(ca.vertcat(*flat)), dtype=float)).reshape(-1, order="F")
         ends = np.cumsum([int(f.numel()) for f in flat])
+        if values.size != ends[-1]:
+            raise GearoptInputError(f"evaluate_stacked: the evaluation returned {values.size} values for "
+                                    f"{ends[-1]} elements of {len(flat)} expressions")
         for i, part in zip(symbolic, np.split(values, ends[:-1])):
             out[i] = part
     return out

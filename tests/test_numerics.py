@@ -179,8 +179,8 @@ def test_evaluate_stacked_is_one_call_with_each_value_of_its_own():
     like ``ca.vec``), numbers pass through without a call, and a shared subexpression needs no second call."""
     x = ca.MX.sym("x", 2)
     shared = ca.sin(x[0]) * x[1]
-    exprs = [shared, ca.horzcat(ca.vertcat(x[0], x[1]), ca.vertcat(2 * x[0], shared)), 3.5, np.array([[1.0, 2.0]]),
-             ca.DM([[4.0], [5.0]])]
+    exprs = [shared, ca.horzcat(ca.vertcat(x[0], x[1]), ca.vertcat(2 * x[0], shared)), 3.5,
+             np.array([[1.0, 2.0], [3.0, 4.0]]), ca.DM([[4.0], [5.0]])]
     point = [0.7, -1.3]
     calls = []
 
@@ -194,8 +194,10 @@ def test_evaluate_stacked_is_one_call_with_each_value_of_its_own():
     np.testing.assert_allclose(out[0], [s], rtol=1e-15)
     np.testing.assert_allclose(out[1], [0.7, -1.3, 1.4, s], rtol=1e-15)      # column by column
     np.testing.assert_array_equal(out[2], [3.5])
-    np.testing.assert_array_equal(out[3], [1.0, 2.0])
+    np.testing.assert_array_equal(out[3], [1.0, 3.0, 2.0, 4.0])                # numbers column by column too
     np.testing.assert_array_equal(out[4], [4.0, 5.0])
     calls.clear()
     assert [a.tolist() for a in nm.evaluate_stacked(evaluate, [1.0, ca.DM(2.0)])] == [[1.0], [2.0]]
     assert calls == []                                       # numbers only: nothing to evaluate
+    with pytest.raises(GearoptInputError, match="returned 1 values for 2 elements"):
+        nm.evaluate_stacked(lambda expr: np.array([1.0]), [x])   # an evaluator that drops values is caught

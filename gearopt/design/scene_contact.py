@@ -63,6 +63,10 @@ def parse_flank(target: str) -> tuple[str, str]:
     return gear, flank
 
 
+SMOOTH_COMPARED = ("ppte_um", "max_contact_stress_MPa", "max_root_stress_MPa", "max_contact_temperature_C")
+"""The exact check's quantities compared with the smooth model's (``smooth_<q>``, ``<q>_error``)."""
+
+
 class ContactModels:
     """The contact models of a build (module docstring), on its model graph ``graph``
     (:class:`~gearopt.design.scene_models.SceneModels`: pairs, driving gears, the model cache, the design variables,
@@ -549,7 +553,6 @@ class ContactModels:
         return model.positions if isinstance(model, MacroLTCAModel) else model.layout.positions
 
 
-
 def _columns(rows: list[dict]) -> dict[str, np.ndarray]:
     """Rows (dicts) as columns of numpy arrays, in the order a DataFrame of them has its columns (NaN where a row
     lacks a column)."""
@@ -558,17 +561,16 @@ def _columns(rows: list[dict]) -> dict[str, np.ndarray]:
 
 
 def _column(values: list) -> np.ndarray:
-    """A 1-D array of ``values``; an object array where they are sequences themselves (positions of extremes)."""
-    if not any(isinstance(v, (list, tuple, np.ndarray)) for v in values):
+    """A 1-D array of ``values``: numbers or strings as such; an object array where they are sequences themselves
+    (positions of extremes) or strings mixed with a missing value's NaN (as a DataFrame keeps them)."""
+    sequences = any(isinstance(v, (list, tuple, np.ndarray)) for v in values)
+    texts = [isinstance(v, str) for v in values]
+    if not sequences and (all(texts) or not any(texts)):
         return np.asarray(values)
     out = np.empty(len(values), dtype=object)
     for i, v in enumerate(values):
         out[i] = v
     return out
-
-
-SMOOTH_COMPARED = ("ppte_um", "max_contact_stress_MPa", "max_root_stress_MPa", "max_contact_temperature_C")
-"""The exact check's quantities compared with the smooth model's (``smooth_<q>``, ``<q>_error``)."""
 
 
 def _smooth_value(q: str, v: np.ndarray) -> float:

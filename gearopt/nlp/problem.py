@@ -118,9 +118,11 @@ class Problem(Declarations, Evaluation):
         return tuple(self._constraints)
 
     def depends_on_variables(self, expr: Any) -> bool:
-        """Whether ``expr`` (a CasADi expression or a number) depends on any declared design variable. Cheaper than
-        testing against ``opti.x``: reading that makes CasADi assemble the whole problem again, about 5 ms per read
-        once it carries LTCA limits."""
+        """Whether ``expr`` (a CasADi expression or a number) depends on any variable declared so far (through
+        :meth:`variable`; parameters and undeclared symbols do not count). Unlike ``opti.x``, which holds only the
+        variables a constraint or the objective already uses, this counts a variable from its declaration -- and it
+        is cheaper: reading ``opti.x`` makes CasADi assemble the whole problem again, about 5 ms per read once it
+        carries LTCA limits."""
         if not nm.is_symbolic(expr) or not self._variables:
             return False
         return nm.depends_on(expr, ca.vertcat(*[v.symbol for v in self._variables.values()]))

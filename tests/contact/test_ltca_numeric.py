@@ -142,13 +142,37 @@ def test_several_torques_at_once_are_each_torques_own_ltca_to_the_last_bit(helix
         assert r.transverse_force_N == alone.transverse_force_N
     # the torques differ in what they load: the light one leaves relieved contact open that the heavy one closes
     assert together[0].loaded_contact_ratio < together[2].loaded_contact_ratio
+    # and each approach solves its own force balance, checked by a bracketing root finder on the layout's springs
+    from scipy.optimize import brentq
+
+    lay = together[0].layout
+    gap, spring = lay.gaps_um(mods), lay.spring_N_per_um
+    for r in together:
+        for p in range(0, lay.positions, 7):
+            on = lay.on_path[p]
+            e, c = gap[p][on], spring[p][on]
+            ref = brentq(lambda d: float(np.sum(c * np.maximum(d - e, 0.0))) - r.transverse_force_N,
+                         e.min(), e.max() + r.transverse_force_N / c.sum() + 1e-6, xtol=1e-13)
+            assert r.transmission_error_um[p] == pytest.approx(ref, rel=1e-10, abs=1e-10)
 
 
 def test_several_torques_name_the_bad_one(spur):
     from gearopt.contact.ltca import ltca_torques
 
-    with pytest.raises(GearoptInputError, match="torque_Nm"):
+    import casadi as ca
+
+    with pytest.raises(GearoptInputError, match=r"torques_Nm\[1\]=-5"):
         ltca_torques(spur, [100.0, -5.0])
-    with pytest.raises(GearoptInputError, match="torque_Nm"):
+    with pytest.raises(GearoptInputError, match=r"torques_Nm\[1\]"):
         ltca_torques(spur, [100.0, "high"])
+    with pytest.raises(GearoptInputError, match=r"torques_Nm\[2\].*NaN"):
+        ltca_torques(spur, np.array([100.0, 200.0, np.nan]))
+    with pytest.raises(GearoptInputError, match="torques_Nm"):
+        ltca_torques(spur, ca.MX.sym("T", 2))
+    with pytest.raises(GearoptInputError, match="torque_Nm=-1"):      # ltca keeps naming its own parameter
+        ltca(spur, -1.0)
     assert ltca_torques(spur, []) == []
+    # arrays and CasADi numbers are torques too, in their order
+    by_list = ltca_torques(spur, [100.0, 200.0])
+    for given in (np.array([[100.0], [200.0]]), ca.DM([100.0, 200.0]), (100.0, 200.0)):
+        assert [r.ppte_um for r in ltca_torques(spur, given)] == [r.ppte_um for r in by_list]

@@ -128,7 +128,7 @@ def test_given_multistart_points_are_checked():
 def test_the_exact_checks_columns_are_its_tables_columns():
     """``exact_check(..., table=False)`` (the screen's and the polish's cheaper form) gives the DataFrame's columns
     as arrays, value for value, and the exact objective and violation read from either agree to the last bit --
-    on a scene with root stress and contact temperature limits, whose rows carry more columns."""
+    on a scene with root stress and contact temperature limits (columns of their own in every row)."""
     from gearopt.design.scene_search import exact_limit_violations, exact_ppte_objective
 
     scene = Scene("relief", train=go.load_default_train("spur"),
@@ -152,3 +152,23 @@ def test_the_exact_checks_columns_are_its_tables_columns():
     assert set(violations) == {f"{q} {MESH}" for q in ("loaded_contact_ratio", "max_root_stress_MPa",
                                                         "max_contact_temperature_C")}
     assert all(v > 0.0 for v in violations.values())      # a design breaking all three: every sum is read
+
+
+def test_columns_of_uneven_rows_are_the_tables_columns():
+    """Rows lacking a column get NaN there, as a DataFrame gives them; list-valued cells (positions of extremes)
+    and a text column with a missing value stay whole (object arrays), in the DataFrame's column order."""
+    import pandas as pd
+
+    from gearopt.design.scene_contact import _columns
+
+    rows = [{"mesh": "a", "ppte_um": 1.5, "worst_fractions": [0.1, 0.2]},
+            {"mesh": "b", "max_root_stress_MPa": 210.0, "note": "x"},
+            {"mesh": "c", "ppte_um": 3.0, "worst_fractions": [0.3]}]
+    columns, frame = _columns(rows), pd.DataFrame(rows)
+    assert list(columns) == list(frame.columns)
+    np.testing.assert_array_equal(columns["ppte_um"], [1.5, np.nan, 3.0])
+    np.testing.assert_array_equal(columns["max_root_stress_MPa"], [np.nan, 210.0, np.nan])
+    assert list(columns["mesh"]) == ["a", "b", "c"]
+    assert columns["worst_fractions"][0] == [0.1, 0.2] and columns["worst_fractions"][2] == [0.3]
+    assert np.isnan(columns["worst_fractions"][1])
+    assert columns["note"][1] == "x" and np.isnan(columns["note"][0]) and np.isnan(columns["note"][2])

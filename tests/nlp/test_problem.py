@@ -453,11 +453,13 @@ def test_depends_on_variables_tells_variables_from_parameters_and_numbers():
     """An expression of a variable depends on the variables; one of a parameter alone, a number or a DM does not
     (the check a scene makes before imposing a limit, without reading ``opti.x``)."""
     p = Problem("dependence")
-    assert not p.depends_on_variables(ca.MX(1.0))                 # no variables declared yet
-    x = p.variable("x", init=1.0)
     k = p.parameter("k", 2.0)
+    assert not p.depends_on_variables(k * 3.0)                    # no variables declared yet
+    x = p.variable("x", init=1.0)
+    v = p.variable("v", init=[1.0, 2.0], n=2)                     # declared, used by nothing yet
     assert p.depends_on_variables(x * k + 1.0)
     assert p.depends_on_variables(ca.vertcat(k, ca.sin(x)))
+    assert p.depends_on_variables(k * v[1])                       # the second variable, a vector's element
     assert not p.depends_on_variables(k ** 2)
     assert not p.depends_on_variables(3.0)
     assert not p.depends_on_variables(ca.DM([1.0, 2.0]))
