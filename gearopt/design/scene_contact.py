@@ -28,7 +28,7 @@ import pandas as pd
 
 from .. import numerics as nm
 from ..contact.layout import default_positions, default_slices, position_fractions
-from ..contact.ltca import ltca, ltca_torques
+from ..contact.ltca import ltca_torques
 from ..contact.ltca_macro import MacroLTCAModel, macro_vector, micro_vector
 from ..contact.ltca_smooth import LTCAModel
 from ..contact.microgeometry import Microgeometry
@@ -377,15 +377,18 @@ class ContactModels:
     def _toleranced_meshes(self) -> set[str]:
         return {q.target for q in (*self.scene.objectives, *self.scene.limits) if q.quantity == "ppte_um_toleranced"}
 
-    def _exact_toleranced_ppte(self, pair, mesh: str, mods: Microgeometry, lc: LoadCase, ltca_kw: dict,
-                               nominal_um: float) -> float:
-        """Largest exact PPTE of ``mesh`` at ``lc`` over every variant of its reliefs as designed (gears with a
-        relief > 0; sharp starts with ``relief_sharp_start``), the verdict's judgement; ``nominal_um`` where nothing
-        varies."""
+    def _exact_toleranced_ppte(self, pair, mods: Microgeometry, torques: list[float], ltca_kw: dict,
+                               nominal_um: list[float]) -> list[float]:
+        """Largest exact PPTE of a mesh at each of ``torques`` over every variant of its reliefs as designed (gears
+        with a relief > 0; sharp starts with ``relief_sharp_start``), the verdict's judgement; ``nominal_um`` where
+        nothing varies. Each variant's LTCA at every torque at once (:func:`~gearopt.contact.ltca.ltca_torques`)."""
         relieved = [i for i in (0, 1) if float(mods.tip_relief_um[i]) > 0.0]
         variants = relief_variants(mods, pair.geometry(), self.options.tolerance.tolerances, relieved)
-        return max((float(ltca(pair, lc.mesh_torque_Nm(mesh), microgeometry=v.microgeometry, **ltca_kw).ppte_um)
-                    for v in variants), default=nominal_um)
+        if not variants:
+            return list(nominal_um)
+        ppte = np.array([[float(r.ppte_um) for r in ltca_torques(pair, torques, microgeometry=v.microgeometry,
+                                                                 **ltca_kw)] for v in variants])
+        return [float(v) for v in ppte.max(axis=0)]
 
     def _ltca_data(self, mesh: str, model: LTCAModel) -> dict[str, Any]:
         """A parametric build's LTCA data as NLP parameters (:meth:`LTCAModel.evaluate`'s data keywords), each
@@ -498,7 +501,10 @@ class ContactModels:
             cases = self.mesh_cases(mesh)
             # the layout, gaps and load curves once for every load case of the mesh (one design, several torques)
             torques = [lc.mesh_torque_Nm(mesh) for lc in cases]
-            for lc, r in zip(cases, ltca_torques(pair, torques, microgeometry=mods, **kw) if cases else []):
+            results = ltca_torques(pair, torques, microgeometry=mods, **kw) if cases else []
+            toleranced = self._exact_toleranced_ppte(pair, mods, torques, kw, [r.ppte_um for r in results]) \
+                if cases and mesh in variant_meshes else None
+            for k, (lc, r) in enumerate(zip(cases, results)):
                 row = {"mesh": mesh, "load_case": lc.name, "torque_Nm": lc.mesh_torque_Nm(mesh), "slices": slices,
                        "ppte_um": r.ppte_um, "max_contact_stress_MPa": r.max_contact_stress_MPa,
                        "loaded_contact_ratio": r.loaded_contact_ratio}
@@ -514,8 +520,8 @@ class ContactModels:
                     neighbours = self.options.refinement.refine_neighbours
                     row["worst_fractions"] = extreme_fractions(r.transmission_error_um, at, neighbours=neighbours)
                     row["stress_fractions"] = peak_fractions(peaks, at, neighbours)
-                if mesh in variant_meshes:
-                    row["ppte_um_toleranced"] = self._exact_toleranced_ppte(pair, mesh, mods, lc, kw, r.ppte_um)
+                if toleranced is not None:
+                    row["ppte_um_toleranced"] = toleranced[k]
                 if evaluate is not None:
                     row["smooth_dense_ppte_um"] = self._dense_smooth_ppte(mesh, values, lc, mesh_positions)
                     smooth += [(row, q, self.elements(q, mesh, lc)) for q in SMOOTH_COMPARED if q in row]
