@@ -305,21 +305,22 @@ def evaluator_for(built) -> ExactEvaluator:
 # -- the two methods ------------------------------------------------------------------------------------------------
 
 class _CountingLTCA:
-    """Wraps the exact solver the scene's exact check calls, counting the calls."""
+    """Wraps the exact solver the scene's exact check calls (``ltca_torques``: one design at several torques),
+    counting the exact LTCAs: one per torque, as separate ``ltca`` calls would count them."""
 
     def __init__(self, fun):
         self.fun, self.calls = fun, 0
 
-    def __call__(self, *args, **kwargs):
-        self.calls += 1
-        return self.fun(*args, **kwargs)
+    def __call__(self, pair, torques, *args, **kwargs):
+        self.calls += len(torques)
+        return self.fun(pair, torques, *args, **kwargs)
 
 
 def run_gearopt(scene: Scene, starts: int | None) -> dict:
     """``scene.build().solve(starts=starts)`` (``None``: ``solve()``, the default starts), timed (CPU and wall) with
     its exact LTCA calls counted."""
-    counter = _CountingLTCA(scene_contact.ltca)
-    scene_contact.ltca = counter
+    counter = _CountingLTCA(scene_contact.ltca_torques)
+    scene_contact.ltca_torques = counter
     try:
         w0, c0 = time.perf_counter(), time.process_time()
         built = scene.build()
@@ -328,7 +329,7 @@ def run_gearopt(scene: Scene, starts: int | None) -> dict:
         result = built.solve(starts=starts)
         cpu, wall = time.process_time() - c0, time.perf_counter() - w0
     finally:
-        scene_contact.ltca = counter.fun
+        scene_contact.ltca_torques = counter.fun
     ref = result.refinement
     polish = ref.attrs.get("polish") if ref is not None else None
     if result.starts is not None and "refined_ipopt_iterations" in result.starts:    # every start's solves
