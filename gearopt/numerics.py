@@ -456,5 +456,7 @@ __all__ = [
     "is_casadi", "depends_on", "is_symbolic", "is_numeric", "to_float", "value", "sin", "cos", "tan", "asin", "acos", "atan",
     "atan2", "tanh", "exp", "log", "log1p", "sqrt", "fabs", "sign", "floor", "fmax", "fmin", "clip", "where", "vertcat",
     "sum1", "softplus", "sigmoid", "smooth_max", "smooth_min", "smooth_abs", "sqrt_safe", "acos_safe", "involute",
-    "inverse_involute", "INVOLUTE_MAX", "column", "evaluate_stacked", "reshape", "symbol", "function", "implicit_scalar_root", "column_max", "column_softmin", "column_sum", "matrix", "hcat", "vcat", "matmul", "row", "repeat_rows",
+    "inverse_involute", "INVOLUTE_MAX", "column", "evaluate_stacked", "reshape", "symbol", "function",
+    "implicit_scalar_root", "column_max", "column_softmin", "column_sum", "matrix", "hcat", "vcat", "matmul", "row",
+    "repeat_rows",
 ]

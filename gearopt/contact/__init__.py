@@ -1,7 +1,8 @@
 """Tooth contact: microgeometry, mesh stiffness, tip-relief physics and loaded tooth contact analysis (LTCA).
 
 :class:`Microgeometry`, :func:`ltca`, :class:`LTCAModel` and :func:`harris_map` are imported from gearopt itself
-(``gearopt.__all__``); :func:`ltca_torques` (one design at several torques) from here; the ISO 6336-1 stiffness the LTCA uses is in :mod:`gearopt.rating`."""
+(``gearopt.__all__``); :func:`ltca_torques` (one design at several torques) from here; the ISO 6336-1 stiffness the
+LTCA uses is in :mod:`gearopt.rating`."""
 
 from .harris import harris_map
 from .layout import MeshLayout, mesh_layout
@@ -13,7 +14,8 @@ from .potential_energy import (ANCHOR_CONVENTIONS, PotentialEnergyOptions, poten
                                potential_energy_single_stiffness, potential_energy_stiffness_profile)
 from .tip_relief import governing_tip_relief_um, min_tip_relief_table, min_tip_relief_um
 
-__all__ = ["MeshLayout", "mesh_layout", "LTCAResult", "ltca_torques", "SmoothLTCAResult", "MacroLTCAModel", "MacroLTCAResult",
+__all__ = ["MeshLayout", "mesh_layout", "LTCAResult", "ltca_torques", "SmoothLTCAResult", "MacroLTCAModel",
+           "MacroLTCAResult",
            "ANCHOR_CONVENTIONS", "PotentialEnergyOptions", "potential_energy_mesh_stiffness",
            "potential_energy_single_stiffness", "potential_energy_stiffness_profile", "governing_tip_relief_um",
            "min_tip_relief_table", "min_tip_relief_um"]
