@@ -2,7 +2,8 @@
 
 - :class:`Problem`: named, scaled variables, parameters and constraints; a pre-solve check of the initial guess;
   typed solve failures naming the worst violated constraints and the source line that declared them; a plain-data
-  :class:`ProblemResult` with variable and constraint tables (margins, multipliers, activity).
+  :class:`ProblemResult` with variable and constraint tables (margins, multipliers, activity); a
+  :class:`WarmStartPoint` of a solution to start a later solve from (in this process or another).
 - :func:`multistart`: Latin-hypercube starts with every start's outcome tabled.
 - :func:`solve_elastic`: the least weighted relaxation that makes an infeasible problem feasible, by constraint name.
 
@@ -16,8 +17,8 @@ from gearopt.nlp.precheck import Finding, InitialGuessReport, InitialGuessWarnin
 from gearopt.nlp.result import ProblemResult
 from gearopt.nlp.elastic import ElasticResult, solve_elastic
 from gearopt.nlp.multistart import MultiStartResult, multistart
-from gearopt.nlp.problem import DEFAULT_CASADI_OPTIONS, DEFAULT_IPOPT_OPTIONS, Problem
+from gearopt.nlp.problem import DEFAULT_CASADI_OPTIONS, DEFAULT_IPOPT_OPTIONS, Problem, WarmStartPoint
 
-__all__ = ["Problem", "ProblemResult", "InitialGuessReport", "InitialGuessWarning", "Finding",
+__all__ = ["Problem", "WarmStartPoint", "ProblemResult", "InitialGuessReport", "InitialGuessWarning", "Finding",
            "DEFAULT_IPOPT_OPTIONS", "DEFAULT_CASADI_OPTIONS", "ElasticResult", "solve_elastic", "MultiStartResult",
            "multistart", "register_internal_package"]

@@ -47,6 +47,16 @@ MAX_EXCHANGES = 4
 element of the constraints still broken to Ipopt: the exchange then ends in at most one more solve."""
 
 
+@dataclasses.dataclass(frozen=True)
+class WarmStartPoint:
+    """A solution of a :class:`Problem` to warm-start a later solve from: the scaled variables by name and the
+    constraint multipliers (Ipopt's order). It is plain data: it pickles, so a solve in another process of a
+    problem built the same way can start from it (``Problem.solve(warm_start=point)``)."""
+
+    x_scaled: dict
+    multipliers: np.ndarray
+
+
 class Problem(Declarations, Evaluation):
     """A named optimal-design problem on top of one :class:`casadi.Opti` instance.
 
@@ -147,15 +157,25 @@ class Problem(Declarations, Evaluation):
         report.raise_if_bad()
         return report
 
-    def solve(self, *, warm_start: bool = False, verbose: bool = False,
+    def warm_start_point(self) -> WarmStartPoint | None:
+        """The last successful solution (scaled variables and constraint multipliers) as a :class:`WarmStartPoint`,
+        None before the first one: ``solve(warm_start=point)`` starts there later, after other solves of this
+        problem or in another process."""
+        if not self._previous_x or self._previous_lam is None:
+            return None
+        return WarmStartPoint({k: np.array(v, dtype=float) for k, v in self._previous_x.items()},
+                              np.array(self._previous_lam, dtype=float))
+
+    def solve(self, *, warm_start: bool | WarmStartPoint = False, verbose: bool = False,
               casadi_options: dict[str, Any] | None = None, elastic_on_failure: bool = False,
               **ipopt_options: Any) -> ProblemResult:
         """Run the pre-solve check, then Ipopt; return the result or raise a typed error.
 
         Args:
             warm_start: start from the previous successful solution (primal and constraint multipliers) instead
-                of the declared initial guesses. Ipopt uses the multipliers only with
-                ``warm_start_init_point="yes"``.
+                of the declared initial guesses, or from a :class:`WarmStartPoint` (:meth:`warm_start_point`; its
+                multipliers are used where their count matches this problem's constraints). Ipopt uses the
+                multipliers only with ``warm_start_init_point="yes"``.
             verbose: Ipopt iteration log (``print_level`` 5) and CasADi timings.
             casadi_options: extra or overriding CasADi ``nlpsol`` options (e.g. ``{"expand": True}``).
             elastic_on_failure: when Ipopt fails, also run :meth:`solve_elastic` (default mode, same options and
@@ -271,9 +291,13 @@ class Problem(Declarations, Evaluation):
                 f"np={self._opti.np}, ng={self._opti.ng}; declared {nx}, {np_}, {self._ng}); declare variables, "
                 f"parameters and constraints through Problem so that they can be reported by name")
 
-    def _start(self, warm_start: bool) -> dict[str, np.ndarray]:
-        """Scaled start point: previous solution (warm start, where available) or the declared initial guess
-        (completed by :attr:`start_completion`)."""
+    def _start(self, warm_start: bool | WarmStartPoint) -> dict[str, np.ndarray]:
+        """Scaled start point: a given warm-start point, the previous solution (warm start, where available) or the
+        declared initial guess (completed by :attr:`start_completion`)."""
+        if isinstance(warm_start, WarmStartPoint):
+            return {name: (np.asarray(warm_start.x_scaled[name], dtype=float).reshape(v.init.shape)
+                           if name in warm_start.x_scaled else v.init / v.scale)
+                    for name, v in self._variables.items()}
         if warm_start and self._previous_x:
             return {name: (self._previous_x[name] if name in self._previous_x else v.init / v.scale)
                     for name, v in self._variables.items()}
@@ -283,7 +307,10 @@ class Problem(Declarations, Evaluation):
                 self._variables[name].init = np.asarray(value, dtype=float).reshape(self._variables[name].init.shape)
         return {name: v.init / v.scale for name, v in self._variables.items()}
 
-    def _start_multipliers(self, warm_start: bool) -> np.ndarray:
+    def _start_multipliers(self, warm_start: bool | WarmStartPoint) -> np.ndarray:
+        if isinstance(warm_start, WarmStartPoint):       # another problem's order may differ: only an equal count
+            lam = warm_start.multipliers
+            return np.array(lam, dtype=float) if lam.size == self._ng else np.zeros(self._ng)
         lam = self._previous_lam
         if warm_start and lam is not None and lam.size <= self._ng:   # rows passed since: zero multipliers
             return np.concatenate([lam, np.zeros(self._ng - lam.size)])
@@ -310,4 +337,4 @@ class Problem(Declarations, Evaluation):
         return stats if "return_status" in stats else None
 
 
-__all__ = ["Problem", "ConstantConstraint", "DEFAULT_IPOPT_OPTIONS", "DEFAULT_CASADI_OPTIONS"]
+__all__ = ["Problem", "WarmStartPoint", "ConstantConstraint", "DEFAULT_IPOPT_OPTIONS", "DEFAULT_CASADI_OPTIONS"]

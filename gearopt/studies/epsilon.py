@@ -27,7 +27,7 @@ from .. import numerics as nm
 from ..design.scene import Limit, Scene
 from ..design.scene_terms import quantity_kind
 from ..errors import GearoptInputError, SolveError
-from ..nlp import InitialGuessWarning
+from ..nlp import InitialGuessWarning, WarmStartPoint
 
 LOOSE = 1e6
 """|ε| that leaves the front constraint inactive (the objective's own optimum), in the quantity's unit."""
@@ -117,11 +117,12 @@ class EpsilonModel:
 
     # -- solving -----------------------------------------------------------------------------------------------------
 
-    def solve(self, epsilon: float | None, *, start: Mapping[str, Any] | None = None, warm: bool = False,
-              objective: str = "scene", starts: int = 1):
+    def solve(self, epsilon: float | None, *, start: Mapping[str, Any] | None = None,
+              warm: bool | WarmStartPoint = False, objective: str = "scene", starts: int = 1):
         """Solve with the front constraint at ``epsilon`` (``None``: loose). ``objective``: ``"scene"`` (the scene's
         objective) or ``"quantity"`` (the quantity itself: the other end of the front). ``start``: variable values
-        to start from (a neighbour's point); ``warm``: start from the previous solve (primal and multipliers);
+        to start from (a neighbour's point); ``warm``: start from the previous solve (primal and multipliers) or
+        from a neighbour's :class:`~gearopt.nlp.WarmStartPoint` (its solve's primal and multipliers);
         ``starts`` > 1: also ``starts - 1`` Latin-hypercube starts of the design variables, the best optimum."""
         p, sense = self.problem, self.spec.sense
         if objective == "quantity":

@@ -202,6 +202,8 @@ def pareto_front(scene: Scene, quantity: str, target: str, points: int = 11, exe
     first = interior if not refine else max(1, interior // 2)
     grid = list(np.linspace(q_a, q_b, first + 2)[1:-1])
     chunks = [list(c) for c in np.array_split(np.asarray(grid), min(segments, len(grid))) if len(c)]
+    # the first grid starts from the objective's optimum by its values only: that end's multipliers (front
+    # constraint loose) led the nested contact form to a worse local optimum of the first points (measured)
     a_values = end_rows[0]["_values"]
     with using_executor(executor, workers=workers, progress=progress) as ex:
         for part in ex.map(run_segment, [(spec, chunk, a_values) for chunk in chunks], desc="front"):
@@ -218,12 +220,15 @@ def pareto_front(scene: Scene, quantity: str, target: str, points: int = 11, exe
     return _front(model, rows, ends)
 
 
-def run_segment(task: tuple[FrontSpec, list[float], dict[str, Any]]) -> list[dict[str, Any]]:
-    """Executor task: the ε values of one piece of a front, the first started from ``start`` (a neighbour's
-    variable values), the next ones warm-started from the previous point. Failures are recorded."""
-    spec, eps_list, start = task
+def run_segment(task: tuple) -> list[dict[str, Any]]:
+    """Executor task ``(spec, eps_list, start[, warm_point])``: the ε values of one piece of a front, the first
+    started from ``start`` (a neighbour's variable values) -- warm from ``warm_point`` (the neighbour's solve's
+    :class:`~gearopt.nlp.WarmStartPoint`) where given --, the next ones warm-started from the previous point.
+    Failures are recorded."""
+    spec, eps_list, start = task[:3]
     model = epsilon_model(spec)
-    rows, previous, warm = [], start, False
+    rows, previous = [], start
+    warm = task[3] if len(task) > 3 and task[3] is not None else False
     for eps in eps_list:
         rows.append(_point(model, float(eps), previous, warm))
         warm = rows[-1]["status"] == OK
@@ -249,7 +254,7 @@ def _sense(scene: Scene, quantity: str, target: str, kind, sense: str | None) ->
 def _ends(model, starts: int) -> tuple[dict[str, dict[str, float]], list[dict[str, Any]]]:
     """The objective's optimum (front constraint loose) and the lexicographic optimum of the quantity."""
     a = model.solve(None, starts=starts)
-    row_a = _record(model, a, None)
+    row_a = _record(model, a, None, warm=starts == 1)  # several starts: the last solve need not be the best
     b_only = model.solve(None, objective="quantity", start=a.values, starts=starts)
     q_b = model.quantity_value(b_only)
     slack = 1e-7 * max(abs(q_b), model.kind.scale)
@@ -262,11 +267,13 @@ def _ends(model, starts: int) -> tuple[dict[str, dict[str, float]], list[dict[st
     return ends, [row_a, row_b]
 
 
-def _point(model, eps: float, start: dict[str, Any], warm: bool) -> dict[str, Any]:
-    """One ε point: warm-started from the previous solve (primal values and multipliers) when ``warm``, else from
-    the neighbour's values ``start``; on failure one retry from ``start`` without multipliers."""
+def _point(model, eps: float, start: dict[str, Any], warm) -> dict[str, Any]:
+    """One ε point: warm-started (primal values and multipliers) from the previous solve when ``warm`` is True or
+    from a neighbour's :class:`~gearopt.nlp.WarmStartPoint`, else from the neighbour's values ``start``; on failure
+    one retry from ``start`` without multipliers."""
     try:
-        return _record(model, model.solve(eps, warm=True) if warm else model.solve(eps, start=start), eps)
+        return _record(model, model.solve(eps, warm=warm) if warm is not False else model.solve(eps, start=start),
+                       eps)
     except SolveError as first:
         if warm:
             try:
@@ -280,8 +287,9 @@ def _point(model, eps: float, start: dict[str, Any], warm: bool) -> dict[str, An
         return row
 
 
-def _record(model, solved, eps: float | None) -> dict[str, Any]:
-    """A point's row: status, front values, design variables, quantities, margins and limit multipliers."""
+def _record(model, solved, eps: float | None, *, warm: bool = True) -> dict[str, Any]:
+    """A point's row: status, front values, design variables, quantities, margins and limit multipliers; with
+    ``warm`` (``solved`` is the model's last solve) also its warm-start point (``_warm``) for a neighbour."""
     built, spec = model.built, model.spec
     table = built.quantity_table(solved)
     row: dict[str, Any] = {"epsilon": np.nan if eps is None else eps, "status": OK, "error": "",
@@ -302,7 +310,8 @@ def _record(model, solved, eps: float | None) -> dict[str, Any]:
     mult = float(solved.multipliers["front.epsilon_limit"])
     slope = mult * (2.0 * eps if model.kind.squared and eps is not None else 1.0) * factor
     row.update(_objective=objective, _quantity=quantity, front_slope=slope if eps is not None else 0.0,
-               _values={k: (np.array(v) if np.ndim(v) else float(v)) for k, v in solved.values.items()})
+               _values={k: (np.array(v) if np.ndim(v) else float(v)) for k, v in solved.values.items()},
+               _warm=model.problem.warm_start_point() if warm else None)
     return row
 
 
@@ -343,7 +352,7 @@ def _refinement_tasks(spec: FrontSpec, rows: list[dict[str, Any]], missing: int,
         eps = 0.5 * (ok[i]["_quantity"] + ok[i + 1]["_quantity"])
         if round(eps, 12) in tried:
             continue
-        tasks.append((spec, [eps], ok[i]["_values"]))
+        tasks.append((spec, [eps], ok[i]["_values"], ok[i].get("_warm")))
     return tasks
 
 
@@ -355,6 +364,7 @@ def _front(model, rows: list[dict[str, Any]], ends: dict[str, dict[str, float]])
         r[obj_col] = r.pop("_objective")
         r[q_col] = r.pop("_quantity")
         r.pop("_values", None)
+        r.pop("_warm", None)
     table = pd.DataFrame(rows)
     order = np.where(table["status"] == OK, table[q_col], table["epsilon"])
     table = table.iloc[np.argsort(-order if spec.sense == "min" else order, kind="stable")].reset_index(drop=True)

@@ -196,6 +196,47 @@ def test_warm_start_and_option_change():
     assert p.solver_builds == 2
 
 
+def constrained_rosenbrock(radius: float) -> Problem:
+    """min (1 - x)^2 + 100 (y - x^2)^2 s.t. x^2 + y^2 <= r: the disc cuts the valley below (1, 1) for r < 2."""
+    p = Problem("rosenbrock_disc")
+    r = p.parameter("r", value=radius)
+    x = p.variable("x", init=0.0)
+    y = p.variable("y", init=0.0)
+    p.subject_to("disc", x ** 2 + y ** 2 - r, upper=0.0)
+    p.minimize((1 - x) ** 2 + 100 * (y - x ** 2) ** 2)
+    return p
+
+
+def test_warm_start_point_carries_a_solution_to_another_problem_built_the_same_way():
+    import pickle
+
+    from scipy.optimize import minimize
+
+    from gearopt.nlp import WarmStartPoint
+
+    first = constrained_rosenbrock(1.5)
+    assert first.warm_start_point() is None
+    first.solve()
+    point = pickle.loads(pickle.dumps(first.warm_start_point()))       # e.g. to a worker process
+    assert isinstance(point, WarmStartPoint) and point.multipliers.size == 1 and point.multipliers[0] != 0.0
+    warm_options = {"warm_start_init_point": "yes", "warm_start_bound_push": 1e-6,
+                    "warm_start_mult_bound_push": 1e-6, "mu_init": 1e-4}
+    cold = constrained_rosenbrock(1.6).solve()
+    other = constrained_rosenbrock(1.6)
+    warm = other.solve(warm_start=point, **warm_options)
+    # SciPy's SLSQP on the same problem (an independent solver) gives the optimum both must reach
+    ref = minimize(lambda v: (1 - v[0]) ** 2 + 100 * (v[1] - v[0] ** 2) ** 2, [0.0, 0.0], method="SLSQP",
+                   constraints=[{"type": "ineq", "fun": lambda v: 1.6 - v[0] ** 2 - v[1] ** 2}],
+                   options={"ftol": 1e-12, "maxiter": 500})
+    for res in (cold, warm):
+        assert [res.values["x"], res.values["y"]] == pytest.approx(list(ref.x), abs=1e-5)
+    assert warm.iterations < cold.iterations
+    # a point of a problem with another number of constraints: its multipliers are not used (zeros), no error
+    foreign = WarmStartPoint(dict(point.x_scaled), np.array([1.0, 2.0]))
+    again = constrained_rosenbrock(1.6).solve(warm_start=foreign)
+    assert again.values["x"] == pytest.approx(ref.x[0], abs=1e-5)
+
+
 def test_value_of_any_expression_at_solution():
     p, k, x = parametric_problem()
     res = p.solve()
