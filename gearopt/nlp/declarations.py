@@ -312,6 +312,9 @@ class Declarations:
                 raise GearoptInputError(f"objective has shape {mx.shape}; limit: a scalar (1x1)")
             sc = as_elements(scale, 1, owner=owner, what="scale")
             check_positive(sc, owner=owner, what="scale")
+            if (ca.is_equal(mx, self._objective, 0) and sense == self._sense
+                    and float(sc[0]) == self._objective_scale):
+                return       # the objective it has: no new NLP solver (building one costs as much as a solve)
             self._objective, self._sense, self._objective_scale = mx, sense, float(sc[0])
             self._opti.minimize(sense * mx / self._objective_scale)
             self._touch()

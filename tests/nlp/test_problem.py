@@ -196,6 +196,29 @@ def test_warm_start_and_option_change():
     assert p.solver_builds == 2
 
 
+def test_setting_the_same_objective_again_keeps_the_solver_and_another_one_rebuilds_it():
+    p = Problem("objectives")
+    x = p.variable("x", init=0.0)
+    y = p.variable("y", init=0.0)
+    p.subject_to("sum_min", x + y, lower=1.0)
+    distance = x ** 2 + y ** 2
+    p.minimize(distance)
+    p.solve()
+    p.minimize(distance)                  # the objective it has (same expression, sense and scale): no rebuild
+    again = p.solve()
+    assert p.solver_builds == 1 and again.values["x"] == pytest.approx(0.5, abs=1e-7)
+    p.minimize(x ** 2 + y ** 2)           # a new expression (equal in value): a new objective, one rebuild
+    p.solve()
+    assert p.solver_builds == 2
+    p.minimize(x ** 2 + y ** 2, scale=2.0)
+    p.minimize(distance, scale=2.0)       # the same expression at another scale is another objective
+    p.solve()
+    assert p.solver_builds == 3
+    p.maximize(-distance, scale=2.0)      # another expression and sense
+    res = p.solve()
+    assert p.solver_builds == 4 and res.values["y"] == pytest.approx(0.5, abs=1e-7)
+
+
 def constrained_rosenbrock(radius: float) -> Problem:
     """min (1 - x)^2 + 100 (y - x^2)^2 s.t. x^2 + y^2 <= r: the disc cuts the valley below (1, 1) for r < 2."""
     p = Problem("rosenbrock_disc")
