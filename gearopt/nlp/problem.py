@@ -294,9 +294,10 @@ class Problem(Declarations, Evaluation):
     def _start(self, warm_start: bool | WarmStartPoint) -> dict[str, np.ndarray]:
         """Scaled start point: a given warm-start point, the previous solution (warm start, where available) or the
         declared initial guess (completed by :attr:`start_completion`)."""
-        if isinstance(warm_start, WarmStartPoint):
-            return {name: (np.asarray(warm_start.x_scaled[name], dtype=float).reshape(v.init.shape)
-                           if name in warm_start.x_scaled else v.init / v.scale)
+        if isinstance(warm_start, WarmStartPoint):      # a variable it lacks (or of another size): its init
+            given = {name: np.asarray(x, dtype=float) for name, x in warm_start.x_scaled.items()}
+            return {name: (given[name].reshape(v.init.shape)
+                           if name in given and given[name].size == v.init.size else v.init / v.scale)
                     for name, v in self._variables.items()}
         if warm_start and self._previous_x:
             return {name: (self._previous_x[name] if name in self._previous_x else v.init / v.scale)

@@ -254,8 +254,9 @@ def test_warm_start_point_carries_a_solution_to_another_problem_built_the_same_w
     for res in (cold, warm):
         assert [res.values["x"], res.values["y"]] == pytest.approx(list(ref.x), abs=1e-5)
     assert warm.iterations < cold.iterations
-    # a point of a problem with another number of constraints: its multipliers are not used (zeros), no error
-    foreign = WarmStartPoint(dict(point.x_scaled), np.array([1.0, 2.0]))
+    # a point of a problem with another number of constraints and another size of y: its multipliers and y are
+    # not used (zeros, y's declared start), no error
+    foreign = WarmStartPoint({**point.x_scaled, "y": np.zeros(3)}, np.array([1.0, 2.0]))   # y: another size
     again = constrained_rosenbrock(1.6).solve(warm_start=foreign)
     assert again.values["x"] == pytest.approx(ref.x[0], abs=1e-5)
 
