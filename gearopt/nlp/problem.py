@@ -56,6 +56,18 @@ class WarmStartPoint:
     x_scaled: dict
     multipliers: np.ndarray
 
+    def __post_init__(self):
+        if not isinstance(self.x_scaled, dict) or not all(isinstance(k, str) for k in self.x_scaled):
+            raise GearoptInputError(f"WarmStartPoint x_scaled={self.x_scaled!r} must be a dict of variable name -> "
+                                    f"values")
+        x = {k: np.atleast_1d(np.asarray(v, dtype=float)) for k, v in self.x_scaled.items()}
+        lam = np.atleast_1d(np.asarray(self.multipliers, dtype=float)).ravel()
+        for name, values in [*x.items(), ("multipliers", lam)]:
+            if not np.all(np.isfinite(values)):
+                raise GearoptInputError(f"WarmStartPoint {name}={values!r}: every value must be finite")
+        object.__setattr__(self, "x_scaled", x)
+        object.__setattr__(self, "multipliers", lam)
+
 
 class Problem(Declarations, Evaluation):
     """A named optimal-design problem on top of one :class:`casadi.Opti` instance.
@@ -295,7 +307,7 @@ class Problem(Declarations, Evaluation):
         """Scaled start point: a given warm-start point, the previous solution (warm start, where available) or the
         declared initial guess (completed by :attr:`start_completion`)."""
         if isinstance(warm_start, WarmStartPoint):      # a variable it lacks (or of another size): its init
-            given = {name: np.asarray(x, dtype=float) for name, x in warm_start.x_scaled.items()}
+            given = warm_start.x_scaled
             return {name: (given[name].reshape(v.init.shape)
                            if name in given and given[name].size == v.init.size else v.init / v.scale)
                     for name, v in self._variables.items()}
@@ -311,7 +323,7 @@ class Problem(Declarations, Evaluation):
     def _start_multipliers(self, warm_start: bool | WarmStartPoint) -> np.ndarray:
         if isinstance(warm_start, WarmStartPoint):       # another problem's order may differ: only an equal count
             lam = warm_start.multipliers
-            return np.array(lam, dtype=float) if lam.size == self._ng else np.zeros(self._ng)
+            return lam.copy() if lam.size == self._ng else np.zeros(self._ng)
         lam = self._previous_lam
         if warm_start and lam is not None and lam.size <= self._ng:   # rows passed since: zero multipliers
             return np.concatenate([lam, np.zeros(self._ng - lam.size)])

@@ -259,6 +259,11 @@ def test_warm_start_point_carries_a_solution_to_another_problem_built_the_same_w
     foreign = WarmStartPoint({**point.x_scaled, "y": np.zeros(3)}, np.array([1.0, 2.0]))   # y: another size
     again = constrained_rosenbrock(1.6).solve(warm_start=foreign)
     assert again.values["x"] == pytest.approx(ref.x[0], abs=1e-5)
+    # bad points are refused by name
+    with pytest.raises(GearoptInputError, match="x_scaled"):
+        WarmStartPoint([1.0, 2.0], np.zeros(1))
+    with pytest.raises(GearoptInputError, match="multipliers"):
+        WarmStartPoint({"x": 1.0}, np.array([np.nan]))
 
 
 def test_value_of_any_expression_at_solution():

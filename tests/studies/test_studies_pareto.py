@@ -154,3 +154,34 @@ def test_a_point_warm_started_from_its_neighbours_solve_reaches_the_same_optimum
     assert warm["_objective"] == pytest.approx(cold["_objective"], rel=1e-6)
     assert warm["_quantity"] == pytest.approx(cold["_quantity"], rel=1e-6)
     assert warm["iterations"] < cold["iterations"]
+
+
+def test_a_front_with_refinement_on_another_train_and_other_names(tmp_path):
+    # the packaged minimal pair with its gears renamed: the ends, the first grid and the refinement points (warm
+    # from their neighbours) all solve, and the front trades PPTE for loaded contact ratio monotonically
+    import re
+
+    import gearopt as go
+    from gearopt.data import default_data_path, train_from_data
+    from gearopt.design.scene import DesignVariable, LoadCase, Limit, Scene
+
+    text = (default_data_path().parent / "minimal_train.toml").read_text(encoding="utf-8")
+    for old, new in {"pinion": "sun_gear", "wheel": "drum_gear"}.items():
+        text = re.sub(rf"\b{old}\b", new, text)
+    path = tmp_path / "renamed.toml"
+    path.write_text(text, encoding="utf-8")
+    system = go.load_system(path)
+    mesh = "sun_gear-drum_gear"
+    torque = system.meshes[mesh].design_torque_Nm
+    scene = Scene("other train", train=train_from_data(system.data, "spur"),
+                  load_cases=[LoadCase(f"T{f:g}", f * torque) for f in (0.5, 1.0)],
+                  variables=[DesignVariable(v, mesh) for v in RELIEF],
+                  objectives=[Objective("ppte_um", mesh, aggregate="max")],
+                  limits=[Limit(LCR, mesh, lower=1.1)], ltca_options={"positions": 24})
+    front = pareto_front(scene, LCR, mesh, points=5)
+    table = front.table
+    assert len(table) == 5 and (table["status"] == OK).all()
+    q, o = table[front.quantity_column].to_numpy(), table[front.objective_column].to_numpy()
+    order = np.argsort(q)
+    assert np.all(np.diff(o[order]) >= -1e-6 * np.abs(o).max())      # more contact ratio costs PPTE
+    assert q.max() > q.min() + 1e-3
