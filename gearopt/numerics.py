@@ -16,7 +16,10 @@ Prefer exact epigraph formulations in NLPs (``t >= g_i``) where Ipopt can own th
 
 from __future__ import annotations
 
+import dataclasses
 import math
+import warnings
+from collections import OrderedDict
 
 import casadi as ca
 import numpy as np
@@ -379,6 +382,174 @@ def implicit_scalar_root(name: str, residual, n_params: int, *, abstol: float = 
     return ca.rootfinder(name, "newton", g, {"abstol": abstol, "max_iter": max_iter, "error_on_fail": True})
 
 
+# ----------------------------------------------------------------------------------------------------------------
+# models traced once into SX kernels
+# ----------------------------------------------------------------------------------------------------------------
+
+#: Most kernels :func:`traced_call` keeps per process (least recently used dropped first).
+TRACED_KERNELS_MAX = 256
+_TRACED: "OrderedDict[tuple, tuple]" = OrderedDict()
+_TRACED_STATS = {"traced": 0, "reused": 0}
+
+
+def _map_leaves(obj, leaf):
+    """``(copy, changed)``: ``obj`` with every CasADi ``SX``/``MX`` in it replaced by ``leaf(x)``, looking into
+    dicts, lists, tuples, object arrays and dataclass fields (rebuilt with ``dataclasses.replace``); ``obj`` itself
+    where nothing changed."""
+    if isinstance(obj, _SYMBOLIC_TYPES):
+        return leaf(obj), True
+    if isinstance(obj, dict):
+        items = [(k, *_map_leaves(v, leaf)) for k, v in obj.items()]
+        return (dict((k, v) for k, v, _ in items), True) if any(c for _, _, c in items) else (obj, False)
+    if isinstance(obj, (list, tuple)) and not hasattr(obj, "_fields"):
+        items = [_map_leaves(v, leaf) for v in obj]
+        return (type(obj)(v for v, _ in items), True) if any(c for _, c in items) else (obj, False)
+    if isinstance(obj, np.ndarray) and obj.dtype == object:
+        items = [_map_leaves(v, leaf) for v in obj.ravel()]
+        if not any(c for _, c in items):
+            return obj, False
+        out = np.empty(obj.shape, dtype=object)
+        out.ravel()[:] = [v for v, _ in items]
+        return out, True
+    if dataclasses.is_dataclass(obj) and not isinstance(obj, type):
+        changes = {}
+        for f in dataclasses.fields(obj):
+            v, changed = _map_leaves(getattr(obj, f.name), leaf)
+            if changed:
+                if not f.init:
+                    raise TypeError(f"{type(obj).__name__}.{f.name} holds a CasADi expression but is not an init field")
+                changes[f.name] = v
+        return (dataclasses.replace(obj, **changes), True) if changes else (obj, False)
+    return obj, False
+
+
+def _leaves(obj, out: list) -> list:
+    """The CasADi ``SX``/``MX`` values in ``obj`` (the containers of :func:`_map_leaves`, in its order)."""
+    if isinstance(obj, _SYMBOLIC_TYPES):
+        out.append(obj)
+    elif isinstance(obj, dict):
+        for v in obj.values():
+            _leaves(v, out)
+    elif isinstance(obj, (list, tuple)) and not hasattr(obj, "_fields"):
+        for v in obj:
+            _leaves(v, out)
+    elif isinstance(obj, np.ndarray) and obj.dtype == object:
+        for v in obj.ravel():
+            _leaves(v, out)
+    elif dataclasses.is_dataclass(obj) and not isinstance(obj, type):
+        for f in dataclasses.fields(obj):
+            _leaves(getattr(obj, f.name), out)
+    return out
+
+
+def _skeleton_key(obj):
+    """A hashable description of ``obj`` with its CasADi ``SX``/``MX`` leaves reduced to their shapes: two inputs
+    of equal key give the same traced kernel."""
+    if isinstance(obj, _SYMBOLIC_TYPES):
+        return ("symbolic", type(obj).__name__, obj.shape)
+    if isinstance(obj, dict):
+        return ("dict", tuple((repr(k), _skeleton_key(v)) for k, v in obj.items()))
+    if isinstance(obj, (list, tuple)) and not hasattr(obj, "_fields"):
+        return (type(obj).__name__, tuple(_skeleton_key(v) for v in obj))
+    if isinstance(obj, np.ndarray):
+        if obj.dtype == object:
+            return ("objects", obj.shape, tuple(_skeleton_key(v) for v in obj.ravel()))
+        return ("array", obj.dtype.str, obj.shape, obj.tobytes())
+    if isinstance(obj, ca.DM):
+        return ("DM", obj.shape, tuple(obj.nonzeros()), tuple(obj.sparsity().get_triplet()[0]))
+    if dataclasses.is_dataclass(obj) and not isinstance(obj, type):
+        return (type(obj).__module__, type(obj).__qualname__,
+                tuple((f.name, _skeleton_key(getattr(obj, f.name))) for f in dataclasses.fields(obj)))
+    if obj is None or isinstance(obj, (bool, int, float, str, bytes, np.generic)):
+        return (type(obj).__name__, obj)
+    return (type(obj).__module__, type(obj).__qualname__, repr(obj))
+
+
+def traced_call(fn, *args, **kwargs):
+    """``fn(*args, **kwargs)`` for a dual-typed model ``fn`` whose arguments hold CasADi expressions, evaluated as
+    one call of an ``SX`` kernel that is traced once per process and reused.
+
+    The CasADi ``SX``/``MX`` values in the arguments (in dicts, lists, tuples and dataclass fields) become the
+    kernel's inputs: ``fn`` runs once on ``SX`` symbols in their place, the ``SX`` values of its result (the same
+    containers) become the kernel's outputs, and every call with arguments of the same numbers and shapes calls that
+    kernel on its own expressions. Against building ``fn`` on ``MX`` directly: the same values and derivatives (an
+    ``SX`` graph of the same operations), a graph of one call node instead of one node per operation (an NLP built
+    on it evaluates, differentiates and expands faster), and a model built once per process instead of once per
+    use. A result value that depends on no input comes back a number; the warnings ``fn`` raised while traced are
+    raised again at every call (a caller that records them sees them each time). Arguments without CasADi values:
+    ``fn`` is called directly. Keeps at most :data:`TRACED_KERNELS_MAX` kernels."""
+    collected = (args, kwargs)
+    inputs = _leaves(collected, [])
+    if not inputs:
+        return fn(*args, **kwargs)
+    if any(isinstance(x, ca.SX) for x in inputs) and any(isinstance(x, ca.MX) for x in inputs):
+        return fn(*args, **kwargs)                         # a kernel takes one kind of expression
+    key = (getattr(fn, "__module__", ""), getattr(fn, "__qualname__", repr(fn)), _skeleton_key(collected))
+    entry = _TRACED.get(key)
+    if entry is None:
+        symbols: list = []
+        traced_args, _ = _map_leaves(collected, lambda x: symbols.append(ca.SX.sym(f"in{len(symbols)}",
+                                                                                   x.sparsity())) or symbols[-1])
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            result = fn(*traced_args[0], **traced_args[1])
+        outputs: list = []
+
+        def output(x):
+            if not isinstance(x, ca.SX):           # an MX in the result: not from the traced symbols
+                raise TypeError(f"{getattr(fn, '__name__', fn)} returned an MX value from SX inputs")
+            if x.is_constant():
+                return to_float(x) if x.numel() == 1 else np.array(ca.DM(x))
+            outputs.append(x)
+            return _Slot(len(outputs) - 1)
+        skeleton, _ = _map_leaves(result, output)
+        kernel = ca.Function(f"traced_{getattr(fn, '__name__', 'model')}", symbols, outputs, {"cse": True})
+        entry = (kernel, skeleton, [(w.message, w.category, w.filename, w.lineno) for w in caught])
+        _TRACED[key] = entry
+        _TRACED_STATS["traced"] += 1
+        while len(_TRACED) > TRACED_KERNELS_MAX:
+            _TRACED.popitem(last=False)
+    else:
+        _TRACED.move_to_end(key)
+        _TRACED_STATS["reused"] += 1
+    kernel, skeleton, raised = entry
+    for message, category, filename, lineno in raised:
+        warnings.warn_explicit(message, category, filename, lineno)
+    values = kernel.call(inputs)
+    return _fill_slots(skeleton, values)
+
+
+class _Slot:
+    """Place of a kernel output in a traced result's skeleton."""
+    __slots__ = ("index",)
+
+    def __init__(self, index: int):
+        self.index = index
+
+
+def _fill_slots(obj, values):
+    """``obj`` with every :class:`_Slot` replaced by its value (the containers of :func:`_map_leaves`)."""
+    if isinstance(obj, _Slot):
+        return values[obj.index]
+    if isinstance(obj, dict):
+        return {k: _fill_slots(v, values) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)) and not hasattr(obj, "_fields"):
+        return type(obj)(_fill_slots(v, values) for v in obj)
+    if isinstance(obj, np.ndarray) and obj.dtype == object:
+        out = np.empty(obj.shape, dtype=object)
+        out.ravel()[:] = [_fill_slots(v, values) for v in obj.ravel()]
+        return out
+    if dataclasses.is_dataclass(obj) and not isinstance(obj, type):
+        changes = {f.name: _fill_slots(getattr(obj, f.name), values) for f in dataclasses.fields(obj) if f.init}
+        return dataclasses.replace(obj, **changes)
+    return obj
+
+
+def traced_kernel_stats() -> dict:
+    """Counts of :func:`traced_call`'s kernels traced and reused in this process, and how many it keeps."""
+    return {**_TRACED_STATS, "kept": len(_TRACED)}
+
+
 
 def column_max(x):
     """Maximum of every column of a matrix: a row (1 x cols) for CasADi, a 1-D array for numpy. Non-smooth; use it
@@ -457,6 +628,6 @@ __all__ = [
     "atan2", "tanh", "exp", "log", "log1p", "sqrt", "fabs", "sign", "floor", "fmax", "fmin", "clip", "where", "vertcat",
     "sum1", "softplus", "sigmoid", "smooth_max", "smooth_min", "smooth_abs", "sqrt_safe", "acos_safe", "involute",
     "inverse_involute", "INVOLUTE_MAX", "column", "evaluate_stacked", "reshape", "symbol", "function",
-    "implicit_scalar_root", "column_max", "column_softmin", "column_sum", "matrix", "hcat", "vcat", "matmul", "row",
+    "implicit_scalar_root", "traced_call", "traced_kernel_stats", "TRACED_KERNELS_MAX", "column_max", "column_softmin", "column_sum", "matrix", "hcat", "vcat", "matmul", "row",
     "repeat_rows",
 ]

@@ -201,3 +201,56 @@ def test_evaluate_stacked_is_one_call_with_each_value_of_its_own():
     assert calls == []                                       # numbers only: nothing to evaluate
     with pytest.raises(GearoptInputError, match="returned 1 values for 2 elements"):
         nm.evaluate_stacked(lambda expr: np.array([1.0]), [x])   # an evaluator that drops values is caught
+
+
+def test_traced_call_is_the_model_as_one_kernel_built_once():
+    """A dual-typed model called through ``traced_call`` on MX expressions: one call node of an SX kernel traced
+    once (a second call with other expressions of the same shapes and numbers reuses it; other numbers trace a new
+    one), values and derivatives equal to the model evaluated on numbers (the independent path) and built on MX
+    directly, a result value that depends on no input a plain number, and the model's warnings raised at every
+    call."""
+    import dataclasses
+    import warnings
+
+    @dataclasses.dataclass(frozen=True)
+    class Pair:
+        a: object
+        b: tuple
+        c: float = 2.0
+
+    def model(pair, scale, *, offset=0.0):
+        if nm.is_numeric(pair.a) and nm.to_float(pair.a) > 10:
+            raise GearoptInputError("a too large")
+        warnings.warn("validity note", UserWarning)
+        return {"value": scale * nm.sin(pair.a) * pair.b[0] + offset, "pair": (pair.b[1] ** 2, pair.c * 3.0),
+                "label": "ok"}
+
+    x, y = ca.MX.sym("x"), ca.MX.sym("y")
+    before = nm.traced_kernel_stats()
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        out = nm.traced_call(model, Pair(x, (y, 2 * x)), 1.5, offset=0.25)
+        again = nm.traced_call(model, Pair(y, (x, x + y)), 1.5, offset=0.25)
+    assert [str(w.message) for w in caught] == ["validity note", "validity note"]
+    after = nm.traced_kernel_stats()
+    assert (after["traced"] - before["traced"], after["reused"] - before["reused"]) == (1, 1)
+    assert out["label"] == "ok" and out["pair"][1] == 6.0 and isinstance(out["pair"][1], float)
+    f = ca.Function("f", [x, y], [out["value"], out["pair"][0], again["value"]])
+    direct = model(Pair(x, (y, 2 * x)), 1.5, offset=0.25)
+    nodes = [ca.Function("n", [x, y], [v]).n_nodes() for v in (out["value"], direct["value"])]
+    assert nodes[0] < nodes[1]                             # a call node instead of the model's operations
+    g = ca.Function("g", [x, y], [direct["value"], ca.jacobian(direct["value"], ca.vertcat(x, y))])
+    jac = ca.Function("j", [x, y], [ca.jacobian(out["value"], ca.vertcat(x, y))])
+    for px, py in ((0.3, -1.2), (2.0, 0.7)):
+        numeric = model(Pair(px, (py, 2 * px)), 1.5, offset=0.25)
+        v, p0, v2 = (float(a) for a in f(px, py))
+        assert v == pytest.approx(numeric["value"], rel=1e-14)
+        assert p0 == pytest.approx(4 * px * px, rel=1e-14)
+        assert v2 == pytest.approx(1.5 * math.sin(py) * px + 0.25, rel=1e-14)
+        np.testing.assert_allclose(np.array(jac(px, py)), np.array(g(px, py)[1]), rtol=1e-14)
+    with pytest.warns(UserWarning, match="validity note"):
+        nm.traced_call(model, Pair(x, (y, 2 * x)), 2.5, offset=0.25)    # another number: another kernel
+        assert nm.traced_kernel_stats()["traced"] - after["traced"] == 1
+        assert nm.traced_call(model, Pair(0.5, (2.0, 1.0)), 1.0)["value"] == pytest.approx(2 * math.sin(0.5))
+        with pytest.raises(GearoptInputError, match="a too large"):       # checks on its numbers still run
+            nm.traced_call(model, Pair(11.0, (y, 1.0)), 1.0)

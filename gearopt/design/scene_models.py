@@ -247,7 +247,9 @@ class SceneModels:
                                                                  opts.get("materials", "20MnCr5"))
             with warnings.catch_warnings(record=True) as caught:     # the standard's validity notes go to the
                 warnings.simplefilter("always")                      # build table, as the rating table's do
-                rating = rate_iso6336(self.pair(mesh), torque, speed, driving_gear=self.driving_gear(mesh), **opts)
+                # a symbolic rating: one call of an SX kernel traced once per process (numerics.traced_call)
+                rating = nm.traced_call(rate_iso6336, self.pair(mesh), torque, speed,
+                                        driving_gear=self.driving_gear(mesh), **opts)
             for w in caught:
                 if issubclass(w.category, (RatingValidityWarning, StiffnessValidityWarning)):
                     validity.append(str(w.message))

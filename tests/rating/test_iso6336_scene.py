@@ -94,3 +94,38 @@ def test_a_scene_without_scuffing_quantities_rates_without_scuffing_and_the_same
     built = scene.build()
     ratings = {lc: built.models[f"iso6336_rating:{MESH}@{lc}"] for lc in ("a", "b")}
     assert "S_B" in ratings["a"].safety_factors and "S_B" not in ratings["b"].safety_factors
+
+
+def test_symbolic_rating_is_a_kernel_traced_once_equal_to_the_numeric_rating():
+    """The rating of a scene with a free helix angle (the packaged minimal pair, another train with other names) is
+    one call of an SX kernel traced once per process (``numerics.traced_call``): a second build traces nothing new,
+    and S_H, S_F and S_B at designs across the helix range equal ``rate_iso6336`` of the numeric pair (the numeric
+    path, which no tracing touches) to 1e-9."""
+    from gearopt import numerics as nm
+    from gearopt.data import default_data_path, load_system
+
+    system = load_system(default_data_path().parent / "minimal_train.toml")
+    train = system.train(next(iter(system.trains)))
+    mesh = next(iter(train.pairs))
+    scene = Scene("helix", train=train, load_cases=[LoadCase("rated", 120.0, speed_rpm=1800.0)],
+                  variables=[DesignVariable("helix_angle_deg", "train", lower=0.0, upper=12.0, init=4.0)],
+                  objectives=[Objective("contact_safety_factor", mesh, sense="max")],
+                  limits=[Limit("root_safety_factor", mesh, lower=0.5),
+                          Limit("scuffing_safety_factor_flash", mesh, lower=0.5)], iso6336_options={"life_h": 2e4})
+    built = scene.build()
+    traced = nm.traced_kernel_stats()["traced"]
+    again = scene.build()
+    assert nm.traced_kernel_stats()["traced"] == traced
+    speed = train.gear_speed_rpm(train.pairs[mesh].names[0], 1800.0)
+    for beta in (0.0, 5.5, 12.0):
+        q = again.quantities_at({"train.helix_angle_deg": beta}).set_index("quantity")
+        pair = replace(train, helix_angle_deg=beta).pairs[mesh]
+        ref = built.models[f"iso6336_rating:{mesh}@rated"]       # the symbolic rating itself is a kernel output
+        assert not isinstance(ref.safety_factors["S_H"][0], float)
+        numeric = rate_iso6336(pair, 120.0, speed, life_h=2e4, accuracy_grade=(6, 6),
+                               materials=tuple(train.gears[g].material for g in pair.names))
+        for quantity, key in (("contact_safety_factor", "S_H"), ("root_safety_factor", "S_F"),
+                              ("scuffing_safety_factor_flash", "S_B")):
+            expected = numeric.safety_factors[key]
+            expected = min(map(float, expected)) if isinstance(expected, tuple) else float(expected)
+            assert float(q.loc[quantity, "value"]) == pytest.approx(expected, rel=1e-9), (beta, quantity)
