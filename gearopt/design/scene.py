@@ -70,8 +70,9 @@ from ..data import System, system_of
 from ..errors import GearoptInputError
 from ..geometry.pair import GearPair
 from ..geometry.train import GearTrain
-from ..nlp.problem import Problem
+from ..nlp.problem import Problem, WarmStartPoint
 from ..nlp.result import ProblemResult
+from ..nlp.solver_options import WARM_START_IPOPT
 from .scene_cache import ModelCache
 from .scene_contact import ContactModels
 from .scene_inputs import JOINT_DATA, SceneInputs
@@ -350,7 +351,7 @@ class BuiltScene:
     # -- solve -------------------------------------------------------------------------------------------------
 
     def solve(self, *, starts: int | None = None, seed: int = 0, verbose: bool = False, check: bool = True,
-              refine: bool | None = None, **ipopt) -> "SceneResult":
+              refine: bool | None = None, warm_start: WarmStartPoint | None = None, **ipopt) -> "SceneResult":
         """Solve the scene's NLP (Ipopt). Raises a :class:`~gearopt.errors.SolveError` subclass naming the violated
         constraints on failure.
 
@@ -367,14 +368,20 @@ class BuiltScene:
         (``SceneResult.exact_check``: exact and smooth values side by side). ``refine`` (default: whenever a PPTE objective or limit is declared and
         ``check``): the semi-infinite refinement of :class:`gearopt.design.scene_refine.SceneRefinement` -- add the exact
         TE's peak and trough positions and re-solve warm until the smooth and exact PPTE agree within
-        ``ltca_options["refine_tolerance"]`` (``SceneResult.refinement``)."""
+        ``ltca_options["refine_tolerance"]`` (``SceneResult.refinement``). ``warm_start``: a
+        :class:`~gearopt.nlp.WarmStartPoint` for the first solve from the declared start (one start; e.g. the
+        multipliers of a related scene's result, :meth:`SceneResult.warm_start_point`), with
+        :data:`~gearopt.nlp.WARM_START_IPOPT` under the caller's Ipopt options."""
+        if warm_start is not None and not isinstance(warm_start, WarmStartPoint):
+            raise GearoptInputError(f"warm_start={warm_start!r} must be a gearopt.nlp.WarmStartPoint or None")
         if starts is None:
             starts = self.default_starts(check)
         if refine is None:
             refine = check and any(q.quantity == "ppte_um" for q in (*self.scene.objectives, *self.scene.limits))
         if refine:
-            return SceneRefinement(self).solve(starts=starts, seed=seed, verbose=verbose, **ipopt)
-        return self.solve_once(starts=starts, seed=seed, verbose=verbose, check=check, **ipopt)
+            return SceneRefinement(self).solve(starts=starts, seed=seed, verbose=verbose, warm_start=warm_start,
+                                               **ipopt)
+        return self.solve_once(starts=starts, seed=seed, verbose=verbose, check=check, warm_start=warm_start, **ipopt)
 
     def default_starts(self, check: bool = True) -> int:
         """The starts of :meth:`solve` without ``starts``: ``ltca_options["macro_starts"]`` (4) of the exact screen's
@@ -405,10 +412,12 @@ class BuiltScene:
         return bool(check and not warm and self.options.search.screen_samples and search_scope(self) is None)
 
     def solve_once(self, *, starts: int = 1, seed: int = 0, verbose: bool = False, check: bool = True,
-                   screened: bool = True, **ipopt) -> "SceneResult":
+                   screened: bool = True, warm_start: WarmStartPoint | None = None, **ipopt) -> "SceneResult":
         """One solve of this NLP on its present position sets (no refinement); see :meth:`solve`. ``screened``
         (default): where the exact screen applies and the build is not warm-started, the starts are its best
-        designs; ``False`` (a warm re-solve): the declared start."""
+        designs; ``False`` (a warm re-solve): the declared start. ``warm_start``: a
+        :class:`~gearopt.nlp.WarmStartPoint` of a solve from the declared start (one start, not screened), with
+        :data:`~gearopt.nlp.WARM_START_IPOPT` under ``ipopt``."""
         starts_table, screen = None, None
         names = self.variable_names
         if screened and self.screened(check):
@@ -423,6 +432,8 @@ class BuiltScene:
             solved, starts_table = ms.best, ms.table
             if check and self.ltca_meshes() and any(o.quantity == "ppte_um" for o in self.scene.objectives):
                 solved, starts_table = exact_best_start(self, ms)     # the exact model ranks the starts
+        elif warm_start is not None:
+            solved = self.problem.solve(verbose=verbose, warm_start=warm_start, **{**WARM_START_IPOPT, **ipopt})
         else:
             solved = self.problem.solve(verbose=verbose, **ipopt)
         return self._result(solved, check, starts_table, screen)

@@ -268,7 +268,7 @@ class SceneRefinement:
     def __init__(self, built):
         self.built = built
 
-    def solve(self, *, starts: int = 1, seed: int = 0, verbose: bool = False, **ipopt):
+    def solve(self, *, starts: int = 1, seed: int = 0, verbose: bool = False, warm_start=None, **ipopt):
         """Solve with the exchange method (module docstring, steps 1-6). With ``starts`` > 1 every start is a whole
         local solve -- its first solve refined and polished like a single start's -- and the best on the exact
         model is returned (:func:`exact_final_key`), so that more starts never give a worse exact design (the
@@ -276,7 +276,7 @@ class SceneRefinement:
         each start's ``refined_exact_objective``, ``refined_exact_violation`` and ``refined_ipopt_iterations`` (its
         first solve and re-solves) and the ``chosen`` one."""
         if starts <= 1:
-            return self._refine(None, seed=seed, verbose=verbose, **ipopt)
+            return self._refine(None, seed=seed, verbose=verbose, warm_start=warm_start, **ipopt)
         firsts, table, screen = self.built.solve_starts(starts=starts, seed=seed, verbose=verbose, **ipopt)
         finals = [None if first is None else self._refine(first, seed=seed, verbose=verbose, **ipopt)
                   for first in firsts]
@@ -291,9 +291,10 @@ class SceneRefinement:
         result.refinement = finals[best].refinement
         return result
 
-    def _refine(self, first, *, seed: int = 0, verbose: bool = False, **ipopt):
+    def _refine(self, first, *, seed: int = 0, verbose: bool = False, warm_start=None, **ipopt):
         """The exchange method from one start: ``first`` (a :class:`~gearopt.design.scene.SceneResult` of the
-        build's first solve from one start) or ``None`` (the build's own first solve, screened where it applies)."""
+        build's first solve from one start) or ``None`` (the build's own first solve, screened where it applies;
+        ``warm_start`` a :class:`~gearopt.nlp.WarmStartPoint` of that solve)."""
         built, starts = self.built, 1
         refinement = built.options.refinement
         tol, abs_tol = refinement.refine_tolerance, refinement.refine_abs_tolerance_um
@@ -319,7 +320,8 @@ class SceneRefinement:
                 options["max_iter"] = int(min(int(ipopt.get("max_iter", budget)), budget))
             try:
                 result = first if it == 0 and first is not None else current.solve_once(
-                    starts=starts, seed=seed, verbose=verbose, check=True, screened=it == 0, **options)
+                    starts=starts, seed=seed, verbose=verbose, check=True, screened=it == 0,
+                    warm_start=warm_start if it == 0 else None, **options)
             except SolveError as exc:
                 if it == 0:
                     raise

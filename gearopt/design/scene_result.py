@@ -11,6 +11,7 @@ import numpy as np
 import pandas as pd
 
 from ..contact.microgeometry import Microgeometry
+from ..nlp.problem import WarmStartPoint
 from ..nlp.result import ProblemResult
 
 
@@ -49,6 +50,13 @@ class SceneResult:
     def success_rate(self) -> float:
         """Fraction of the multi-start solves that converged (1.0 for a single successful solve)."""
         return 1.0 if self.starts is None else float(self.starts["success"].mean())
+
+    def warm_start_point(self) -> WarmStartPoint:
+        """The multipliers of the solve this design came from, by constraint name
+        (:meth:`~gearopt.nlp.WarmStartPoint.from_result`): a related scene built at this design (``initial``) and
+        sharing its constraints -- more limits, the same positions -- starts from them
+        (``BuiltScene.solve(warm_start=...)``)."""
+        return WarmStartPoint.from_result(self.solve)
 
 
 __all__ = ["SceneResult"]

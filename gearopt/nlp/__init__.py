@@ -18,7 +18,8 @@ from gearopt.nlp.result import ProblemResult
 from gearopt.nlp.elastic import ElasticResult, solve_elastic
 from gearopt.nlp.multistart import MultiStartResult, multistart
 from gearopt.nlp.problem import DEFAULT_CASADI_OPTIONS, DEFAULT_IPOPT_OPTIONS, Problem, WarmStartPoint
+from gearopt.nlp.solver_options import WARM_START_IPOPT
 
 __all__ = ["Problem", "WarmStartPoint", "ProblemResult", "InitialGuessReport", "InitialGuessWarning", "Finding",
-           "DEFAULT_IPOPT_OPTIONS", "DEFAULT_CASADI_OPTIONS", "ElasticResult", "solve_elastic", "MultiStartResult",
+           "DEFAULT_IPOPT_OPTIONS", "DEFAULT_CASADI_OPTIONS", "WARM_START_IPOPT", "ElasticResult", "solve_elastic", "MultiStartResult",
            "multistart", "register_internal_package"]

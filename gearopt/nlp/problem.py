@@ -49,24 +49,45 @@ element of the constraints still broken to Ipopt: the exchange then ends in at m
 
 @dataclasses.dataclass(frozen=True)
 class WarmStartPoint:
-    """A solution of a :class:`Problem` to warm-start a later solve from: the scaled variables by name and the
-    constraint multipliers (Ipopt's order). It is plain data: it pickles, so a solve in another process of a
-    problem built the same way can start from it (``Problem.solve(warm_start=point)``)."""
+    """A solution of a :class:`Problem` to warm-start a later solve from: the scaled variables by name, the
+    constraint multipliers (Ipopt's order) and the same multipliers by constraint name. It is plain data: it
+    pickles, so a solve in another process of a problem built the same way can start from it
+    (``Problem.solve(warm_start=point)``).
+
+    ``multipliers_by_name``: constraint name -> multipliers in the units of :attr:`ProblemResult.multipliers`
+    (``d objective / d bound``, one per element, 0 where an element was not passed to Ipopt). Where it is given, a
+    solve takes the multipliers of every constraint of the same name and size from it (rescaled to its own
+    constraint and objective scales): a start for another problem that shares constraints with the solved one (a
+    re-solve with more limits, a rebuilt scene). :meth:`from_result` makes a point of a result's multipliers alone
+    (the primal start then stays the problem's own initial values)."""
 
     x_scaled: dict
     multipliers: np.ndarray
+    multipliers_by_name: dict = dataclasses.field(default_factory=dict)
 
     def __post_init__(self):
-        if not isinstance(self.x_scaled, dict) or not all(isinstance(k, str) for k in self.x_scaled):
-            raise GearoptInputError(f"WarmStartPoint x_scaled={self.x_scaled!r} must be a dict of variable name -> "
-                                    f"values")
+        for field_name in ("x_scaled", "multipliers_by_name"):
+            given = getattr(self, field_name)
+            if not isinstance(given, dict) or not all(isinstance(k, str) for k in given):
+                raise GearoptInputError(f"WarmStartPoint {field_name}={given!r} must be a dict of name -> values")
         x = {k: np.atleast_1d(np.asarray(v, dtype=float)) for k, v in self.x_scaled.items()}
+        by_name = {k: np.atleast_1d(np.asarray(v, dtype=float)).ravel() for k, v in self.multipliers_by_name.items()}
         lam = np.atleast_1d(np.asarray(self.multipliers, dtype=float)).ravel()
-        for name, values in [*x.items(), ("multipliers", lam)]:
+        for name, values in [*x.items(), ("multipliers", lam), *by_name.items()]:
             if not np.all(np.isfinite(values)):
                 raise GearoptInputError(f"WarmStartPoint {name}={values!r}: every value must be finite")
         object.__setattr__(self, "x_scaled", x)
         object.__setattr__(self, "multipliers", lam)
+        object.__setattr__(self, "multipliers_by_name", by_name)
+
+    @classmethod
+    def from_result(cls, result: ProblemResult) -> "WarmStartPoint":
+        """The multipliers of a solve's result by constraint name (its finite ones), no primal values: a problem
+        that shares constraints with the solved one starts from them (with its own initial values)."""
+        if not isinstance(result, ProblemResult):
+            raise GearoptInputError(f"WarmStartPoint.from_result: result={result!r} must be a ProblemResult")
+        by_name = {k: np.atleast_1d(np.asarray(v, dtype=float)) for k, v in result.multipliers.items()}
+        return cls({}, np.zeros(0), {k: v for k, v in by_name.items() if np.all(np.isfinite(v))})
 
 
 class Problem(Declarations, Evaluation):
@@ -175,8 +196,14 @@ class Problem(Declarations, Evaluation):
         problem or in another process."""
         if not self._previous_x or self._previous_lam is None:
             return None
+        factor = -self._sense * self._objective_scale        # as ProblemResult.multipliers (constraint_table)
+        by_name = {}
+        for name, c in self._constraints.items():
+            natural = np.zeros(c.size)
+            natural[c.passed] = self._previous_lam[c.rows] * factor / c.scale[c.passed]
+            by_name[name] = natural
         return WarmStartPoint({k: np.array(v, dtype=float) for k, v in self._previous_x.items()},
-                              np.array(self._previous_lam, dtype=float))
+                              np.array(self._previous_lam, dtype=float), by_name)
 
     def solve(self, *, warm_start: bool | WarmStartPoint = False, verbose: bool = False,
               casadi_options: dict[str, Any] | None = None, elastic_on_failure: bool = False,
@@ -306,6 +333,8 @@ class Problem(Declarations, Evaluation):
     def _start(self, warm_start: bool | WarmStartPoint) -> dict[str, np.ndarray]:
         """Scaled start point: a given warm-start point, the previous solution (warm start, where available) or the
         declared initial guess (completed by :attr:`start_completion`)."""
+        if isinstance(warm_start, WarmStartPoint) and not warm_start.x_scaled:    # multipliers only
+            return self._start(False)
         if isinstance(warm_start, WarmStartPoint):      # a variable it lacks (or of another size): its init
             given = warm_start.x_scaled
             return {name: (given[name].reshape(v.init.shape)
@@ -321,13 +350,26 @@ class Problem(Declarations, Evaluation):
         return {name: v.init / v.scale for name, v in self._variables.items()}
 
     def _start_multipliers(self, warm_start: bool | WarmStartPoint) -> np.ndarray:
-        if isinstance(warm_start, WarmStartPoint):       # another problem's order may differ: only an equal count
-            lam = warm_start.multipliers
+        if isinstance(warm_start, WarmStartPoint):
+            if warm_start.multipliers_by_name:           # by name: any problem that shares constraints
+                return self._multipliers_by_name(warm_start.multipliers_by_name)
+            lam = warm_start.multipliers                  # another problem's order may differ: only an equal count
             return lam.copy() if lam.size == self._ng else np.zeros(self._ng)
         lam = self._previous_lam
         if warm_start and lam is not None and lam.size <= self._ng:   # rows passed since: zero multipliers
             return np.concatenate([lam, np.zeros(self._ng - lam.size)])
         return np.zeros(self._ng)
+
+    def _multipliers_by_name(self, by_name: dict[str, np.ndarray]) -> np.ndarray:
+        """Ipopt's start multipliers from multipliers by constraint name (:class:`WarmStartPoint`): each passed row
+        of a constraint of the same name and size, rescaled to this problem's scales; 0 elsewhere."""
+        factor = -self._sense * self._objective_scale
+        lam = np.zeros(self._ng)
+        for name, c in self._constraints.items():
+            given = by_name.get(name)
+            if given is not None and given.size == c.size and c.rows.size:
+                lam[c.rows] = given[c.passed] * c.scale[c.passed] / factor
+        return lam
 
     @staticmethod
     def _iterations(stats: dict[str, Any]) -> int:

@@ -17,6 +17,14 @@ budgets ``max_iter`` and ``max_wall_time`` [s] stop a solve that does not conver
 :class:`~gearopt.errors.IterationLimitError` (status ``Maximum_Iterations_Exceeded`` / ``Maximum_WallTime_Exceeded``,
 naming the option to raise)."""
 
+WARM_START_IPOPT: dict[str, Any] = {
+    "warm_start_init_point": "yes", "warm_start_bound_push": 1e-6, "warm_start_mult_bound_push": 1e-6,
+    "mu_init": 1e-4}
+"""Ipopt options of a solve warm-started from a solution's multipliers (``Problem.solve(warm_start=point)`` with a
+:class:`~gearopt.nlp.problem.WarmStartPoint`): Ipopt takes the given multipliers (``warm_start_init_point``), moves
+the start and the multipliers off their bounds by little, and begins with a small barrier parameter instead of
+re-centring far from a start that is already near an optimum."""
+
 DEFAULT_CASADI_OPTIONS: dict[str, Any] = {
     "print_time": False, "record_time": True, "detect_simple_bounds": True}
 """CasADi ``nlpsol`` options. ``detect_simple_bounds`` hands variable bounds (and constraints affine in a single

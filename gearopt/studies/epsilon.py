@@ -27,7 +27,8 @@ from .. import numerics as nm
 from ..design.scene import Limit, Scene
 from ..design.scene_terms import quantity_kind
 from ..errors import GearoptInputError, SolveError
-from ..nlp import InitialGuessWarning, WarmStartPoint
+from ..nlp import WARM_START_IPOPT, InitialGuessWarning, WarmStartPoint
+
 
 LOOSE = 1e6
 """|ε| that leaves the front constraint inactive (the objective's own optimum), in the quantity's unit."""
@@ -139,10 +140,7 @@ class EpsilonModel:
                 p.set_initial(name, value)
         options = dict(self.spec.ipopt)
         if warm:
-            options.setdefault("warm_start_init_point", "yes")
-            options.setdefault("warm_start_bound_push", 1e-6)
-            options.setdefault("warm_start_mult_bound_push", 1e-6)
-            options.setdefault("mu_init", 1e-4)
+            options = {**WARM_START_IPOPT, **options}
         with warnings.catch_warnings():      # a neighbour's value on a bound may read as just outside it
             warnings.simplefilter("ignore", InitialGuessWarning)
             if starts > 1:

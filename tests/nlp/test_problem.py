@@ -242,8 +242,7 @@ def test_warm_start_point_carries_a_solution_to_another_problem_built_the_same_w
     first.solve()
     point = pickle.loads(pickle.dumps(first.warm_start_point()))       # e.g. to a worker process
     assert isinstance(point, WarmStartPoint) and point.multipliers.size == 1 and point.multipliers[0] != 0.0
-    warm_options = {"warm_start_init_point": "yes", "warm_start_bound_push": 1e-6,
-                    "warm_start_mult_bound_push": 1e-6, "mu_init": 1e-4}
+    from gearopt.nlp import WARM_START_IPOPT as warm_options
     cold = constrained_rosenbrock(1.6).solve()
     other = constrained_rosenbrock(1.6)
     warm = other.solve(warm_start=point, **warm_options)
@@ -264,6 +263,54 @@ def test_warm_start_point_carries_a_solution_to_another_problem_built_the_same_w
         WarmStartPoint([1.0, 2.0], np.zeros(1))
     with pytest.raises(GearoptInputError, match="multipliers"):
         WarmStartPoint({"x": 1.0}, np.array([np.nan]))
+
+
+def test_multipliers_by_name_start_a_problem_with_more_constraints_and_other_scales():
+    """``WarmStartPoint.from_result``: a solve's multipliers by constraint name start another problem that shares
+    the constraint (here with another scale, an extra limit and another objective scale): each shared row gets the
+    solved multiplier in its own scaling, the new rows none, and the warm solve from the solved design reaches
+    SciPy SLSQP's optimum of the new problem in fewer iterations than the same start without multipliers."""
+    from scipy.optimize import minimize
+
+    from gearopt.nlp import WARM_START_IPOPT, WarmStartPoint
+
+    def problem(extra: bool):
+        p = Problem("rosenbrock_disc_more")
+        x = p.variable("x", init=0.0)
+        y = p.variable("y", init=0.0)
+        p.subject_to("disc", x ** 2 + y ** 2 - 1.6, upper=0.0, scale=10.0 if extra else 1.0)
+        if extra:
+            p.subject_to("half_plane", x + 2.0 * y, upper=3.0)          # inactive at the optimum
+        p.minimize((1 - x) ** 2 + 100 * (y - x ** 2) ** 2, scale=4.0 if extra else 1.0)
+        return p
+
+    solved = problem(False).solve()
+    point = WarmStartPoint.from_result(solved)
+    assert point.x_scaled == {} and set(point.multipliers_by_name) == {"disc"}
+    bigger = problem(True)
+    lam = bigger._multipliers_by_name(point.multipliers_by_name)
+    disc, half = bigger._constraints["disc"], bigger._constraints["half_plane"]
+    # the start multiplier, read back as d objective / d bound, is the solved one; the new limit starts at 0
+    assert lam[disc.rows[0]] * (-1.0 * 4.0) / 10.0 == pytest.approx(solved.multipliers["disc"], rel=1e-12)
+    assert lam[half.rows[0]] == 0.0
+    ref = minimize(lambda v: (1 - v[0]) ** 2 + 100 * (v[1] - v[0] ** 2) ** 2, [0.0, 0.0], method="SLSQP",
+                   constraints=[{"type": "ineq", "fun": lambda v: 1.6 - v[0] ** 2 - v[1] ** 2},
+                                {"type": "ineq", "fun": lambda v: 3.0 - v[0] - 2.0 * v[1]}],
+                   options={"ftol": 1e-12, "maxiter": 500})
+    runs = {}
+    for name, warm in (("cold", False), ("warm", point)):
+        p = problem(True)
+        p.set_initial("x", solved.values["x"])
+        p.set_initial("y", solved.values["y"])
+        runs[name] = p.solve(warm_start=warm, **WARM_START_IPOPT)
+        assert [runs[name].values["x"], runs[name].values["y"]] == pytest.approx(list(ref.x), abs=1e-5)
+    assert runs["warm"].iterations < runs["cold"].iterations
+    with pytest.raises(GearoptInputError, match="multipliers_by_name"):
+        WarmStartPoint({}, np.zeros(0), ["disc"])
+    with pytest.raises(GearoptInputError, match="disc"):
+        WarmStartPoint({}, np.zeros(0), {"disc": [np.inf]})
+    with pytest.raises(GearoptInputError, match="ProblemResult"):
+        WarmStartPoint.from_result({"disc": 1.0})
 
 
 def test_value_of_any_expression_at_solution():
