@@ -586,7 +586,7 @@ def codesign_study(system: System | None = None, *, options: Sequence[str] = ("s
             ipopt = codesign_ipopt if codesign_ipopt is not None else CODESIGN_IPOPT if train_vars else {}
             # every train variable pinned: the sequential design's own NLP (its contact form, positions and rows)
             # with more limits -- it starts from the sequential optimum's multipliers (spur option of the default
-            # data: 51 -> 29 Ipopt iterations, the same design); a free macro variable puts the macro-symbolic
+            # data: 51 -> 29 Ipopt iterations, the same largest PPTE); a free macro variable puts the macro-symbolic
             # contact model in, whose rows the sequential design does not share
             warm = sequential.warm_start_point() if sequential is not None and not train_vars else None
             codesign = co_scene.build(positions=sequential.positions if sequential else None, initial=start).solve(
