@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import re
 import warnings
 from collections import OrderedDict
 
@@ -389,21 +390,32 @@ def implicit_scalar_root(name: str, residual, n_params: int, *, abstol: float = 
 #: Most kernels :func:`traced_call` keeps per process (least recently used dropped first).
 TRACED_KERNELS_MAX = 256
 _TRACED: "OrderedDict[tuple, tuple]" = OrderedDict()
-_TRACED_STATS = {"traced": 0, "reused": 0}
+_TRACED_STATS = {"traced": 0, "reused": 0, "direct": 0}
+
+
+class _Untraceable(Exception):
+    """An argument or result :func:`traced_call` cannot trace or key safely: the model is called directly."""
+
+
+def _is_namedtuple(obj) -> bool:
+    return isinstance(obj, tuple) and hasattr(obj, "_fields")
 
 
 def _map_leaves(obj, leaf):
     """``(copy, changed)``: ``obj`` with every CasADi ``SX``/``MX`` in it replaced by ``leaf(x)``, looking into
-    dicts, lists, tuples, object arrays and dataclass fields (rebuilt with ``dataclasses.replace``); ``obj`` itself
-    where nothing changed."""
+    dicts, lists, tuples (named ones too), object arrays and dataclass fields (rebuilt with
+    ``dataclasses.replace``); ``obj`` itself where nothing changed."""
     if isinstance(obj, _SYMBOLIC_TYPES):
         return leaf(obj), True
     if isinstance(obj, dict):
         items = [(k, *_map_leaves(v, leaf)) for k, v in obj.items()]
         return (dict((k, v) for k, v, _ in items), True) if any(c for _, _, c in items) else (obj, False)
-    if isinstance(obj, (list, tuple)) and not hasattr(obj, "_fields"):
+    if isinstance(obj, (list, tuple)):
         items = [_map_leaves(v, leaf) for v in obj]
-        return (type(obj)(v for v, _ in items), True) if any(c for _, c in items) else (obj, False)
+        if not any(c for _, c in items):
+            return obj, False
+        values = [v for v, _ in items]
+        return (type(obj)(*values) if _is_namedtuple(obj) else type(obj)(values)), True
     if isinstance(obj, np.ndarray) and obj.dtype == object:
         items = [_map_leaves(v, leaf) for v in obj.ravel()]
         if not any(c for _, c in items):
@@ -416,8 +428,8 @@ def _map_leaves(obj, leaf):
         for f in dataclasses.fields(obj):
             v, changed = _map_leaves(getattr(obj, f.name), leaf)
             if changed:
-                if not f.init:
-                    raise TypeError(f"{type(obj).__name__}.{f.name} holds a CasADi expression but is not an init field")
+                if not f.init:        # derived in __post_init__: replace() cannot set it
+                    raise _Untraceable(f"{type(obj).__name__}.{f.name}")
                 changes[f.name] = v
         return (dataclasses.replace(obj, **changes), True) if changes else (obj, False)
     return obj, False
@@ -430,7 +442,7 @@ def _leaves(obj, out: list) -> list:
     elif isinstance(obj, dict):
         for v in obj.values():
             _leaves(v, out)
-    elif isinstance(obj, (list, tuple)) and not hasattr(obj, "_fields"):
+    elif isinstance(obj, (list, tuple)):
         for v in obj:
             _leaves(v, out)
     elif isinstance(obj, np.ndarray) and obj.dtype == object:
@@ -443,68 +455,72 @@ def _leaves(obj, out: list) -> list:
 
 
 def _skeleton_key(obj):
-    """A hashable description of ``obj`` with its CasADi ``SX``/``MX`` leaves reduced to their shapes: two inputs
-    of equal key give the same traced kernel."""
+    """A hashable description of ``obj`` that fixes what a traced kernel computes: its numbers exactly, its CasADi
+    ``SX``/``MX`` values by kind, shape and sparsity. Raises :class:`_Untraceable` for any other kind of object
+    (its ``repr`` need not show all it holds)."""
     if isinstance(obj, _SYMBOLIC_TYPES):
-        return ("symbolic", type(obj).__name__, obj.shape)
+        rows, cols = obj.sparsity().get_triplet()
+        return ("symbolic", type(obj).__name__, obj.shape, tuple(rows), tuple(cols))
     if isinstance(obj, dict):
-        return ("dict", tuple((repr(k), _skeleton_key(v)) for k, v in obj.items()))
-    if isinstance(obj, (list, tuple)) and not hasattr(obj, "_fields"):
-        return (type(obj).__name__, tuple(_skeleton_key(v) for v in obj))
+        return ("dict", tuple((_skeleton_key(k), _skeleton_key(v)) for k, v in obj.items()))
+    if isinstance(obj, (list, tuple)):
+        return (type(obj).__module__, type(obj).__qualname__, tuple(_skeleton_key(v) for v in obj))
     if isinstance(obj, np.ndarray):
         if obj.dtype == object:
             return ("objects", obj.shape, tuple(_skeleton_key(v) for v in obj.ravel()))
         return ("array", obj.dtype.str, obj.shape, obj.tobytes())
     if isinstance(obj, ca.DM):
-        return ("DM", obj.shape, tuple(obj.nonzeros()), tuple(obj.sparsity().get_triplet()[0]))
+        rows, cols = obj.sparsity().get_triplet()
+        return ("DM", obj.shape, tuple(obj.nonzeros()), tuple(rows), tuple(cols))
     if dataclasses.is_dataclass(obj) and not isinstance(obj, type):
         return (type(obj).__module__, type(obj).__qualname__,
                 tuple((f.name, _skeleton_key(getattr(obj, f.name))) for f in dataclasses.fields(obj)))
-    if obj is None or isinstance(obj, (bool, int, float, str, bytes, np.generic)):
+    if obj is None or isinstance(obj, (bool, int, float, complex, str, bytes, np.generic)):
         return (type(obj).__name__, obj)
-    return (type(obj).__module__, type(obj).__qualname__, repr(obj))
+    raise _Untraceable(type(obj).__qualname__)
+
+
+def _kernel_name(fn) -> str:
+    """A valid CasADi function name for the kernel of ``fn`` (letters, digits, single underscores)."""
+    name = re.sub(r"_+", "_", re.sub(r"[^A-Za-z0-9]", "_", getattr(fn, "__name__", "model"))).strip("_")
+    return f"traced_{name or 'model'}"
 
 
 def traced_call(fn, *args, **kwargs):
     """``fn(*args, **kwargs)`` for a dual-typed model ``fn`` whose arguments hold CasADi expressions, evaluated as
     one call of an ``SX`` kernel that is traced once per process and reused.
 
-    The CasADi ``SX``/``MX`` values in the arguments (in dicts, lists, tuples and dataclass fields) become the
-    kernel's inputs: ``fn`` runs once on ``SX`` symbols in their place, the ``SX`` values of its result (the same
-    containers) become the kernel's outputs, and every call with arguments of the same numbers and shapes calls that
-    kernel on its own expressions. Against building ``fn`` on ``MX`` directly: the same values and derivatives (an
-    ``SX`` graph of the same operations), a graph of one call node instead of one node per operation (an NLP built
-    on it evaluates, differentiates and expands faster), and a model built once per process instead of once per
-    use. A result value that depends on no input comes back a number; the warnings ``fn`` raised while traced are
-    raised again at every call (a caller that records them sees them each time). Arguments without CasADi values:
-    ``fn`` is called directly. Keeps at most :data:`TRACED_KERNELS_MAX` kernels."""
+    The CasADi ``SX``/``MX`` values in the arguments (in dicts, lists, tuples, named tuples, object arrays and
+    dataclass fields: a symbolic ``GearPair``) become the kernel's inputs: ``fn`` runs once on ``SX`` symbols in
+    their place, the ``SX`` values of its result (the same containers) become the kernel's outputs, and every later
+    call of the same ``fn`` object with arguments of the same numbers and the same kinds, shapes and sparsity of
+    expressions is one call of that kernel on its own expressions. ``fn`` must be a model of its arguments alone (a
+    pure function: what it reads besides them, e.g. a mutated closure, is frozen at the trace). Against building
+    ``fn`` on ``MX`` directly: the same values and derivatives (an ``SX`` graph of the same operations), a graph of
+    one call node instead of one node per operation (an NLP built on it evaluates, differentiates and expands
+    faster), and a model built once per process instead of once per use. A result value that depends on no input
+    comes back a number (arrays a fresh copy per call); the warnings ``fn`` raised while traced are raised again at
+    every call (a caller that records them sees them each time). ``fn`` is called directly instead where there is
+    nothing to trace (arguments without CasADi values), where ``SX`` and ``MX`` are mixed, where an argument is of
+    another kind than numbers, strings, arrays, ``DM``, containers and dataclasses (a key could not tell two of them
+    apart), and where the trace cannot be taken (a CasADi value in a dataclass field set in ``__post_init__``, an
+    ``MX`` made inside ``fn``). Keeps at most :data:`TRACED_KERNELS_MAX` kernels (``traced_kernel_stats``)."""
     collected = (args, kwargs)
     inputs = _leaves(collected, [])
-    if not inputs:
+    if not inputs or (any(isinstance(x, ca.SX) for x in inputs) and any(isinstance(x, ca.MX) for x in inputs)):
+        return fn(*args, **kwargs)          # nothing to trace / a kernel takes one kind of expression
+    try:
+        key = (id(fn), _skeleton_key(collected))
+    except _Untraceable:
+        _TRACED_STATS["direct"] += 1
         return fn(*args, **kwargs)
-    if any(isinstance(x, ca.SX) for x in inputs) and any(isinstance(x, ca.MX) for x in inputs):
-        return fn(*args, **kwargs)                         # a kernel takes one kind of expression
-    key = (getattr(fn, "__module__", ""), getattr(fn, "__qualname__", repr(fn)), _skeleton_key(collected))
     entry = _TRACED.get(key)
-    if entry is None:
-        symbols: list = []
-        traced_args, _ = _map_leaves(collected, lambda x: symbols.append(ca.SX.sym(f"in{len(symbols)}",
-                                                                                   x.sparsity())) or symbols[-1])
-        with warnings.catch_warnings(record=True) as caught:
-            warnings.simplefilter("always")
-            result = fn(*traced_args[0], **traced_args[1])
-        outputs: list = []
-
-        def output(x):
-            if not isinstance(x, ca.SX):           # an MX in the result: not from the traced symbols
-                raise TypeError(f"{getattr(fn, '__name__', fn)} returned an MX value from SX inputs")
-            if x.is_constant():
-                return to_float(x) if x.numel() == 1 else np.array(ca.DM(x))
-            outputs.append(x)
-            return _Slot(len(outputs) - 1)
-        skeleton, _ = _map_leaves(result, output)
-        kernel = ca.Function(f"traced_{getattr(fn, '__name__', 'model')}", symbols, outputs, {"cse": True})
-        entry = (kernel, skeleton, [(w.message, w.category, w.filename, w.lineno) for w in caught])
+    if entry is None or entry[0] is not fn:         # the entry holds fn: its id is not reused while it is kept
+        try:
+            entry = _trace(fn, collected)
+        except _Untraceable:
+            _TRACED_STATS["direct"] += 1
+            return fn(*args, **kwargs)
         _TRACED[key] = entry
         _TRACED_STATS["traced"] += 1
         while len(_TRACED) > TRACED_KERNELS_MAX:
@@ -512,11 +528,39 @@ def traced_call(fn, *args, **kwargs):
     else:
         _TRACED.move_to_end(key)
         _TRACED_STATS["reused"] += 1
-    kernel, skeleton, raised = entry
+    _, kernel, skeleton, raised = entry
     for message, category, filename, lineno in raised:
         warnings.warn_explicit(message, category, filename, lineno)
-    values = kernel.call(inputs)
-    return _fill_slots(skeleton, values)
+    return _fill_slots(skeleton, kernel.call(inputs))
+
+
+def _trace(fn, collected) -> tuple:
+    """``(fn, kernel, result skeleton, warnings raised)`` of :func:`traced_call`: ``fn`` run on SX symbols in
+    place of the CasADi values of ``collected`` (``(args, kwargs)``)."""
+    symbols: list = []
+
+    def symbol(x):
+        symbols.append(ca.SX.sym(f"in{len(symbols)}", x.sparsity()))
+        return symbols[-1]
+    (args, kwargs), _ = _map_leaves(collected, symbol)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        try:
+            result = fn(*args, **kwargs)
+        except (TypeError, RuntimeError, NotImplementedError) as exc:   # e.g. an MX made inside fn meets SX
+            raise _Untraceable(str(exc)) from exc
+    outputs: list = []
+
+    def output(x):
+        if x.is_constant():
+            return to_float(x) if x.numel() == 1 else np.array(ca.DM(x))
+        if not isinstance(x, ca.SX):            # an MX of fn's own, not of the traced symbols
+            raise _Untraceable("an MX value in the result")
+        outputs.append(x)
+        return _Slot(len(outputs) - 1)
+    skeleton, _ = _map_leaves(result, output)
+    kernel = ca.Function(_kernel_name(fn), symbols, outputs, {"cse": True})
+    return fn, kernel, skeleton, [(w.message, w.category, w.filename, w.lineno) for w in caught]
 
 
 class _Slot:
@@ -528,14 +572,18 @@ class _Slot:
 
 
 def _fill_slots(obj, values):
-    """``obj`` with every :class:`_Slot` replaced by its value (the containers of :func:`_map_leaves`)."""
+    """``obj`` with every :class:`_Slot` replaced by its value (the containers of :func:`_map_leaves`; a numeric
+    array copied, so that no two calls share one)."""
     if isinstance(obj, _Slot):
         return values[obj.index]
     if isinstance(obj, dict):
         return {k: _fill_slots(v, values) for k, v in obj.items()}
-    if isinstance(obj, (list, tuple)) and not hasattr(obj, "_fields"):
-        return type(obj)(_fill_slots(v, values) for v in obj)
-    if isinstance(obj, np.ndarray) and obj.dtype == object:
+    if isinstance(obj, (list, tuple)):
+        filled = [_fill_slots(v, values) for v in obj]
+        return type(obj)(*filled) if _is_namedtuple(obj) else type(obj)(filled)
+    if isinstance(obj, np.ndarray):
+        if obj.dtype != object:
+            return obj.copy()
         out = np.empty(obj.shape, dtype=object)
         out.ravel()[:] = [_fill_slots(v, values) for v in obj.ravel()]
         return out
@@ -546,7 +594,8 @@ def _fill_slots(obj, values):
 
 
 def traced_kernel_stats() -> dict:
-    """Counts of :func:`traced_call`'s kernels traced and reused in this process, and how many it keeps."""
+    """Counts of :func:`traced_call` in this process: kernels traced, calls that reused one, calls made directly
+    (arguments it cannot key or trace), and how many kernels it keeps."""
     return {**_TRACED_STATS, "kept": len(_TRACED)}
 
 

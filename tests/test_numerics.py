@@ -254,3 +254,41 @@ def test_traced_call_is_the_model_as_one_kernel_built_once():
         assert nm.traced_call(model, Pair(0.5, (2.0, 1.0)), 1.0)["value"] == pytest.approx(2 * math.sin(0.5))
         with pytest.raises(GearoptInputError, match="a too large"):       # checks on its numbers still run
             nm.traced_call(model, Pair(11.0, (y, 1.0)), 1.0)
+
+
+def test_traced_call_never_reuses_a_kernel_for_another_model_or_input():
+    """A kernel is keyed by the model object, the numbers and the expressions' sparsity: two closures of one factory,
+    a diagonal and a dense input of one shape each get their own kernel; an argument it cannot key exactly (a plain
+    object, an interpolant) or a model that makes MX of its own is called directly; a numeric result array is a
+    fresh copy each call."""
+    def factory(k):
+        return lambda x: k * x
+    x = ca.MX.sym("x")
+    values = [float(ca.evalf(ca.substitute(nm.traced_call(factory(k), x), x, 1.0))) for k in (2.0, 3.0)]
+    assert values == [2.0, 3.0]
+
+    def total(m):
+        return ca.sum1(ca.sum2(m))
+    dense, diag = ca.MX.sym("d", 2, 2), ca.diag(ca.MX.sym("g", 2))
+    for m in (diag, dense):
+        out = nm.traced_call(total, m)
+        assert float(ca.evalf(ca.substitute(out, ca.symvar(m)[0], ca.DM.ones(ca.symvar(m)[0].shape)))) == m.nnz()
+
+    class Gain:                                            # a plain object: its repr does not show its state
+        def __init__(self, k):
+            self.k = k
+
+        def __repr__(self):
+            return "Gain"
+    before = nm.traced_kernel_stats()["direct"]
+    outs = [nm.traced_call(lambda g, y: g.k * y, Gain(k), x) for k in (2.0, 5.0)]
+    assert [float(ca.evalf(ca.substitute(o, x, 1.0))) for o in outs] == [2.0, 5.0]
+    assert nm.traced_kernel_stats()["direct"] - before == 2
+    own = nm.traced_call(lambda y: {"v": 2 * y, "own": ca.MX.sym("z") + 1.0}, x)          # an MX of its own
+    assert isinstance(own["own"], ca.MX) and nm.traced_kernel_stats()["direct"] - before == 3
+
+    def with_array(y):
+        return {"v": y, "table": np.array([1.0, 2.0])}
+    first = nm.traced_call(with_array, x)
+    first["table"][0] = 99.0
+    assert nm.traced_call(with_array, x)["table"].tolist() == [1.0, 2.0]

@@ -371,11 +371,11 @@ class BuiltScene:
         ``ltca_options["refine_tolerance"]`` (``SceneResult.refinement``). ``warm_start``: a
         :class:`~gearopt.nlp.WarmStartPoint` for the first solve from the declared start (one start; e.g. the
         multipliers of a related scene's result, :meth:`SceneResult.warm_start_point`), with
-        :data:`~gearopt.nlp.WARM_START_IPOPT` under the caller's Ipopt options."""
-        if warm_start is not None and not isinstance(warm_start, WarmStartPoint):
-            raise GearoptInputError(f"warm_start={warm_start!r} must be a gearopt.nlp.WarmStartPoint or None")
+        :data:`~gearopt.nlp.WARM_START_IPOPT` under the caller's Ipopt options; refused with ``starts`` > 1 or
+        where the exact screen picks the starts, which would not use it."""
         if starts is None:
             starts = self.default_starts(check)
+        self._check_warm_start(warm_start, starts, check)
         if refine is None:
             refine = check and any(q.quantity == "ppte_um" for q in (*self.scene.objectives, *self.scene.limits))
         if refine:
@@ -420,6 +420,7 @@ class BuiltScene:
         :data:`~gearopt.nlp.WARM_START_IPOPT` under ``ipopt``."""
         starts_table, screen = None, None
         names = self.variable_names
+        self._check_warm_start(warm_start, starts, check and screened)
         if screened and self.screened(check):
             screen = exact_screen(self, seed=seed)       # the global phase: the exact model picks the starts
             points = screened_starts(screen, names, starts)
@@ -437,6 +438,19 @@ class BuiltScene:
         else:
             solved = self.problem.solve(verbose=verbose, **ipopt)
         return self._result(solved, check, starts_table, screen)
+
+    def _check_warm_start(self, warm_start, starts: int, screened: bool) -> None:
+        """A warm start is for one solve from the declared start: refused (named) with several starts or the exact
+        screen's, where it would not be used."""
+        if warm_start is None:
+            return
+        if not isinstance(warm_start, WarmStartPoint):
+            raise GearoptInputError(f"warm_start={warm_start!r} must be a gearopt.nlp.WarmStartPoint or None")
+        if starts > 1 or self.screened(screened):
+            raise GearoptInputError(
+                f"warm_start: a warm start is for one solve from the declared start, but this solve starts from "
+                f"{'starts=' + str(starts) + ' points' if starts > 1 else 'the exact screen'}; build the scene at "
+                f"the design (build(initial=values)) and solve with starts=1")
 
     def solve_starts(self, *, starts: int, seed: int = 0, verbose: bool = False,
                      **ipopt) -> tuple[list["SceneResult | None"], pd.DataFrame, pd.DataFrame | None]:

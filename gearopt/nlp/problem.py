@@ -55,10 +55,13 @@ class WarmStartPoint:
     (``Problem.solve(warm_start=point)``).
 
     ``multipliers_by_name``: constraint name -> multipliers in the units of :attr:`ProblemResult.multipliers`
-    (``d objective / d bound``, one per element, 0 where an element was not passed to Ipopt). Where it is given, a
-    solve takes the multipliers of every constraint of the same name and size from it (rescaled to its own
-    constraint and objective scales): a start for another problem that shares constraints with the solved one (a
-    re-solve with more limits, a rebuilt scene). :meth:`from_result` makes a point of a result's multipliers alone
+    (``d objective / d bound``, one per element, 0 where an element was not passed to Ipopt), and variable name ->
+    the multipliers of its bounds (``ProblemResult.variables["multiplier"]``'s units). Where it is given, a solve
+    takes, for every constraint and bounded variable of the same name and size, the multipliers from it (rescaled
+    to its own scales; every row of the problem that was solved): a start for another problem that shares
+    constraints with the solved one (a re-solve with more limits, a rebuilt scene). The multipliers are those of
+    the solved problem's objective: a problem that optimises another quantity, or the same one in the other sense,
+    gets multipliers of the wrong size or sign. :meth:`from_result` makes a point of a result's multipliers alone
     (the primal start then stays the problem's own initial values)."""
 
     x_scaled: dict
@@ -70,24 +73,36 @@ class WarmStartPoint:
             given = getattr(self, field_name)
             if not isinstance(given, dict) or not all(isinstance(k, str) for k in given):
                 raise GearoptInputError(f"WarmStartPoint {field_name}={given!r} must be a dict of name -> values")
-        x = {k: np.atleast_1d(np.asarray(v, dtype=float)) for k, v in self.x_scaled.items()}
-        by_name = {k: np.atleast_1d(np.asarray(v, dtype=float)).ravel() for k, v in self.multipliers_by_name.items()}
-        lam = np.atleast_1d(np.asarray(self.multipliers, dtype=float)).ravel()
-        for name, values in [*x.items(), ("multipliers", lam), *by_name.items()]:
-            if not np.all(np.isfinite(values)):
-                raise GearoptInputError(f"WarmStartPoint {name}={values!r}: every value must be finite")
+        x = {k: _finite_values("x_scaled", k, v) for k, v in self.x_scaled.items()}
+        by_name = {k: _finite_values("multipliers_by_name", k, v).ravel() for k, v in self.multipliers_by_name.items()}
+        lam = _finite_values("multipliers", None, self.multipliers).ravel()
         object.__setattr__(self, "x_scaled", x)
         object.__setattr__(self, "multipliers", lam)
         object.__setattr__(self, "multipliers_by_name", by_name)
 
     @classmethod
     def from_result(cls, result: ProblemResult) -> "WarmStartPoint":
-        """The multipliers of a solve's result by constraint name (its finite ones), no primal values: a problem
-        that shares constraints with the solved one starts from them (with its own initial values)."""
+        """The multipliers of a solve's result by constraint and variable name (its finite ones), no primal values:
+        a problem that shares constraints with the solved one starts from them (with its own initial values)."""
         if not isinstance(result, ProblemResult):
             raise GearoptInputError(f"WarmStartPoint.from_result: result={result!r} must be a ProblemResult")
         by_name = {k: np.atleast_1d(np.asarray(v, dtype=float)) for k, v in result.multipliers.items()}
+        if len(result.variables):
+            for base, rows in result.variables.groupby("base", sort=False):
+                by_name[str(base)] = rows["multiplier"].to_numpy(dtype=float)
         return cls({}, np.zeros(0), {k: v for k, v in by_name.items() if np.all(np.isfinite(v))})
+
+
+def _finite_values(field_name: str, key: str | None, values) -> np.ndarray:
+    """``values`` as a float array, every value finite (a :class:`WarmStartPoint` field), else a named error."""
+    where = f"{field_name}[{key!r}]" if key is not None else field_name
+    try:
+        arr = np.atleast_1d(np.asarray(values, dtype=float))
+    except (TypeError, ValueError) as exc:
+        raise GearoptInputError(f"WarmStartPoint {where}={values!r}: must be real numbers ({exc})") from None
+    if not np.all(np.isfinite(arr)):
+        raise GearoptInputError(f"WarmStartPoint {where}={values!r}: every value must be finite")
+    return arr
 
 
 class Problem(Declarations, Evaluation):
@@ -197,11 +212,14 @@ class Problem(Declarations, Evaluation):
         if not self._previous_x or self._previous_lam is None:
             return None
         factor = -self._sense * self._objective_scale        # as ProblemResult.multipliers (constraint_table)
-        by_name = {}
-        for name, c in self._constraints.items():
-            natural = np.zeros(c.size)
-            natural[c.passed] = self._previous_lam[c.rows] * factor / c.scale[c.passed]
+        lam, by_name = self._previous_lam, {}
+        for name, c in self._constraints.items():           # rows passed since that solve: no multiplier yet
+            natural, known = np.zeros(c.size), c.rows < lam.size
+            natural[c.passed[known]] = lam[c.rows[known]] * factor / c.scale[c.passed[known]]
             by_name[name] = natural
+        for name, v in self._variables.items():              # bounds: as ProblemResult.variables (variable_table)
+            if v.bound_rows is not None and np.all(v.bound_rows < lam.size):
+                by_name[name] = lam[v.bound_rows] * factor / v.scale
         return WarmStartPoint({k: np.array(v, dtype=float) for k, v in self._previous_x.items()},
                               np.array(self._previous_lam, dtype=float), by_name)
 
@@ -212,9 +230,11 @@ class Problem(Declarations, Evaluation):
 
         Args:
             warm_start: start from the previous successful solution (primal and constraint multipliers) instead
-                of the declared initial guesses, or from a :class:`WarmStartPoint` (:meth:`warm_start_point`; its
-                multipliers are used where their count matches this problem's constraints). Ipopt uses the
-                multipliers only with ``warm_start_init_point="yes"``.
+                of the declared initial guesses, or from a :class:`WarmStartPoint` (:meth:`warm_start_point`,
+                :meth:`WarmStartPoint.from_result`): its multipliers matched by constraint and variable name and
+                size (a point without them: as they are where their count matches this problem's rows); variables
+                it lacks start at their declared initial values. Ipopt uses the multipliers only with ``warm_start_init_point="yes"``
+                (:data:`~gearopt.nlp.WARM_START_IPOPT`).
             verbose: Ipopt iteration log (``print_level`` 5) and CasADi timings.
             casadi_options: extra or overriding CasADi ``nlpsol`` options (e.g. ``{"expand": True}``).
             elastic_on_failure: when Ipopt fails, also run :meth:`solve_elastic` (default mode, same options and
@@ -351,7 +371,7 @@ class Problem(Declarations, Evaluation):
 
     def _start_multipliers(self, warm_start: bool | WarmStartPoint) -> np.ndarray:
         if isinstance(warm_start, WarmStartPoint):
-            if warm_start.multipliers_by_name:           # by name: any problem that shares constraints
+            if warm_start.multipliers_by_name:           # by name (constraints and variable bounds: every row)
                 return self._multipliers_by_name(warm_start.multipliers_by_name)
             lam = warm_start.multipliers                  # another problem's order may differ: only an equal count
             return lam.copy() if lam.size == self._ng else np.zeros(self._ng)
@@ -369,6 +389,10 @@ class Problem(Declarations, Evaluation):
             given = by_name.get(name)
             if given is not None and given.size == c.size and c.rows.size:
                 lam[c.rows] = given[c.passed] * c.scale[c.passed] / factor
+        for name, v in self._variables.items():
+            given = by_name.get(name)
+            if given is not None and given.size == v.size and v.bound_rows is not None:
+                lam[v.bound_rows] = given * v.scale / factor
         return lam
 
     @staticmethod

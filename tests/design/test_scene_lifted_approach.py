@@ -138,3 +138,6 @@ def test_a_scene_with_more_limits_starts_from_the_multipliers_of_a_solved_one():
     assert runs["warm"].solve.iterations < runs["cold"].solve.iterations
     with pytest.raises(GearoptInputError, match="warm_start"):
         more.build().solve(check=False, warm_start={"x": 1.0})
+    first_build = scene("lifted").build()
+    with pytest.raises(GearoptInputError, match="starts=2"):            # several starts would not use it
+        first_build.solve(check=False, starts=2, warm_start=first.warm_start_point())

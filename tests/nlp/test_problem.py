@@ -286,7 +286,7 @@ def test_multipliers_by_name_start_a_problem_with_more_constraints_and_other_sca
 
     solved = problem(False).solve()
     point = WarmStartPoint.from_result(solved)
-    assert point.x_scaled == {} and set(point.multipliers_by_name) == {"disc"}
+    assert point.x_scaled == {} and set(point.multipliers_by_name) == {"disc", "x", "y"}   # x, y: their bounds
     bigger = problem(True)
     lam = bigger._multipliers_by_name(point.multipliers_by_name)
     disc, half = bigger._constraints["disc"], bigger._constraints["half_plane"]
@@ -305,8 +305,24 @@ def test_multipliers_by_name_start_a_problem_with_more_constraints_and_other_sca
         runs[name] = p.solve(warm_start=warm, **WARM_START_IPOPT)
         assert [runs[name].values["x"], runs[name].values["y"]] == pytest.approx(list(ref.x), abs=1e-5)
     assert runs["warm"].iterations < runs["cold"].iterations
+    # a variable at its bound: its bound's multiplier is carried by the variable's name, rescaled likewise
+    def bounded(scale: float):
+        p = Problem("bounded_valley")
+        x = p.variable("x", init=0.0, upper=0.8, scale=scale)
+        y = p.variable("y", init=0.0)
+        p.minimize((1 - x) ** 2 + 100 * (y - x ** 2) ** 2)
+        return p
+    at_bound = bounded(1.0).solve()
+    other = bounded(4.0)
+    start = other._multipliers_by_name(WarmStartPoint.from_result(at_bound).multipliers_by_name)
+    x_entry = other._variables["x"]
+    assert start[x_entry.bound_rows[0]] * -1.0 / 4.0 == pytest.approx(
+        float(at_bound.variables.set_index("name").loc["x", "multiplier"]), rel=1e-12)
+    assert float(at_bound.variables.set_index("name").loc["x", "multiplier"]) != 0.0
     with pytest.raises(GearoptInputError, match="multipliers_by_name"):
         WarmStartPoint({}, np.zeros(0), ["disc"])
+    with pytest.raises(GearoptInputError, match=r"multipliers_by_name\['disc'\].*real numbers"):
+        WarmStartPoint({}, np.zeros(0), {"disc": "abc"})
     with pytest.raises(GearoptInputError, match="disc"):
         WarmStartPoint({}, np.zeros(0), {"disc": [np.inf]})
     with pytest.raises(GearoptInputError, match="ProblemResult"):
