@@ -129,3 +129,17 @@ def test_symbolic_rating_is_a_kernel_traced_once_equal_to_the_numeric_rating():
             expected = numeric.safety_factors[key]
             expected = min(map(float, expected)) if isinstance(expected, tuple) else float(expected)
             assert float(q.loc[quantity, "value"]) == pytest.approx(expected, rel=1e-9), (beta, quantity)
+    # the kernel's derivative (what Ipopt differentiates) against central differences of the numeric rating
+    import casadi as ca
+    entry = built.problem._variables["train.helix_angle_deg"]
+    s_b = built.models[f"iso6336_rating:{mesh}@rated"].safety_factors["S_B"]
+    slope = ca.Function("dS_B", [entry.symbol], [ca.jacobian(s_b, entry.symbol) / float(entry.scale[0])])
+
+    def numeric_s_b(beta):
+        pair = replace(train, helix_angle_deg=beta).pairs[mesh]
+        return float(rate_iso6336(pair, 120.0, speed, life_h=2e4, accuracy_grade=(6, 6),
+                                  materials=tuple(train.gears[g].material for g in pair.names)).safety_factors["S_B"])
+    for beta in (3.0, 9.0):
+        h = 1e-5
+        central = (numeric_s_b(beta + h) - numeric_s_b(beta - h)) / (2 * h)
+        assert float(slope(beta / float(entry.scale[0]))) == pytest.approx(central, rel=1e-5, abs=1e-9), beta
