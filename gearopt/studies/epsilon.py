@@ -29,7 +29,6 @@ from ..design.scene_terms import quantity_kind
 from ..errors import GearoptInputError, SolveError
 from ..nlp import WARM_START_IPOPT, InitialGuessWarning, WarmStartPoint
 
-
 LOOSE = 1e6
 """|ε| that leaves the front constraint inactive (the objective's own optimum), in the quantity's unit."""
 
