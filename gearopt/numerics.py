@@ -401,56 +401,61 @@ def _is_namedtuple(obj) -> bool:
     return isinstance(obj, tuple) and hasattr(obj, "_fields")
 
 
+def _parts(obj):
+    """``(parts, rebuild)`` of a container :func:`traced_call` looks into -- a dict's values, a list's or a (named)
+    tuple's items, an object array's elements, a dataclass's fields -- with ``rebuild(new_parts)`` the same kind of
+    container holding them (a dataclass through ``dataclasses.replace``, only where a part changed); None for
+    anything else."""
+    if isinstance(obj, dict):
+        keys = list(obj)
+        return [obj[k] for k in keys], lambda values: dict(zip(keys, values))
+    if isinstance(obj, (list, tuple)):
+        return list(obj), ((lambda values: type(obj)(*values)) if _is_namedtuple(obj)
+                           else (lambda values: type(obj)(values)))
+    if isinstance(obj, np.ndarray) and obj.dtype == object:
+        def rebuild_array(values):
+            out = np.empty(obj.shape, dtype=object)
+            out.ravel()[:] = values
+            return out
+        return list(obj.ravel()), rebuild_array
+    if dataclasses.is_dataclass(obj) and not isinstance(obj, type):
+        fields = dataclasses.fields(obj)
+
+        def rebuild_dataclass(values):
+            changes = {}
+            for f, v in zip(fields, values):
+                if v is not getattr(obj, f.name):
+                    if not f.init:        # derived in __post_init__: replace() cannot set it
+                        raise _Untraceable(f"{type(obj).__name__}.{f.name}")
+                    changes[f.name] = v
+            return dataclasses.replace(obj, **changes) if changes else obj
+        return [getattr(obj, f.name) for f in fields], rebuild_dataclass
+    return None
+
+
 def _map_leaves(obj, leaf):
-    """``(copy, changed)``: ``obj`` with every CasADi ``SX``/``MX`` in it replaced by ``leaf(x)``, looking into
-    dicts, lists, tuples (named ones too), object arrays and dataclass fields (rebuilt with
-    ``dataclasses.replace``); ``obj`` itself where nothing changed."""
+    """``(copy, changed)``: ``obj`` with every CasADi ``SX``/``MX`` in it replaced by ``leaf(x)``, looking into the
+    containers of :func:`_parts`; ``obj`` itself where nothing changed."""
     if isinstance(obj, _SYMBOLIC_TYPES):
         return leaf(obj), True
-    if isinstance(obj, dict):
-        items = [(k, *_map_leaves(v, leaf)) for k, v in obj.items()]
-        return (dict((k, v) for k, v, _ in items), True) if any(c for _, _, c in items) else (obj, False)
-    if isinstance(obj, (list, tuple)):
-        items = [_map_leaves(v, leaf) for v in obj]
-        if not any(c for _, c in items):
-            return obj, False
-        values = [v for v, _ in items]
-        return (type(obj)(*values) if _is_namedtuple(obj) else type(obj)(values)), True
-    if isinstance(obj, np.ndarray) and obj.dtype == object:
-        items = [_map_leaves(v, leaf) for v in obj.ravel()]
-        if not any(c for _, c in items):
-            return obj, False
-        out = np.empty(obj.shape, dtype=object)
-        out.ravel()[:] = [v for v, _ in items]
-        return out, True
-    if dataclasses.is_dataclass(obj) and not isinstance(obj, type):
-        changes = {}
-        for f in dataclasses.fields(obj):
-            v, changed = _map_leaves(getattr(obj, f.name), leaf)
-            if changed:
-                if not f.init:        # derived in __post_init__: replace() cannot set it
-                    raise _Untraceable(f"{type(obj).__name__}.{f.name}")
-                changes[f.name] = v
-        return (dataclasses.replace(obj, **changes), True) if changes else (obj, False)
-    return obj, False
+    parts = _parts(obj)
+    if parts is None:
+        return obj, False
+    items = [_map_leaves(v, leaf) for v in parts[0]]
+    if not any(changed for _, changed in items):
+        return obj, False
+    return parts[1]([v for v, _ in items]), True
 
 
 def _leaves(obj, out: list) -> list:
-    """The CasADi ``SX``/``MX`` values in ``obj`` (the containers of :func:`_map_leaves`, in its order)."""
+    """The CasADi ``SX``/``MX`` values in ``obj`` (the containers of :func:`_parts`, in :func:`_map_leaves`'
+    order)."""
     if isinstance(obj, _SYMBOLIC_TYPES):
         out.append(obj)
-    elif isinstance(obj, dict):
-        for v in obj.values():
+    else:
+        parts = _parts(obj)
+        for v in (parts[0] if parts is not None else ()):
             _leaves(v, out)
-    elif isinstance(obj, (list, tuple)):
-        for v in obj:
-            _leaves(v, out)
-    elif isinstance(obj, np.ndarray) and obj.dtype == object:
-        for v in obj.ravel():
-            _leaves(v, out)
-    elif dataclasses.is_dataclass(obj) and not isinstance(obj, type):
-        for f in dataclasses.fields(obj):
-            _leaves(getattr(obj, f.name), out)
     return out
 
 
@@ -572,25 +577,14 @@ class _Slot:
 
 
 def _fill_slots(obj, values):
-    """``obj`` with every :class:`_Slot` replaced by its value (the containers of :func:`_map_leaves`; a numeric
-    array copied, so that no two calls share one)."""
+    """``obj`` with every :class:`_Slot` replaced by its value (the containers of :func:`_parts`; a numeric array
+    copied, so that no two calls share one)."""
     if isinstance(obj, _Slot):
         return values[obj.index]
-    if isinstance(obj, dict):
-        return {k: _fill_slots(v, values) for k, v in obj.items()}
-    if isinstance(obj, (list, tuple)):
-        filled = [_fill_slots(v, values) for v in obj]
-        return type(obj)(*filled) if _is_namedtuple(obj) else type(obj)(filled)
-    if isinstance(obj, np.ndarray):
-        if obj.dtype != object:
-            return obj.copy()
-        out = np.empty(obj.shape, dtype=object)
-        out.ravel()[:] = [_fill_slots(v, values) for v in obj.ravel()]
-        return out
-    if dataclasses.is_dataclass(obj) and not isinstance(obj, type):
-        changes = {f.name: _fill_slots(getattr(obj, f.name), values) for f in dataclasses.fields(obj) if f.init}
-        return dataclasses.replace(obj, **changes)
-    return obj
+    if isinstance(obj, np.ndarray) and obj.dtype != object:
+        return obj.copy()
+    parts = _parts(obj)
+    return obj if parts is None else parts[1]([_fill_slots(v, values) for v in parts[0]])
 
 
 def traced_kernel_stats() -> dict:
