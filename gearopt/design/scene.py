@@ -439,14 +439,14 @@ class BuiltScene:
             solved = self.problem.solve(verbose=verbose, **ipopt)
         return self._result(solved, check, starts_table, screen)
 
-    def _check_warm_start(self, warm_start, starts: int, screened: bool) -> None:
-        """A warm start is for one solve from the declared start: refused (named) with several starts or the exact
-        screen's, where it would not be used."""
+    def _check_warm_start(self, warm_start, starts: int, check: bool) -> None:
+        """A warm start is for one solve from the declared start: refused (named) with several starts or where the
+        exact screen picks the starts (:meth:`screened` of ``check``), where it would not be used."""
         if warm_start is None:
             return
         if not isinstance(warm_start, WarmStartPoint):
             raise GearoptInputError(f"warm_start={warm_start!r} must be a gearopt.nlp.WarmStartPoint or None")
-        if starts > 1 or self.screened(screened):
+        if starts > 1 or self.screened(check):
             raise GearoptInputError(
                 f"warm_start: a warm start is for one solve from the declared start, but this solve starts from "
                 f"{'starts=' + str(starts) + ' points' if starts > 1 else 'the exact screen'}; build the scene at "
