@@ -23,6 +23,7 @@ from __future__ import annotations
 import multiprocessing
 import os
 import pickle
+import sys
 import threading
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from contextlib import contextmanager
@@ -196,13 +197,28 @@ def _call(payload: bytes) -> Any:
 
 def _process_context():
     """``fork`` (workers start at once, nothing re-imported) when this process runs no other thread and the platform
-    forks; else ``spawn`` (safe with threads -- a Dask client, a CasADi thread pool -- at the price of importing
-    gearopt in each worker)."""
+    forks; else :func:`clean_process_context` (safe with threads -- a Dask client, a CasADi thread pool)."""
     others = [t for t in threading.enumerate()
               if t is not threading.current_thread() and type(t).__name__ != "TMonitor"]   # tqdm's idle monitor
     if "fork" in multiprocessing.get_all_start_methods() and not others:
         return multiprocessing.get_context("fork")
-    return multiprocessing.get_context("spawn")
+    return clean_process_context()
+
+
+def clean_process_context():
+    """The start method for worker processes of a process that may hold threads (solver or plotting threads, which
+    a plain ``fork`` would copy mid-flight): ``forkserver`` where the platform has it -- one fresh server process
+    imports the program once and every worker is forked from it, so a job's side processes and figure writer do
+    not each import it again (about 3 CPU-s each for the main job) -- else ``spawn`` (each worker a fresh
+    interpreter)."""
+    if "forkserver" not in multiprocessing.get_all_start_methods():
+        return multiprocessing.get_context("spawn")
+    context = multiprocessing.get_context("forkserver")
+    # the server imports what this program has imported of gearopt (and so numpy, CasADi, pandas ...) before its
+    # first fork (Python 3.11's forkserver does not preload __main__ itself); set before the server starts, which
+    # is at the first worker of the first pool
+    context.set_forkserver_preload(sorted(name for name in sys.modules if name.split(".")[0] == "gearopt"))
+    return context
 
 
 class _NoBar:

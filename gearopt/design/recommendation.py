@@ -107,9 +107,10 @@ def recommend(system: System, candidates: Sequence[TrainDesign], *, contact_mesh
     def dynamics_of(c: TrainDesign, sys: System):
         return dynamic(c, sys) if callable(dynamic) else dynamic
 
-    checks, systems, sizing, judged = {}, {}, {}, {}
+    checks, systems, sizing, judged, sized = {}, {}, {}, {}, {}
     for c in candidates:
-        sys_c, notes = size_free_joints(system, c, dynamics_of(c, system)) if size_joints else (system, {})
+        sys_c, notes = size_free_joints(system, c, dynamics_of(c, system), sized=sized) if size_joints \
+            else (system, {})
         if sys_c is not system:
             c = replace(c, variables=tuple(dict.fromkeys((*c.variables, "joints"))))
         dyn = dynamics_of(c, sys_c)

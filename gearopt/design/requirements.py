@@ -352,8 +352,8 @@ def rating_headroom(system: System, train: GearTrain, mesh: str, torque_Nm: floa
                     key: str, limit: float, *, application_factor: float, **options) -> dict:
     """What it would take for the safety ``key`` (``"S_H"``, ``"S_F"``, ``"S_B"``) of ``mesh`` to reach ``limit``:
     ``max_torque_Nm`` (the largest torque at which it does, same train) and ``min_face_width_mm`` (the smallest
-    common face width of both gears at ``torque_Nm``; None beyond 4 x the present width). Bisection on the exact
-    rating (:func:`rating_table`) to 0.1 %."""
+    common face width of both gears at ``torque_Nm``; None beyond 4 x the present width), each bracketed on the
+    exact rating (:func:`rating_table`) to 0.1 % (:func:`_boundary`)."""
     if key not in ("S_H", "S_F", "S_B"):
         raise GearoptInputError(f"rating_headroom: key={key!r} must be 'S_H', 'S_F' or 'S_B'")
     if mesh not in train.pairs:
@@ -361,12 +361,14 @@ def rating_headroom(system: System, train: GearTrain, mesh: str, torque_Nm: floa
     check_range("limit", limit, 0.0, None, low_inclusive=False)
     check_range("torque_Nm", torque_Nm, 0.0, None, low_inclusive=False, unit="N m")
 
-    def safety(tr: GearTrain, t: float) -> float:
+    def ratio(tr: GearTrain, t: float) -> float:            # safety over the limit: >= 1 passes
         tab = rating_table(system, tr, {mesh: t}, root_speed_rpm, application_factor=application_factor, **options)
-        return min(v for _, v in safety_values(tab, key))
+        return min(v for _, v in safety_values(tab, key)) / limit
 
-    t_max = (_boundary(lambda t: safety(train, t) >= limit, 0.0, float(torque_Nm))
-             if safety(train, torque_Nm) < limit else float(torque_Nm))
+    # the safety falls with the torque (S_H ~ T^-1/2, S_F ~ T^-1) and rises with the face width (S_H ~ b^1/2)
+    present = ratio(train, torque_Nm)
+    t_max = (_boundary(lambda t: ratio(train, t), float(torque_Nm), present, slope=-0.5)
+             if present < 1.0 else float(torque_Nm))
     b0 = min(train.gears[g].face_width_mm for g in train.pairs[mesh].names)
 
     def widened(b: float) -> GearTrain:
@@ -374,20 +376,63 @@ def rating_headroom(system: System, train: GearTrain, mesh: str, torque_Nm: floa
                  for n, g in train.gears.items()}
         return dataclasses.replace(train, gears=gears)
 
-    passes = lambda b: safety(widened(b), torque_Nm) >= limit          # noqa: E731
-    b_min = _boundary(passes, 4.0 * b0, b0) if passes(4.0 * b0) else None
+    if present >= 1.0:
+        return {"max_torque_Nm": t_max, "min_face_width_mm": b0, "face_width_mm": b0}
+    wide = ratio(widened(4.0 * b0), torque_Nm)
+    b_min = (_boundary(lambda b: ratio(widened(b), torque_Nm), b0, present, good=(4.0 * b0, wide))
+             if wide >= 1.0 else None)
     return {"max_torque_Nm": t_max, "min_face_width_mm": b_min, "face_width_mm": b0}
 
 
-def _boundary(passes: Callable[[float], bool], good: float, bad: float, rtol: float = 1e-3) -> float:
-    """Bisection between an argument that passes and one that fails; the passing end once the two lie within
-    ``rtol`` of the larger."""
-    for _ in range(40):
-        mid = 0.5 * (good + bad)
-        good, bad = (mid, bad) if passes(mid) else (good, mid)
-        if abs(good - bad) <= rtol * max(abs(good), abs(bad)):
-            break
-    return good
+def _boundary(ratio: Callable[[float], float], bad: float, bad_ratio: float, *, good: tuple | None = None,
+              slope: float = -0.5, rtol: float = 1e-3, max_evaluations: int = 40) -> float:
+    """Where a monotone ``ratio(x) > 0`` (>= 1 passes) crosses 1: the passing end of a bracket once its two ends lie
+    within ``rtol`` of the larger. ``bad`` (> 0) fails with ``bad_ratio``; ``good`` an ``(x, ratio)`` that passes,
+    else one is searched for from ``bad`` towards 0 along the power law ``ratio ~ x^slope`` (``slope < 0``: the
+    passing side lies below ``bad``; then the slope the failing points show, aiming a tenth past the crossing,
+    at most 16x per step), and 0.0 is returned if none is found within a factor 1e6 of ``bad`` (a safety that
+    saturates: ISO 6336's K_v grows as the load falls) or ``max_evaluations``.
+
+    Regula falsi in ``(ln x, ln ratio)``, exact for a power law, with the Illinois weighting (an end kept twice has
+    its value halved), each estimate moved ``rtol / 2`` towards the end farther from it so that the bracket also
+    closes from that side, and a geometric bisection after two steps that did not halve the bracket: about four
+    evaluations of ``ratio`` where bisecting the bracket to ``rtol`` takes about ten."""
+    fail = (math.log(bad), math.log(bad_ratio))
+    ok = None if good is None else (math.log(good[0]), math.log(good[1]))
+    width, replaced, stalled, previous = None, None, 0, None
+    for _ in range(max_evaluations):
+        if ok is None:                  # aim a little past the crossing, on the slope seen so far
+            if previous is not None and (fail[1] - previous[1]) * slope * (fail[0] - previous[0]) > 0.0:
+                slope = (fail[1] - previous[1]) / (fail[0] - previous[0])
+            target = 0.1 * abs(fail[1]) + rtol * abs(slope)
+            x = fail[0] + float(np.clip((target - fail[1]) / slope, -math.log(16.0), math.log(16.0)))
+            previous = fail
+            if abs(x - math.log(bad)) > math.log(1e6):
+                return 0.0
+        else:
+            lo, hi = sorted((fail[0], ok[0]))
+            if math.exp(hi) - math.exp(lo) <= rtol * math.exp(hi):
+                return math.exp(ok[0])
+            if stalled >= 2:
+                x, stalled = 0.5 * (lo + hi), 0
+            else:
+                x = fail[0] + (ok[0] - fail[0]) * fail[1] / (fail[1] - ok[1])
+                x += math.copysign(0.5 * rtol, (ok[0] if abs(ok[0] - x) > abs(x - fail[0]) else fail[0]) - x)
+                x = min(max(x, lo + 0.25 * rtol), hi - 0.25 * rtol)
+        point = (x, math.log(ratio(math.exp(x))))
+        if point[1] >= 0.0:
+            side, ok = "ok", point
+        else:
+            side, fail = "fail", point
+        if ok is None:
+            continue
+        if side == replaced:            # the same end replaced twice in a row: halve the kept end's value
+            fail, ok = (fail, (ok[0], 0.5 * ok[1])) if side == "fail" else ((fail[0], 0.5 * fail[1]), ok)
+        replaced = side
+        new_width = abs(ok[0] - fail[0])
+        stalled = stalled + 1 if width is not None and new_width > 0.5 * width else 0
+        width = new_width
+    return math.exp(ok[0]) if ok is not None else 0.0
 
 
 def _rating_rows(system: System, design: TrainDesign, req: Requirements, torques: Mapping[str, float],
@@ -556,13 +601,16 @@ def with_capacities(dynamic: DynamicPeaks, system: System, joints: Sequence[str]
 
 
 def size_free_joints(system: System, design: TrainDesign, dynamic: DynamicPeaks | None = None,
-                     requirements: Requirements | None = None) -> tuple[System, dict[str, str]]:
+                     requirements: Requirements | None = None, *, sized: dict | None = None
+                     ) -> tuple[System, dict[str, str]]:
     """Size every joint the data marks free (``[joints.<name>] free = true``) for the slip (and, with a thrust,
     walk-off) margin of the requirements at the weakest tolerance (:func:`size_joint`): against the design load of
     ``design``'s train and, given ``dynamic``, every over-speed peak of the joint; with the requirement's hub
     yield safety. Returns the system with the sized joints (a press fit's ISO 286 fit and interference band, a
     taper's nut torque) and ``{joint: what was chosen}``; a joint no admissible design holds keeps the data's and
-    says why."""
+    says why. ``sized``: a dict kept between calls on the same ``system`` (e.g. one per candidate of a
+    recommendation) in which each sizing is stored by its joint, demands and margins, so that candidates with the
+    same demands (the same tooth counts and dynamics) are sized once."""
     req = requirements or system.requirements
     free = [n for n, j in system.joints.items() if j.free]
     if not free:
@@ -571,6 +619,7 @@ def size_free_joints(system: System, design: TrainDesign, dynamic: DynamicPeaks 
     load = walk_off(design.train, torques)
     changes: dict[str, dict] = {}
     notes: dict[str, str] = {}
+    memo = sized if sized is not None else {}
     for name in free:
         joint = system.joints[name]
         demands = []
@@ -585,16 +634,21 @@ def size_free_joints(system: System, design: TrainDesign, dynamic: DynamicPeaks 
         if not demands:
             continue
         margin = max(req.min_slip_margin, req.min_axial_margin if any(d.axial_force_N for d in demands) else 0.0)
-        try:
-            sized = size_joint(system, name, demands, target_margin=max(1.0, margin),        # the sizing's own
-                               min_hub_yield_safety=max(0.5, req.min_hub_yield_safety))  # ranges
-        except SolveError as exc:
+        sizing = dict(target_margin=max(1.0, margin), min_hub_yield_safety=max(0.5, req.min_hub_yield_safety))
+        key = (name, tuple(demands), tuple(sorted(sizing.items())))      # (the sizing's own ranges)
+        if key not in memo:
+            try:
+                memo[key] = size_joint(system, name, demands, **sizing)
+            except SolveError as exc:
+                memo[key] = exc
+        outcome = memo[key]
+        if isinstance(outcome, SolveError):
             notes[name] = (f"kept the data's: no admissible {joint.joint_type.replace('_', ' ')} holds the demands "
-                           f"({type(exc).__name__})")
+                           f"({type(outcome).__name__})")
             continue
-        v = sized.values
-        if sized.joint_type == "press_fit":
-            fit = sized.fit
+        v = outcome.values
+        if outcome.joint_type == "press_fit":
+            fit = outcome.fit
             if fit is not None:
                 changes[name] = {"fit": fit["fit"], "diametral_interference_um": fit["mean_um"],
                                  "diametral_interference_min_um": fit["min_um"],

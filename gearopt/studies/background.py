@@ -5,7 +5,8 @@ trade-off study need only the data) runs some of them in a side process while it
 with two cores the run takes about the longer of the two chains instead of their sum. Inside
 :func:`side_process`, :meth:`SideProcess.submit` returns a :class:`concurrent.futures.Future`; leaving the block
 waits for what is still running. Nothing here schedules work: it is one :class:`~concurrent.futures.ProcessPoolExecutor`
-worker, started with ``spawn`` (no fork of a process holding solver or plotting threads).
+worker, started by :func:`gearopt.executor.clean_process_context` (no fork of a process holding solver or plotting
+threads: a fresh server process imports the program once and forks the workers).
 
 A function of a script (a file run as ``__main__`` or loaded from its path, not importable by name) is found in the
 worker by loading that file again (its ``if __name__ == "__main__"`` block does not run); a function of an
@@ -22,12 +23,13 @@ import importlib
 import importlib.util
 import inspect
 import logging
-import multiprocessing
 import os
 import sys
 from concurrent.futures import Future, ProcessPoolExecutor
 from pathlib import Path
 from typing import Any, Callable, Iterator
+
+from ..executor import clean_process_context
 
 __all__ = ["SideProcess", "side_process", "terminate_descendants", "children_die_with_this_process"]
 
@@ -68,7 +70,7 @@ def side_process(enabled: bool = True, *, workers: int = 1) -> Iterator[SideProc
     if not enabled:
         yield SideProcess(None)
         return
-    pool = ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context("spawn"),
+    pool = ProcessPoolExecutor(max_workers=workers, mp_context=clean_process_context(),
                                initializer=_configure_logging)
     try:
         yield SideProcess(pool)

@@ -165,6 +165,50 @@ def test_rating_headroom_brackets_the_limit(minimal):
     assert head["min_face_width_mm"] > head["face_width_mm"]
 
 
+@pytest.mark.parametrize("exponent, wobble, limit", [(-0.5, 0.05, 1.05), (-1.0, 0.0, 1.5), (-0.7, 0.1, 3.0),
+                                                      (0.5, 0.05, 1.3)])
+def test_boundary_search_brackets_the_crossing_found_by_brentq(exponent, wobble, limit):
+    """The headroom's root bracketing against SciPy's brentq on a power law with a smooth wobble (the shape of a
+    safety over torque or face width): the returned end passes, a point 0.2 % beyond it fails, it lies within 0.1 %
+    of brentq's crossing, and it takes fewer evaluations than bisecting the bracket to 0.1 % (about ten)."""
+    from scipy.optimize import brentq
+
+    from gearopt.design.requirements import _boundary
+    calls = []
+
+    def ratio(x):
+        calls.append(x)
+        return (x / 300.0) ** exponent * (1.0 + wobble * math.sin(x / 50.0)) / limit
+
+    if exponent < 0:                       # the torque's case: pass below the failing present torque
+        found = _boundary(ratio, 300.0, ratio(300.0), slope=exponent / 2)
+        evaluations = len(calls)
+        root = brentq(lambda x: ratio(x) - 1.0, 1e-3, 300.0, xtol=1e-12)
+        beyond = found * 1.002
+    else:                                  # the face width's case: a passing end given
+        found = _boundary(ratio, 300.0, ratio(300.0), good=(1200.0, ratio(1200.0)))
+        evaluations = len(calls)
+        root = brentq(lambda x: ratio(x) - 1.0, 300.0, 1200.0, xtol=1e-12)
+        beyond = found / 1.002
+    assert ratio(found) >= 1.0 > ratio(beyond)
+    assert found == pytest.approx(root, rel=1e-3)
+    assert evaluations <= 10
+
+
+def test_boundary_search_reports_zero_for_a_safety_that_saturates():
+    """ISO 6336's K_v grows without bound as the load falls, so a safety can saturate below its limit: the search
+    stops (within a factor 1e6 of the torque) and reports 0, as the rating's own test of the limit would."""
+    from gearopt.design.requirements import _boundary
+    calls = []
+
+    def ratio(x):                          # rises as x falls but never reaches 1
+        calls.append(x)
+        return 0.9 * (1.0 - 0.5 * x / (x + 10.0))
+
+    assert _boundary(ratio, 300.0, ratio(300.0)) == 0.0
+    assert min(calls) > 300.0 * 1e-6 / 16 and len(calls) < 40
+
+
 def test_a_renamed_train_is_judged_under_its_own_names():
     system = _renamed()
     mesh = "sun_gear-drum_gear"
@@ -257,6 +301,26 @@ def test_a_free_joint_is_sized_to_its_requirement_and_judged_as_sized(minimal):
     assert rec.sheet["gears"]["wheel"]["joint"]["nut_torque_Nm"] == sized.joints["wheel"]["nut_torque_Nm"]
     assert any("joint wheel sized" in n for n in rec.notes)
     assert not rec.check.row("slip_margin", "all joints").fixed           # a free joint is a design variable
+
+
+def test_candidates_with_the_same_joint_demands_are_sized_once(minimal, monkeypatch):
+    """recommend() sizes a free joint once for candidates whose demands on it are the same (two reliefs of one
+    train load the joint alike), each candidate's system as sized alone."""
+    import gearopt.design.requirements as requirements
+    from gearopt.design.requirements import size_free_joints
+
+    calls = []
+    sizing = requirements.size_joint
+    monkeypatch.setattr(requirements, "size_joint", lambda *a, **k: calls.append(a[1]) or sizing(*a, **k))
+    train = minimal.train("spur")
+    a = TrainDesign(train, {MESH: _relief(minimal, MESH)}, name="a")
+    b = TrainDesign(train, {MESH: _relief(minimal, MESH, 14.0)}, name="b")
+    alone = size_free_joints(minimal, b)
+    calls.clear()
+    rec = recommend(minimal, [a, b])
+    assert calls.count("wheel") == 1                 # the free joint (the others: what it would take)
+    assert rec.checks["b"].row("slip_margin", "all joints").value == pytest.approx(
+        evaluate_requirements(alone[0], b).row("slip_margin", "all joints").value, rel=1e-12)
 
 
 def test_an_idler_train_is_judged_mesh_by_mesh_and_bad_calls_are_named():
