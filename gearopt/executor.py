@@ -6,7 +6,8 @@ segments and Monte Carlo chunks (``gearopt.studies.executor`` re-exports it). Ev
 :meth:`Executor.map`, which applies a picklable function to a list of items and returns the results *in the order
 of the items* whoever ran them -- so a study gives the same table with every executor. Nothing here schedules work
 itself: ``"processes"`` is :class:`concurrent.futures.ProcessPoolExecutor` (forked workers from a single-threaded
-process, spawned ones from a process holding threads -- a Dask client -- so that either starts safely), ``"dask"``
+process, ones forked from a fresh server (:func:`clean_process_context`) from a process holding threads -- a Dask
+client -- so that either starts safely), ``"dask"``
 a :class:`distributed.LocalCluster` (one thread per worker process), and a :class:`distributed.Client` (or a
 scheduler address ``"tcp://host:port"``) runs the batch on that cluster.
 
