@@ -133,11 +133,12 @@ def nonfinite(constraints: list[ConstraintEntry], g: np.ndarray, objective: floa
     found = []
     offset = 0
     for c in constraints:
-        block = g[offset:offset + c.size]
+        block = np.asarray(g[offset:offset + c.size], dtype=float)
         offset += c.size
-        for label, gi in zip(c.element_names(), block):
-            if not np.isfinite(gi):
-                found.append(Finding(label, f"{kind} is {gi} at the initial guess", c.source))
+        bad = np.flatnonzero(~np.isfinite(block))
+        if bad.size:
+            names = c.element_names()
+            found += [Finding(names[i], f"{kind} is {block[i]} at the initial guess", c.source) for i in bad]
     if not np.isfinite(objective):
         found.append(Finding("objective", f"{kind} is {objective} at the initial guess"))
     return found

@@ -156,18 +156,26 @@ def variable_table(variables: list[VariableEntry], values: dict[str, np.ndarray]
                    lam_g: np.ndarray, *, objective_factor: float, tol: float) -> pd.DataFrame:
     """Build the variable table (values and ``inits`` in variable units, keyed by name; other arguments as in
     :func:`constraint_table`). The multiplier is that of the variable's bounds, 0 for a free variable."""
-    rows = []
+    if not variables:
+        return pd.DataFrame([], columns=VARIABLE_COLUMNS)
+    columns: dict[str, list] = {k: [] for k in VARIABLE_COLUMNS}
     for v in variables:
-        x = values[v.name]
-        lam = lam_g[v.bound_rows] if v.bound_rows is not None else np.zeros(v.size)
-        for i, label in enumerate(element_names(v.name, v.size, v.vector)):
-            at_bound = min(abs(x[i] - v.lower[i]), abs(v.upper[i] - x[i])) <= tol * v.scale[i]
-            rows.append({
-                "name": label, "base": v.name, "value": float(x[i]), "init": float(inits[v.name][i]),
-                "lower": float(v.lower[i]), "upper": float(v.upper[i]), "at_bound": bool(at_bound),
-                "multiplier": float(objective_factor * lam[i] / v.scale[i]), "scale": float(v.scale[i]),
-                "unit": v.unit, "source": v.source})
-    return pd.DataFrame(rows, columns=VARIABLE_COLUMNS)
+        x = np.asarray(values[v.name], dtype=float).reshape(-1)[:v.size]
+        lower, upper, scale = (np.asarray(a, dtype=float).reshape(-1)[:v.size] for a in (v.lower, v.upper, v.scale))
+        lam = np.asarray(lam_g[v.bound_rows], dtype=float) if v.bound_rows is not None else np.zeros(v.size)
+        columns["name"] += element_names(v.name, v.size, v.vector)
+        columns["base"] += [v.name] * v.size
+        columns["value"].append(x)
+        columns["init"].append(np.asarray(inits[v.name], dtype=float).reshape(-1)[:v.size])
+        columns["lower"].append(lower)
+        columns["upper"].append(upper)
+        columns["at_bound"].append(np.minimum(np.abs(x - lower), np.abs(upper - x)) <= tol * scale)
+        columns["multiplier"].append(objective_factor * lam / scale)
+        columns["scale"].append(scale)
+        columns["unit"] += [v.unit] * v.size
+        columns["source"] += [v.source] * v.size
+    return pd.DataFrame({k: (np.concatenate(c) if c and isinstance(c[0], np.ndarray) else c)
+                         for k, c in columns.items()}, columns=VARIABLE_COLUMNS)
 
 
 def multipliers_by_name(constraints: list[ConstraintEntry], table: pd.DataFrame) -> dict[str, Number]:
@@ -190,24 +198,27 @@ def violations_from_tables(constraints: pd.DataFrame, variables: pd.DataFrame | 
     quantity Ipopt sees) and reported with their violation in their own units. Variable rows are named
     ``"<name> (bounds)"``. Non-finite values are not counted (the pre-solve check reports those).
     """
-    found: list[tuple] = []
     tables = [(constraints, "")] + ([(variables, " (bounds)")] if variables is not None else [])
-    order = 0
-    for table, suffix in tables:
+    ratios, rows = [], []
+    for t, (table, suffix) in enumerate(tables):
         value, lower, upper, scale = (table[k].to_numpy(dtype=float) for k in ("value", "lower", "upper", "scale"))
         with np.errstate(invalid="ignore"):                       # inf - inf: NaN, not counted
             below, above = lower - value, value - upper
         violation = np.where(above > below, above, below)          # max(below, above, 0) as Python's max orders
         violation = np.where(0.0 > violation, 0.0, violation)      # it: a NaN value is never counted
-        for i in np.flatnonzero(violation > tol * scale):
-            found.append((violation[i] / scale[i], order, table, suffix, float(violation[i]), int(i)))
-            order += 1
-    found.sort(key=lambda item: (-item[0], item[1]))
+        hit = np.flatnonzero(violation > tol * scale)
+        ratios.append(violation[hit] / scale[hit])
+        rows += [(t, int(i), float(violation[i])) for i in hit]
+    if not rows:
+        return []
+    ranked = np.argsort(-np.concatenate(ratios), kind="stable")[:n]      # worst first, ties in table order
+    columns = [{k: table[k].to_numpy() for k in ("name", "value", "lower", "upper", "source")} for table, _ in tables]
     out = []
-    for _, _, table, suffix, violation, i in found[:n]:
-        row = table.iloc[i]
-        out.append(ViolatedConstraint(f"{row['name']}{suffix}", violation, float(row["value"]), float(row["lower"]),
-                                      float(row["upper"]), row["source"]))
+    for j in ranked:
+        t, i, violation = rows[j]
+        c = columns[t]
+        out.append(ViolatedConstraint(f"{c['name'][i]}{tables[t][1]}", violation, float(c["value"][i]),
+                                      float(c["lower"][i]), float(c["upper"][i]), c["source"][i]))
     return out
 
 

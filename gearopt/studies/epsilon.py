@@ -22,6 +22,7 @@ from dataclasses import dataclass, field, replace
 from typing import Any, Mapping
 
 import numpy as np
+import pandas as pd
 
 from .. import numerics as nm
 from ..design.scene import Limit, Scene
@@ -147,9 +148,10 @@ class EpsilonModel:
                 return p.multistart(starts - 1, seed=0, variables=design, include_initial=True, **options).best
             return p.solve(warm_start=warm, **options)
 
-    def quantity_value(self, solved) -> float:
-        """The front quantity at a solve: the largest (smallest) value over the load cases, in its unit."""
-        table = self.built.quantity_table(solved)
+    def quantity_value(self, solved, table: pd.DataFrame | None = None) -> float:
+        """The front quantity at a solve: the largest (smallest) value over the load cases, in its unit
+        (``table``: the solve's quantity table, when already made)."""
+        table = self.built.quantity_table(solved) if table is None else table
         rows = table[(table["quantity"] == self.spec.quantity) & (table["target"] == self.spec.target)]
         values = rows["value"].to_numpy(dtype=float)
         return float(values.max() if self.spec.sense == "min" else values.min())

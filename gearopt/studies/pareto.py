@@ -306,7 +306,7 @@ def _record(model, solved, eps: float | None, *, warm: bool = True) -> dict[str,
             if mult is not None:
                 row[f"multiplier:{label}"] = float(np.sum(mult))
     objective, factor = _objective(spec.scene, table, solved)
-    quantity = model.quantity_value(solved)
+    quantity = model.quantity_value(solved, table)
     mult = float(solved.multipliers["front.epsilon_limit"])
     slope = mult * (2.0 * eps if model.kind.squared and eps is not None else 1.0) * factor
     row.update(_objective=objective, _quantity=quantity, front_slope=slope if eps is not None else 0.0,

@@ -597,3 +597,38 @@ def test_depends_on_variables_tells_variables_from_parameters_and_numbers():
     assert not p.depends_on_variables(3.0)
     assert not p.depends_on_variables(ca.DM([1.0, 2.0]))
     assert not p.depends_on_variables(ca.MX.sym("stranger") * k)  # a symbol not declared through the problem
+
+
+def test_violations_are_ranked_by_scaled_violation_with_ties_in_table_order():
+    """violations_from_tables against a plain row-by-row reference (max(lower - value, value - upper, 0) > tol *
+    scale, ranked by violation / scale, ties in table order, bounds rows suffixed): the worst first, NaN and
+    infinite bounds never counted, ``n`` the first n of the full ranking."""
+    import pandas as pd
+
+    from gearopt.nlp.result import violations_from_tables
+
+    rng = np.random.default_rng(3)
+    size = 40
+    value = rng.normal(0.0, 2.0, size)
+    value[[3, 7]] = [np.nan, 5.0]
+    lower = np.where(rng.random(size) < 0.3, -np.inf, -1.0)
+    upper = np.where(rng.random(size) < 0.3, np.inf, 1.0)
+    scale = rng.choice([1.0, 10.0, 0.1], size)
+    scale[[10, 11]], value[[10, 11]], lower[[10, 11]], upper[[10, 11]] = 1.0, 3.0, -1.0, 1.0   # a tie
+    table = pd.DataFrame({"name": [f"c{i}" for i in range(size)], "value": value, "lower": lower, "upper": upper,
+                          "scale": scale, "source": [f"src{i}" for i in range(size)]})
+    bounds = table.iloc[:5].assign(name=[f"x{i}" for i in range(5)], value=[2.0, 0.0, -3.0, 0.5, 9.0])
+    tol = 1e-6
+    reference = []
+    for t, (tab, suffix) in enumerate(((table, ""), (bounds, " (bounds)"))):
+        for i, r in enumerate(tab.itertuples(index=False)):
+            violation = max(r.lower - r.value, r.value - r.upper, 0.0) if np.isfinite(r.value) else 0.0
+            if violation > tol * r.scale:
+                reference.append((-violation / r.scale, t, i, f"{r.name}{suffix}", violation))
+    reference.sort(key=lambda item: item[:3])
+    found = violations_from_tables(table, bounds, tol)
+    assert [(v.name, v.violation) for v in found] == [(name, pytest.approx(v)) for *_, name, v in reference]
+    names = [v.name for v in found]
+    assert names.index("c10") == names.index("c11") - 1                     # the tie in table order
+    assert [v.name for v in violations_from_tables(table, bounds, tol, 3)] == [r[3] for r in reference[:3]]
+    assert violations_from_tables(table.iloc[:0], None, tol) == []
