@@ -105,7 +105,7 @@ class Executor:
         by ``fn`` propagates (catch failures inside ``fn`` to record them instead)."""
         items = list(items)
         if self.kind == "processes" and self._pool is None and items:
-            self._pool = ProcessPoolExecutor(max_workers=self.workers, mp_context=_process_context())
+            self._pool = process_pool(self.workers, _process_context())
         bar = _progress_bar(len(items), desc, self.progress)
         try:
             if self.kind == "serial" or not items:
@@ -204,6 +204,25 @@ def _process_context():
     if "fork" in multiprocessing.get_all_start_methods() and not others:
         return multiprocessing.get_context("fork")
     return clean_process_context()
+
+
+def process_pool(max_workers: int, context=None, *, initializer: Callable | None = None,
+                 initargs: tuple = ()) -> ProcessPoolExecutor:
+    """A :class:`~concurrent.futures.ProcessPoolExecutor` of ``max_workers`` started from ``context`` (default
+    :func:`clean_process_context`) whose workers run with this process's environment as it is now: a forkserver's
+    workers would otherwise see the environment of the moment the server started (``GEAROPT_THREADS``, the compile
+    cache's settings, a test's ``GEAROPT_FIGURE_CHECKS`` set later). ``initializer(*initargs)`` runs in each worker
+    after that (a module-level function)."""
+    return ProcessPoolExecutor(max_workers=max_workers, mp_context=context or clean_process_context(),
+                               initializer=_with_environment, initargs=(dict(os.environ), initializer, initargs))
+
+
+def _with_environment(environment: dict, initializer: Callable | None, initargs: tuple) -> None:
+    """Worker initializer of :func:`process_pool`: the parent's environment, then ``initializer``."""
+    os.environ.clear()
+    os.environ.update(environment)
+    if initializer is not None:
+        initializer(*initargs)
 
 
 def clean_process_context():

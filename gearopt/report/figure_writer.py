@@ -18,7 +18,7 @@ from concurrent.futures import Future, ProcessPoolExecutor
 from pathlib import Path
 
 from ..errors import GearoptInputError
-from ..executor import clean_process_context
+from ..executor import process_pool
 
 import matplotlib
 
@@ -95,8 +95,8 @@ def plot_later(builder, path: str | Path, *args, dpi: int | None = None, **kwarg
 @contextlib.contextmanager
 def background_figures(enabled: bool = True, *, dpi: int | None = None):
     """Render the figures saved inside the block in one worker process (``enabled=False``: at once, in this
-    process). The worker is started by :func:`gearopt.executor.clean_process_context` (no fork of a process holding
-    solver threads) and needs only matplotlib. Leaving the block waits for every figure; a failed one raises here. ``dpi``: the resolution of the
+    process). The worker is started by :func:`gearopt.executor.process_pool` (no fork of a process holding solver
+    threads; this process's environment) and needs only matplotlib. Leaving the block waits for every figure; a failed one raises here. ``dpi``: the resolution of the
     figures saved in the block without one (e.g. lower for a quick run)."""
     global _POOL, _DPI
     if dpi is not None:
@@ -110,7 +110,7 @@ def background_figures(enabled: bool = True, *, dpi: int | None = None):
         finally:
             _DPI = previous_dpi
         return
-    _POOL = ProcessPoolExecutor(max_workers=1, mp_context=clean_process_context())
+    _POOL = process_pool(1)
     failed = False
     try:
         yield

@@ -29,7 +29,7 @@ from concurrent.futures import Future, ProcessPoolExecutor
 from pathlib import Path
 from typing import Any, Callable, Iterator
 
-from ..executor import clean_process_context
+from ..executor import process_pool
 
 __all__ = ["SideProcess", "side_process", "terminate_descendants", "children_die_with_this_process"]
 
@@ -70,8 +70,7 @@ def side_process(enabled: bool = True, *, workers: int = 1) -> Iterator[SideProc
     if not enabled:
         yield SideProcess(None)
         return
-    pool = ProcessPoolExecutor(max_workers=workers, mp_context=clean_process_context(),
-                               initializer=_configure_logging)
+    pool = process_pool(workers, initializer=_configure_logging)
     try:
         yield SideProcess(pool)
     except BaseException:              # an error or a signal in the block: do not wait for the side's work

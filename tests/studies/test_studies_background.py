@@ -58,3 +58,17 @@ def test_bad_worker_count_is_named():
     with pytest.raises(GearoptInputError, match="workers=0"):
         with side_process(workers=0):
             pass
+
+
+def test_a_side_process_sees_the_environment_of_its_start_not_of_an_earlier_worker_server(monkeypatch):
+    """Side processes fork from one server started with the first of them (gearopt.executor.process_pool): a
+    variable set after that server started (e.g. GEAROPT_THREADS for a quick run, or the figure checks' log a test
+    sets) still reaches a later side process, as it reached a freshly spawned one."""
+    with side_process() as side:          # the worker server is running from here on
+        assert side.submit(os.getenv, "GEAROPT_ENV_PROBE").result() is None
+    monkeypatch.setenv("GEAROPT_ENV_PROBE", "set after the server started")
+    with side_process() as side:
+        assert side.submit(os.getenv, "GEAROPT_ENV_PROBE").result() == "set after the server started"
+    monkeypatch.delenv("GEAROPT_ENV_PROBE")
+    with side_process() as side:
+        assert side.submit(os.getenv, "GEAROPT_ENV_PROBE").result() is None
