@@ -206,6 +206,11 @@ def _process_context():
     return clean_process_context()
 
 
+START_METHOD_ENV = "GEAROPT_START_METHOD"
+"""Environment variable: ``spawn`` starts worker processes by ``spawn`` instead of the forkserver
+(:func:`clean_process_context`)."""
+
+
 def process_pool(max_workers: int, context=None, *, initializer: Callable | None = None,
                  initargs: tuple = ()) -> ProcessPoolExecutor:
     """A :class:`~concurrent.futures.ProcessPoolExecutor` of ``max_workers`` started from ``context`` (default
@@ -228,17 +233,42 @@ def _with_environment(environment: dict, initializer: Callable | None, initargs:
 def clean_process_context():
     """The start method for worker processes of a process that may hold threads (solver or plotting threads, which
     a plain ``fork`` would copy mid-flight): ``forkserver`` where the platform has it -- one fresh server process
-    imports the program once and every worker is forked from it, so a job's side processes and figure writer do
-    not each import it again (about 3 CPU-s each for the main job) -- else ``spawn`` (each worker a fresh
-    interpreter)."""
-    if "forkserver" not in multiprocessing.get_all_start_methods():
+    imports the program's gearopt modules once and every worker is forked from it, so a job's side processes and
+    figure writer do not each import it again (about 3 CPU-s each for the main job) -- else ``spawn`` (each worker
+    a fresh interpreter). ``GEAROPT_START_METHOD=spawn`` forces ``spawn``.
+
+    With the forkserver, a worker runs the code and the import-time settings of the moment the server started (at
+    the first worker of the first pool; it stays up, idle, until this process exits): a gearopt module edited
+    later, or a variable a library reads once at import (``OMP_NUM_THREADS``, ``OPENBLAS_NUM_THREADS``,
+    ``MPLCONFIGDIR``) set later, reaches new workers only under ``spawn``. The environment itself is passed to each
+    pool's workers by :func:`process_pool`. Modules the program asked the forkserver to preload are kept."""
+    method = os.environ.get(START_METHOD_ENV, "").strip().lower()
+    if method not in ("", "forkserver", "spawn"):
+        raise GearoptInputError(f"{START_METHOD_ENV}={method!r} must be 'forkserver' or 'spawn'")
+    if method == "spawn" or "forkserver" not in multiprocessing.get_all_start_methods():
         return multiprocessing.get_context("spawn")
     context = multiprocessing.get_context("forkserver")
     # the server imports what this program has imported of gearopt (and so numpy, CasADi, pandas ...) before its
-    # first fork (Python 3.11's forkserver does not preload __main__ itself); set before the server starts, which
-    # is at the first worker of the first pool
-    context.set_forkserver_preload(sorted(name for name in sys.modules if name.split(".")[0] == "gearopt"))
+    # first fork (Python 3.11's forkserver does not preload __main__ itself) besides what the program asked for;
+    # set before the server starts, which is at the first worker of the first pool
+    server = getattr(sys.modules.get("multiprocessing.forkserver"), "_forkserver", None)
+    asked = [m for m in getattr(server, "_preload_modules", None) or [] if isinstance(m, str)]
+    ours = sorted(name for name in sys.modules if name.split(".")[0] == "gearopt")
+    context.set_forkserver_preload(list(dict.fromkeys(asked + ours)))
     return context
+
+
+def helper_process_ids() -> set[int]:
+    """Process ids of multiprocessing's own idle helpers of this process while they run: the forkserver the
+    workers are forked from (:func:`clean_process_context`) and the resource tracker. Both compute nothing and end
+    with this process; a later pool of this process needs them."""
+    pids = set()
+    for module, attribute, field in (("multiprocessing.forkserver", "_forkserver", "_forkserver_pid"),
+                                     ("multiprocessing.resource_tracker", "_resource_tracker", "_pid")):
+        pid = getattr(getattr(sys.modules.get(module), attribute, None), field, None)
+        if isinstance(pid, int):
+            pids.add(pid)
+    return pids
 
 
 class _NoBar:
@@ -257,4 +287,5 @@ def _progress_bar(total: int, desc: str, progress: bool | None):
     return tqdm(total=total, desc=desc or None, disable=None if progress is None else not progress, leave=False)
 
 
-__all__ = ["Executor", "get_executor", "using_executor", "KINDS", "process_pool", "clean_process_context"]
+__all__ = ["Executor", "get_executor", "using_executor", "KINDS", "process_pool", "clean_process_context", "helper_process_ids",
+           "START_METHOD_ENV"]

@@ -29,7 +29,7 @@ from concurrent.futures import Future, ProcessPoolExecutor
 from pathlib import Path
 from typing import Any, Callable, Iterator
 
-from ..executor import process_pool
+from ..executor import helper_process_ids, process_pool
 
 __all__ = ["SideProcess", "side_process", "terminate_descendants", "children_die_with_this_process"]
 
@@ -81,10 +81,14 @@ def side_process(enabled: bool = True, *, workers: int = 1) -> Iterator[SideProc
 
 def terminate_descendants(grace_s: float = 3.0) -> int:
     """Terminate every descendant process of this one (side processes, their workers, the figure writer): SIGTERM,
-    then SIGKILL for those still alive after ``grace_s`` seconds. Returns how many there were."""
+    then SIGKILL for those still alive after ``grace_s`` seconds. Returns how many there were. Multiprocessing's
+    idle helpers (:func:`gearopt.executor.helper_process_ids`: the forkserver the workers are forked from, the
+    resource tracker) are left: they compute nothing, end with this process, and a later pool of this process (a
+    notebook, a script that goes on after a failed stage) needs them."""
     import psutil
 
-    procs = psutil.Process().children(recursive=True)
+    helpers = helper_process_ids()
+    procs = [p for p in psutil.Process().children(recursive=True) if p.pid not in helpers]
     for proc in procs:
         with contextlib.suppress(psutil.NoSuchProcess):
             proc.terminate()

@@ -72,3 +72,37 @@ def test_a_side_process_sees_the_environment_of_its_start_not_of_an_earlier_work
     monkeypatch.delenv("GEAROPT_ENV_PROBE")
     with side_process() as side:
         assert side.submit(os.getenv, "GEAROPT_ENV_PROBE").result() is None
+
+
+def test_side_processes_still_start_after_the_descendants_were_terminated():
+    """terminate_descendants (an error leaving children_die_with_this_process) ends the side processes but not the
+    idle server they fork from, so this process can start side processes again (a notebook, a script that goes on
+    after a failed stage); the workers it ended are gone."""
+    import psutil
+
+    from gearopt.studies.background import terminate_descendants
+
+    with side_process() as side:
+        first = side.submit(os.getpid).result()
+    terminate_descendants(grace_s=1.0)
+    assert not psutil.pid_exists(first) or psutil.Process(first).status() == psutil.STATUS_ZOMBIE
+    with side_process() as side:
+        assert side.submit(math.hypot, 3.0, 4.0).result() == 5.0
+
+
+def test_spawn_can_be_chosen_for_the_workers(monkeypatch):
+    """GEAROPT_START_METHOD=spawn: fresh interpreters instead of the forkserver's forks; a bad value is named."""
+    import multiprocessing
+
+    from gearopt.executor import clean_process_context
+
+    monkeypatch.setenv("GEAROPT_START_METHOD", "spawn")
+    assert clean_process_context().get_start_method() == "spawn"
+    with side_process() as side:
+        assert side.submit(math.hypot, 6.0, 8.0).result() == 10.0
+    monkeypatch.setenv("GEAROPT_START_METHOD", "vfork")
+    with pytest.raises(GearoptInputError, match="GEAROPT_START_METHOD='vfork'"):
+        clean_process_context()
+    monkeypatch.delenv("GEAROPT_START_METHOD")
+    expected = "forkserver" if "forkserver" in multiprocessing.get_all_start_methods() else "spawn"
+    assert clean_process_context().get_start_method() == expected
