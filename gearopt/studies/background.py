@@ -56,7 +56,7 @@ class SideProcess:
             return future
         if _importable(fn):
             return self._pool.submit(_call, fn, args, kwargs)
-        return self._pool.submit(_call_from_file, inspect.getfile(fn), fn.__qualname__, args, kwargs)
+        return self._pool.submit(_call_from_file, _script_of(fn), fn.__qualname__, args, kwargs)
 
 
 @contextlib.contextmanager
@@ -140,6 +140,24 @@ def _importable(fn: Callable) -> bool:
         return getattr(importlib.import_module(module), fn.__qualname__.split(".")[0], None) is not None
     except ImportError:
         return False
+
+
+def _script_of(fn: Callable) -> str:
+    """The file a function that is not importable by name is loaded from in the side process; a
+    :class:`~gearopt.errors.GearoptInputError` naming it when the side process could not find it there."""
+    from ..errors import GearoptInputError
+
+    name = getattr(fn, "__qualname__", repr(fn))
+    try:
+        path = inspect.getfile(fn)
+    except TypeError:
+        path = ""
+    if "<locals>" in name or "<lambda>" in name or not os.path.isfile(path):
+        where = ("is nested in another function or a lambda" if "<locals>" in name or "<lambda>" in name
+                 else f"has no source file ({path or 'none'}: python -c, an interactive session or exec'd code)")
+        raise GearoptInputError(f"side_process: {name!r} cannot be found by a side process: it {where}; define it "
+                                f"at the top level of a module or a script file, or use side_process(enabled=False)")
+    return path
 
 
 def _configure_logging() -> None:

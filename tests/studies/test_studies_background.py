@@ -106,3 +106,22 @@ def test_spawn_can_be_chosen_for_the_workers(monkeypatch):
     monkeypatch.delenv("GEAROPT_START_METHOD")
     expected = "forkserver" if "forkserver" in multiprocessing.get_all_start_methods() else "spawn"
     assert clean_process_context().get_start_method() == expected
+
+
+def test_a_function_a_side_process_cannot_find_is_named_at_once():
+    """A function with no source file (python -c, exec'd code) or without a name in its module (a nested function,
+    a lambda) cannot be loaded by the side process: submit names it with what to do, instead of the worker's
+    AttributeError."""
+    namespace = {}
+    exec("def made_by_exec(x):\n    return x\n", namespace)
+    nested = (lambda: (lambda x: x))()
+
+    def inner(x):
+        return x
+
+    with side_process() as side:
+        for fn, why in ((namespace["made_by_exec"], "has no source file"), (nested, "nested in another function"),
+                        (inner, "nested in another function")):
+            with pytest.raises(GearoptInputError, match=why):
+                side.submit(fn, 1)
+        assert side.submit(math.hypot, 3.0, 4.0).result() == 5.0          # the side process is still fine
