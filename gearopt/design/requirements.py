@@ -395,8 +395,9 @@ def _boundary(ratio: Callable[[float], float], bad: float, bad_ratio: float, *, 
 
     Regula falsi in ``(ln x, ln ratio)``, exact for a power law, with the Illinois weighting (an end kept twice has
     its value halved), each estimate moved ``rtol / 2`` towards the end farther from it so that the bracket also
-    closes from that side, and a geometric bisection after two steps that did not halve the bracket: about four
-    evaluations of ``ratio`` where bisecting the bracket to ``rtol`` takes about ten."""
+    closes from that side, and a geometric bisection after two steps that did not halve the bracket: about five
+    evaluations of ``ratio`` (on the timing train's ratings) where bisecting the bracket to ``rtol`` takes about
+    ten."""
     fail = (math.log(bad), math.log(bad_ratio))
     ok = None if good is None else (math.log(good[0]), math.log(good[1]))
     width, replaced, stalled, previous = None, None, 0, None
