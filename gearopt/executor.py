@@ -218,6 +218,10 @@ def process_pool(max_workers: int, context=None, *, initializer: Callable | None
     workers would otherwise see the environment of the moment the server started (``GEAROPT_THREADS``, the compile
     cache's settings, a test's ``GEAROPT_FIGURE_CHECKS`` set later). ``initializer(*initargs)`` runs in each worker
     after that (a module-level function)."""
+    if isinstance(max_workers, bool) or not isinstance(max_workers, int) or max_workers < 1:
+        raise GearoptInputError(f"process_pool: max_workers={max_workers!r} must be an integer >= 1")
+    if initializer is not None and not callable(initializer):
+        raise GearoptInputError(f"process_pool: initializer={initializer!r} must be callable or None")
     return ProcessPoolExecutor(max_workers=max_workers, mp_context=context or clean_process_context(),
                                initializer=_with_environment, initargs=(dict(os.environ), initializer, initargs))
 

@@ -82,3 +82,25 @@ def test_speed_sweep_on_processes_equals_the_serial_sweep():
     # the speeds differ in the response: the table is not one row repeated
     peaks = serial.loc[serial["element"] == "crank-cam", "peak_drive_force_N"].to_numpy()
     assert np.ptp(peaks) > 0.0
+
+
+def test_process_pool_runs_in_this_environment_and_names_bad_arguments(monkeypatch, tmp_path):
+    """gearopt.executor.process_pool: its workers read the environment of the pool's start (a forkserver's would
+    keep the server's), an initializer runs in each worker after it, and bad arguments are named."""
+    import os
+
+    from gearopt.errors import GearoptInputError
+    from gearopt.executor import process_pool
+
+    monkeypatch.setenv("GEAROPT_POOL_PROBE", "first")
+    with process_pool(1) as pool:
+        assert pool.submit(os.getenv, "GEAROPT_POOL_PROBE").result() == "first"
+    monkeypatch.setenv("GEAROPT_POOL_PROBE", "second")
+    with process_pool(1, initializer=os.chdir, initargs=(str(tmp_path),)) as pool:
+        assert pool.submit(os.getenv, "GEAROPT_POOL_PROBE").result() == "second"
+        assert pool.submit(os.getcwd).result() == str(tmp_path)          # the initializer ran after it
+    for bad in (0, -1, 1.5, True, "2"):
+        with pytest.raises(GearoptInputError, match="max_workers"):
+            process_pool(bad)
+    with pytest.raises(GearoptInputError, match="initializer"):
+        process_pool(1, initializer="not callable")
