@@ -291,5 +291,5 @@ def _progress_bar(total: int, desc: str, progress: bool | None):
     return tqdm(total=total, desc=desc or None, disable=None if progress is None else not progress, leave=False)
 
 
-__all__ = ["Executor", "get_executor", "using_executor", "KINDS", "process_pool", "clean_process_context", "helper_process_ids",
-           "START_METHOD_ENV"]
+__all__ = ["Executor", "get_executor", "using_executor", "KINDS", "process_pool", "clean_process_context",
+           "helper_process_ids", "START_METHOD_ENV"]

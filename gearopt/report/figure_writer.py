@@ -96,8 +96,9 @@ def plot_later(builder, path: str | Path, *args, dpi: int | None = None, **kwarg
 def background_figures(enabled: bool = True, *, dpi: int | None = None):
     """Render the figures saved inside the block in one worker process (``enabled=False``: at once, in this
     process). The worker is started by :func:`gearopt.executor.process_pool` (no fork of a process holding solver
-    threads; this process's environment) and needs only matplotlib. Leaving the block waits for every figure; a failed one raises here. ``dpi``: the resolution of the
-    figures saved in the block without one (e.g. lower for a quick run)."""
+    threads; this process's environment) and needs only matplotlib. Leaving the block waits for every figure; a
+    failed one raises here. ``dpi``: the resolution of the figures saved in the block without one (e.g. lower for a
+    quick run)."""
     global _POOL, _DPI
     if dpi is not None:
         if isinstance(dpi, bool) or not isinstance(dpi, int) or not 20 <= dpi <= 1200:

@@ -5,8 +5,8 @@ trade-off study need only the data) runs some of them in a side process while it
 with two cores the run takes about the longer of the two chains instead of their sum. Inside
 :func:`side_process`, :meth:`SideProcess.submit` returns a :class:`concurrent.futures.Future`; leaving the block
 waits for what is still running. Nothing here schedules work: it is one :class:`~concurrent.futures.ProcessPoolExecutor`
-worker, started by :func:`gearopt.executor.clean_process_context` (no fork of a process holding solver or plotting
-threads: a fresh server process imports the program once and forks the workers).
+worker, started by :func:`gearopt.executor.process_pool` (no fork of a process holding solver or plotting threads: a
+fresh server process imports the program once and forks the workers, each with this process's environment).
 
 A function of a script (a file run as ``__main__`` or loaded from its path, not importable by name) is found in the
 worker by loading that file again (its ``if __name__ == "__main__"`` block does not run); a function of an
