@@ -186,8 +186,10 @@ def studies(d) -> str:
                      f"{s['epsilon_lifted_cpu_s_to_reach_nsga2']:.2g} CPU-s "
                      f"({_x(s['time_ratio_epsilon_lifted_over_nsga2'])} NSGA-II's)."
                      if s.get("epsilon_lifted_points_to_reach_nsga2") else "."))
+    repeats = d.get("repeats", 1)
     return (f"`studies.json` (load average {d['machine']['load_average_1_5_15_min'][0]:.1f} on "
-            f"{d['machine']['cpus']} cores): NSGA-II (pymoo) reaches a normalised hypervolume of "
+            f"{d['machine']['cpus']} cores; " + (f"each time the least of {repeats} runs" if repeats > 1 else "one run")
+            + f"): NSGA-II (pymoo) reaches a normalised hypervolume of "
             f"{s['nsga2_final_hypervolume']:.4g} after {s['nsga2_evaluations']} model samples and "
             f"{s['nsga2_cpu_s']:.2g} CPU-s; the warm-started epsilon-constraint front {reached}.{lifted} Warm-started "
             f"continuation: {warm} Ipopt iterations against {cold} when each point starts from its neighbour's primal "

@@ -79,6 +79,11 @@ class GearPair:
     names: tuple[str, str] = ("gear 1", "gear 2")
     helix_hands: tuple[str, str] | None = None
 
+    def __getstate__(self) -> dict:
+        """The fields only: the geometry a pair caches once computed is not part of its value, so a pair pickles
+        the same before and after use (pickles key the ε-constraint models of :mod:`gearopt.studies.epsilon`)."""
+        return {f.name: getattr(self, f.name) for f in fields(self)}
+
     # ------------------------------------------------------------------------------------------------------------
     # construction
     # ------------------------------------------------------------------------------------------------------------

@@ -72,6 +72,11 @@ class EpsilonModel:
         else:
             p.subject_to("front.epsilon_limit", self.z - bound, lower=0.0, scale=scale, unit=_unit(kind))
         self._z_scale = scale
+        # one objective for both ends: the scene's (weight 1) or the quantity's own (weight 0), switched by a
+        # parameter -- a new objective would make CasADi build a new NLP solver, which costs as much as a short solve
+        self.objective_weight = p.parameter("front.objective_weight", 1.0)
+        toward = self.z / scale if spec.sense == "min" else -self.z / scale
+        p.minimize(self.objective_weight * self.objective_expr + (1.0 - self.objective_weight) * toward)
         # the declared start: a solve without warm start begins here, whatever an earlier front (this model is
         # cached per process) set as initial guesses -- so a front does not depend on what ran before it
         self._declared = {name: np.array(v.init, dtype=float) for name, v in p._variables.items()}
@@ -126,10 +131,9 @@ class EpsilonModel:
         from a neighbour's :class:`~gearopt.nlp.WarmStartPoint` (its solve's primal and multipliers);
         ``starts`` > 1: also ``starts - 1`` Latin-hypercube starts of the design variables, the best optimum."""
         p, sense = self.problem, self.spec.sense
-        if objective == "quantity":
-            (p.minimize if sense == "min" else p.maximize)(self.z, scale=self._z_scale)
-        else:
-            p.minimize(self.objective_expr)
+        if objective not in ("scene", "quantity"):
+            raise GearoptInputError(f"objective={objective!r} must be 'scene' or 'quantity'")
+        p.set_parameter("front.objective_weight", 0.0 if objective == "quantity" else 1.0)
         eps = (LOOSE if sense == "min" else -LOOSE) if epsilon is None else float(epsilon)
         p.set_parameter("front.epsilon", eps)
         if not warm:

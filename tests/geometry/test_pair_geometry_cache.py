@@ -26,3 +26,16 @@ def test_a_pair_that_differs_in_any_value_gets_its_own_geometry():
     fresh = pair()._geometry
     for key in ("transverse_contact_ratio", "centre_distance_mm", "tip_diameter_mm"):
         assert a.geometry()[key] == pytest.approx(fresh[key], rel=1e-15)
+
+
+def test_a_pair_pickles_its_values_not_its_cached_geometry():
+    # pickles key cached models (gearopt.studies.epsilon): a pair used since must pickle as it did before, and
+    # unpickle to the same geometry
+    import pickle
+
+    a = pair()
+    before = pickle.dumps(a)
+    a.geometry()
+    assert pickle.dumps(a) == before
+    b = pickle.loads(before)
+    assert b == a and b.geometry()["transverse_contact_ratio"] == a.geometry()["transverse_contact_ratio"]

@@ -185,3 +185,29 @@ def test_a_front_with_refinement_on_another_train_and_other_names(tmp_path):
     order = np.argsort(q)
     assert np.all(np.diff(o[order]) >= -1e-6 * np.abs(o).max())      # more contact ratio costs PPTE
     assert q.max() > q.min() + 1e-3
+
+
+def test_a_front_builds_one_model_and_its_ends_switch_objectives_without_a_new_nlp_solver():
+    # the ε model carries both ends' objectives behind a weight parameter: the objective's end, the quantity's own
+    # optimum and the lexicographic end re-solve one NLP solver (a new objective would make CasADi build another,
+    # which costs about as much as a short solve); the warm-started points add one more (other Ipopt options)
+    from gearopt.studies.epsilon import epsilon_model
+
+    from gearopt.studies.epsilon import _MODELS
+
+    scene = relief_scene(min_lcr=1.22, stress_limit=False)
+    key = FrontSpec(scene, LCR, MESH, "max").key()
+    front = pareto_front(scene, LCR, MESH, points=3, refine=False)
+    # one model for the ends and the points: the spec's key (a pickle of the scene) is the same after the scene's
+    # pairs have cached their geometry (it named a second model, built again, before)
+    assert FrontSpec(scene, LCR, MESH, "max").key() == key and key in _MODELS
+    model = epsilon_model(FrontSpec(scene, LCR, MESH, "max"))
+    assert (front.table["status"] == OK).all()
+    assert model.problem.solver_builds == 1           # three end solves and a cold first point
+    pareto_front(scene, LCR, MESH, points=5, refine=False)
+    assert model.problem.solver_builds == 2           # its second and third points warm from the first
+    # the quantity's own optimum really optimised the quantity: no design of the front exceeds it
+    assert front.table[front.quantity_column].max() == pytest.approx(front.ends["quantity"]["quantity"], rel=1e-9)
+    with pytest.raises(GearoptInputError, match="objective='pressure'"):
+        model.solve(None, objective="pressure")
+
