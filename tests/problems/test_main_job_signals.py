@@ -14,6 +14,13 @@ import psutil
 SCRIPT = Path(__file__).resolve().parents[2] / "problems" / "cam_gear_walkoff.py"
 
 
+def _running(p: "psutil.Process") -> bool:
+    try:
+        return p.is_running() and p.status() != psutil.STATUS_ZOMBIE
+    except psutil.NoSuchProcess:
+        return False
+
+
 def test_sigterm_ends_the_whole_process_tree(tmp_path):
     proc = subprocess.Popen([sys.executable, str(SCRIPT), "--quick", "--out", str(tmp_path)],
                             stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, env={**os.environ})
@@ -33,8 +40,13 @@ def test_sigterm_ends_the_whole_process_tree(tmp_path):
             tree.setdefault(child.pid, child)
         proc.send_signal(signal.SIGTERM)
         code = proc.wait(timeout=60)         # a long C call (a solve) delays the handler
-        time.sleep(10.0)
-        alive = [p.pid for p in tree.values() if p.is_running() and p.status() != psutil.STATUS_ZOMBIE]
+        # none of the tree running 10 s later (a process that has ended stays ended: poll instead of sleeping)
+        deadline = time.monotonic() + 10.0
+        while True:
+            alive = [p.pid for p in tree.values() if _running(p)]
+            if not alive or time.monotonic() > deadline:
+                break
+            time.sleep(0.2)
         assert alive == [], f"processes of the job's tree still running 10 s after SIGTERM: {alive}"
         assert code == 128 + signal.SIGTERM, proc.stderr.read().decode()[-2000:]
     finally:
