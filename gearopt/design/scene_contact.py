@@ -271,7 +271,8 @@ class ContactModels:
                                   load_cases=len(self.mesh_cases(mesh)), max_contact_ratio=eps_a,
                                   max_overlap_ratio=eps_b, engagement_width_mm=o.model.engagement_width_mm,
                                   relief_shape=self.base_microgeometry(mesh).relief_shape,
-                                  relief_smoothing_deg=o.model.relief_smoothing_deg)
+                                  relief_smoothing_deg=o.model.relief_smoothing_deg,
+                                  derivative_steps=o.model.macro_derivative_order)
 
         return self.graph.model(f"ltca_macro:{mesh}", build, lambda m: (
             f"positions={m.positions}, slices={m.slices}, pairs={len(m.pair_index)}, root_stress={m.root_stress}, "

@@ -81,6 +81,11 @@ class ContactModelOptions:
             (a mesh at fixed macro geometry: each position's approach an NLP variable held by an equality
             constraint; cheaper iterations, same optima, but from the same start it may reach another local
             optimum, so it is opt-in).
+        macro_derivative_order: derivatives of the macro-symbolic LTCA's approach that are exact: 2 (first and
+            second: for Ipopt's exact Hessian) or 1 (first only, one Newton step cheaper per evaluation and
+            direction: for a solve with a quasi-Newton Hessian, ``hessian_approximation="limited-memory"``; with the
+            exact Hessian Ipopt would get an approximate one) (:class:`~gearopt.contact.ltca_macro.MacroLTCAModel`
+            ``derivative_steps``).
         spring_limit_screen: rows by exchange for a limit on a per-spring quantity (contact and root stress,
             contact temperature at every spring of an LTCA; :meth:`gearopt.nlp.problem.Problem.subject_to`
             ``screen``): a spring whose value lies more than this fraction of the limit below it at the start of a
@@ -97,6 +102,7 @@ class ContactModelOptions:
     helical_slices: int = 11
     engagement_width_mm: float = DEFAULT_ENGAGEMENT_WIDTH_MM
     approach: str = "nested"
+    macro_derivative_order: int = 2
     spring_limit_screen: float | None = 0.2
 
     def __post_init__(self) -> None:
@@ -118,6 +124,7 @@ class ContactModelOptions:
         _count(self, "helical_slices", 1, 10000)
         _real(self, "engagement_width_mm", 0.0, None, unit="mm", low_inclusive=False)
         check_choice("approach", self.approach, APPROACHES)
+        _count(self, "macro_derivative_order", 1, 2)
 
 
 @dataclass(frozen=True)

@@ -71,11 +71,13 @@ def test_other_macro_values_reproduce_the_exact_ltca_of_that_geometry(train, tem
     assert r.ppte_um[0] == pytest.approx(ex.ppte_um, abs=3e-3)
 
 
-def test_derivatives_through_a_symbolic_train_match_central_differences(train, template):
+@pytest.mark.parametrize("derivative_steps", [2, 1])
+def test_derivatives_through_a_symbolic_train_match_central_differences(train, template, derivative_steps):
     """d(TE, contact stress^2, root stress)/d(root shift, helix angle, tip relief) of the crank-cam mesh of a train
-    symbolic in its root shift and helix angle."""
+    symbolic in its root shift and helix angle; one Newton step from the converged approach carries the first
+    derivatives exactly too (``derivative_steps=1``, for a quasi-Newton Hessian)."""
     m = MacroLTCAModel(template, positions=12, slices=3, helical=True, max_overlap_ratio=0.6, root_stress=True,
-                       smoothing_um=0.05, engagement_width_mm=0.01)
+                       smoothing_um=0.05, engagement_width_mm=0.01, derivative_steps=derivative_steps)
     x, beta, relief = ca.SX.sym("x"), ca.SX.sym("beta"), ca.SX.sym("relief")
     pair = dataclasses.replace(train, root_profile_shift=x, helix_angle_deg=beta).pairs["crank-cam"]
     micro = micro_vector(dataclasses.replace(MODS, tip_relief_um=(relief, 8.0)), template.geometry())
@@ -170,3 +172,24 @@ def test_threaded_position_map_gives_the_serial_values_and_derivatives(template,
         MacroLTCAModel(template, positions=4)
     with pytest.raises(GearoptInputError, match="map_threads"):
         MacroLTCAModel(template, positions=4, map_threads=0)
+
+
+def test_one_derivative_step_gives_the_same_values_and_first_derivatives(template):
+    """``derivative_steps=1`` against the default 2: the same outputs and the same Jacobian in every macro and micro
+    input (both exact at the converged approach); 0 or 3 steps are refused."""
+    pair = dataclasses.replace(template, helix_angle_deg=6.0, helix_hands=("right", "left"))
+    kw = dict(positions=10, slices=5, helical=True, max_overlap_ratio=0.8, root_stress=True, speed_rpm=2500.0,
+              load_cases=2)
+    macro, micro = ca.MX.sym("macro", 6), ca.MX.sym("micro", len(micro_vector(MODS, template.geometry())))
+    values = np.concatenate([macro_vector(pair), micro_vector(MODS, pair.geometry())]).astype(float)
+    results = []
+    for steps in (2, 1):
+        m = MacroLTCAModel(pair, derivative_steps=steps, **kw)
+        y = ca.vertcat(*[ca.vec(o) for o in m.kernel(macro, micro, ca.DM([200.0, 400.0]))])
+        v = ca.vertcat(macro, micro)
+        results.append([np.array(a) for a in ca.Function("f", [v], [y, ca.jacobian(y, v)])(values)])
+    for a, b in zip(*results):
+        np.testing.assert_allclose(b, a, rtol=1e-9, atol=1e-9 * max(1.0, np.abs(a).max()))
+    for bad in (0, 3):
+        with pytest.raises(GearoptInputError, match=f"derivative_steps={bad}"):
+            MacroLTCAModel(pair, derivative_steps=bad, **kw)

@@ -28,7 +28,7 @@ FORMER_DEFAULTS = {
 
 SEARCH_DEFAULTS = {"screen_samples": 64, "screen_positions": 320, "screen_max_variables": 8,
                    "polish_evaluations_per_variable": 25, "macro_starts": 4, "stop_without_progress": False,
-                   "spring_limit_screen": 0.2, "count_width_um": 0.25}
+                   "spring_limit_screen": 0.2, "count_width_um": 0.25, "macro_derivative_order": 2}
 TOLERANCE_DEFAULTS = {"relief_tolerance_um": 2.0, "relief_start_tolerance_deg": 0.5, "relief_sharp_start": True,
                       "toleranced_ppte_width_um": 0.01, "toleranced_ppte_screen": 0.05, "toleranced_ppte_lazy": False}
 """The options added since (issue 28: the exact screen, polish and a co-design's default starts,
@@ -99,6 +99,7 @@ def test_replace_takes_flat_overrides_and_keeps_the_rest():
     ("relief_smoothing_deg", 6.0, ["relief_smoothing_deg=6", "<= 5"]),
     ("helical_slices", 0, ["helical_slices=0", ">= 1"]),
     ("approach", "direct", ["approach='direct'", "nested", "lifted"]),
+    ("macro_derivative_order", 3, ["macro_derivative_order=3", "<= 2"]),
     ("spring_limit_screen", 0.0, ["spring_limit_screen=0", "> 0"]),
     ("spring_limit_screen", 1.5, ["spring_limit_screen=1.5", "<= 1"]),
     ("bulk_temperature_C", 1500.0, ["bulk_temperature_C=1500", "1000"]),

@@ -583,15 +583,18 @@ def codesign_study(system: System | None = None, *, options: Sequence[str] = ("s
         co_toleranced, toleranced_notes[option] = carried_toleranced_limits(
             seq_built if sequential is not None else None, sequential,
             toleranced_ppte_limits(required, fixed, meshes, cases))
+        ipopt = codesign_ipopt if codesign_ipopt is not None else CODESIGN_IPOPT if train_vars else {}
+        co_opts = opts if train_vars else seq_opts
+        if train_vars and ipopt.get("hessian_approximation") == "limited-memory":
+            co_opts = {**co_opts, "macro_derivative_order": 1}    # no second derivatives asked: one Newton step less
         co_scene = Scene(f"{option} co-design", train=fixed, load_cases=load_cases + dynamic_cases,
                          variables=train_vars + flank_vars, objectives=objective,
                          limits=ltca_limits + ppte_limits + co_toleranced + (geometry if train_vars else []) + margins
-                         + rating_limits + co_dynamic, ltca_options=opts if train_vars else seq_opts, data=system,
+                         + rating_limits + co_dynamic, ltca_options=co_opts, data=system,
                          objective_aggregate="max", iso6336_options=rating_options)
         start = {**(sequential.values if sequential else {}),
                  **{f"train.{v.name}": macro[v.name] for v in train_vars}}
         try:
-            ipopt = codesign_ipopt if codesign_ipopt is not None else CODESIGN_IPOPT if train_vars else {}
             # every train variable pinned: the sequential design's own NLP (its contact form, positions and rows)
             # with more limits -- it starts from the sequential optimum's multipliers (spur option of the default
             # data: 51 -> 29 Ipopt iterations, the same largest PPTE); a free macro variable puts the macro-symbolic
