@@ -193,9 +193,9 @@ class MacroLTCAModel:
         derivative_steps: Newton steps from the converged approach that carry the derivatives (see below): 2
             (default) gives the implicit function's first and second derivatives, 1 its first derivatives only --
             for an NLP solved with a quasi-Newton Hessian (Ipopt's ``hessian_approximation="limited-memory"``),
-            which never asks for the second. Measured on crank-cam at 6 deg (65 positions x 3 torques, 11 slices,
-            root stress and flash temperature, one thread): the value 19.8 -> 17.1 ms, six forward directions 130 ->
-            97 ms, values and first derivatives the same within 1.5e-9.
+            which never asks for the second. Measured on the packaged train's root mesh at 6 deg (65 positions x 3
+            torques, 11 slices, root stress and flash temperature, one thread): the value 19.8 -> 17.1 ms, six
+            forward directions 130 -> 97 ms, values and first derivatives the same within 1.5e-9.
         map_threads: threads that evaluate the positions (and the derivatives CasADi builds from them) in parallel
             (CasADi's ``map(..., "thread", n)``; default :func:`default_map_threads`, 1 = serial). The results are
             the same to the last bit; on 2 cores that mesh at 200 positions x 4 load cases x 7 slices
