@@ -122,3 +122,19 @@ def test_limit_move_check_on_the_renamed_pair(train, solved):
         assert abs(row[f"exact_objective_{tag}"] - row["exact_objective"] - predicted) <= max(0.1 * abs(predicted),
                                                                                              0.01)
     assert row["check"] == "agrees"
+
+
+def test_first_order_macro_derivatives_reach_the_same_lbfgs_optimum(train):
+    """``ltca_options["macro_derivative_order"] = 1`` (one Newton step carries the macro-symbolic LTCA's exact first
+    derivatives) on the renamed pair's co-design solved with L-BFGS, as the timing-train co-design is: the same
+    iterations and the same exact optimum as the default order 2 (L-BFGS asks for no second derivative)."""
+    runs = []
+    for order in (2, 1):
+        built = codesign_scene(train, max_refinements=0, macro_derivative_order=order).build()
+        assert built.models[f"ltca_macro:{MESH}"].derivative_steps == order
+        runs.append(built.solve(starts=1, hessian_approximation="limited-memory"))
+    two, one = runs
+    assert one.solve.iterations == two.solve.iterations
+    for name, value in two.values.items():
+        assert one.values[name] == pytest.approx(value, rel=1e-6, abs=1e-8)
+    assert one.exact_check["ppte_um"].max() == pytest.approx(two.exact_check["ppte_um"].max(), rel=1e-6)
