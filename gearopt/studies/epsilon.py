@@ -71,7 +71,6 @@ class EpsilonModel:
             p.subject_to("front.epsilon_limit", self.z - bound, upper=0.0, scale=scale, unit=_unit(kind))
         else:
             p.subject_to("front.epsilon_limit", self.z - bound, lower=0.0, scale=scale, unit=_unit(kind))
-        self._z_scale = scale
         # one objective for both ends: the scene's (weight 1) or the quantity's own (weight 0), switched by a
         # parameter -- a new objective would make CasADi build a new NLP solver, which costs as much as a short solve
         self.objective_weight = p.parameter("front.objective_weight", 1.0)
