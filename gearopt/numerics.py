@@ -12,6 +12,13 @@ and converge to the exact function as ``width -> 0``:
 * ``smooth_abs(x, w) = |x| + w*log1p(exp(-2|x|/w))`` (= ``w*log(2*cosh(x/w))``) -- error at most ``w*ln 2``.
 
 Prefer exact epigraph formulations in NLPs (``t >= g_i``) where Ipopt can own the non-smoothness.
+
+Solver threads: CasADi loads its own OpenBLAS (for Ipopt's MUMPS and its LAPACK plugins) with the first solver that
+needs it. Its worker threads spin between the many small factorisations of an NLP: on the packaged train's
+co-design stage they cost 15-17 CPU-s of 90 and saved no wall time (one thread: 72-76 CPU-s, 61-65 s against 65 s).
+Importing this module therefore sets ``OPENBLAS_NUM_THREADS=1`` for the libraries loaded from then on (CasADi's
+BLAS, and the processes this one starts) unless the variable is already set: set it before importing gearopt to
+choose otherwise (:data:`BLAS_THREADS_VARIABLE`).
 """
 
 from __future__ import annotations
@@ -22,10 +29,16 @@ import re
 import warnings
 from collections import OrderedDict
 
+import os
+
 import casadi as ca
 import numpy as np
 
 from .errors import GearoptInputError
+
+#: Environment variable of the BLAS threads of the libraries loaded after gearopt (module docstring).
+BLAS_THREADS_VARIABLE = "OPENBLAS_NUM_THREADS"
+os.environ.setdefault(BLAS_THREADS_VARIABLE, "1")
 
 _CASADI_TYPES = (ca.SX, ca.MX, ca.DM)
 _SYMBOLIC_TYPES = (ca.SX, ca.MX)
@@ -672,5 +685,5 @@ __all__ = [
     "sum1", "softplus", "sigmoid", "smooth_max", "smooth_min", "smooth_abs", "sqrt_safe", "acos_safe", "involute",
     "inverse_involute", "INVOLUTE_MAX", "column", "evaluate_stacked", "reshape", "symbol", "function",
     "implicit_scalar_root", "traced_call", "traced_kernel_stats", "TRACED_KERNELS_MAX", "column_max", "column_softmin", "column_sum", "matrix", "hcat", "vcat", "matmul", "row",
-    "repeat_rows",
+    "repeat_rows", "BLAS_THREADS_VARIABLE",
 ]

@@ -292,3 +292,27 @@ def test_traced_call_never_reuses_a_kernel_for_another_model_or_input():
     first = nm.traced_call(with_array, x)
     first["table"][0] = 99.0
     assert nm.traced_call(with_array, x)["table"].tolist() == [1.0, 2.0]
+
+
+_SOLVER_BLAS_THREADS = """
+import ctypes, casadi as ca, gearopt
+x = ca.MX.sym("x")
+ca.nlpsol("s", "ipopt", {"x": x, "f": (x - 1) ** 2}, {"print_time": 0, "ipopt.print_level": 0, "ipopt.sb": "yes"})(x0=0)
+path = next(line.split()[-1] for line in open("/proc/self/maps") if "casadi-tp-openblas" in line)
+print(ctypes.CDLL(path).openblas_get_num_threads())
+"""
+
+
+@pytest.mark.parametrize("preset, expected", [(None, 1), ("2", 2)])
+def test_solver_blas_runs_one_thread_unless_the_user_chose(preset, expected):
+    """CasADi's own OpenBLAS (loaded with the first Ipopt solver) runs one thread after ``import gearopt``, unless
+    the user set ``OPENBLAS_NUM_THREADS`` first (numerics module docstring: its spinning threads cost CPU)."""
+    import os
+    import subprocess
+    import sys
+    env = {k: v for k, v in os.environ.items() if k != nm.BLAS_THREADS_VARIABLE}
+    if preset is not None:
+        env[nm.BLAS_THREADS_VARIABLE] = preset
+    out = subprocess.run([sys.executable, "-c", _SOLVER_BLAS_THREADS], env=env, capture_output=True, text=True,
+                         timeout=120, check=True)
+    assert int(out.stdout.split()[-1]) == expected
