@@ -14,11 +14,11 @@ and converge to the exact function as ``width -> 0``:
 Prefer exact epigraph formulations in NLPs (``t >= g_i``) where Ipopt can own the non-smoothness.
 
 Solver threads: CasADi loads its own OpenBLAS (for Ipopt's MUMPS and its LAPACK plugins) with the first solver that
-needs it. Its worker threads spin between the many small factorisations of an NLP: on the packaged train's
-co-design stage they cost 15-17 CPU-s of 90 and saved no wall time (one thread: 72-76 CPU-s, 61-65 s against 65 s).
-Importing this module therefore sets ``OPENBLAS_NUM_THREADS=1`` for the libraries loaded from then on (CasADi's
-BLAS, and the processes this one starts) unless the variable is already set: set it before importing gearopt to
-choose otherwise (:data:`BLAS_THREADS_VARIABLE`).
+needs it. Its worker threads spin between the many small factorisations of an NLP wherever a core is free for them:
+the packaged train's co-design stage alone in one process took 79-97 CPU-s with them and 72-77 with one thread, in
+about the same wall time. Importing this module therefore sets ``OPENBLAS_NUM_THREADS=1`` for the libraries loaded
+from then on (CasADi's BLAS, and the processes this one starts) unless the variable is already set: set it before
+importing gearopt to choose otherwise (:data:`BLAS_THREADS_VARIABLE`).
 """
 
 from __future__ import annotations
