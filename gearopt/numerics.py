@@ -25,11 +25,10 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import os
 import re
 import warnings
 from collections import OrderedDict
-
-import os
 
 import casadi as ca
 import numpy as np

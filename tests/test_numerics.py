@@ -1,6 +1,9 @@
 """Dual-typed numerics: numeric = symbolic, overflow-free smoothing, exact limits, derivatives vs finite differences."""
 
 import math
+import os
+import subprocess
+import sys
 
 import casadi as ca
 import numpy as np
@@ -310,9 +313,6 @@ def test_solver_blas_runs_one_thread_unless_the_user_chose(preset, expected):
     """After ``import gearopt`` the environment asks one BLAS thread, and CasADi's own OpenBLAS (loaded with the
     first Ipopt solver, where the wheel bundles one) runs one, unless the user set ``OPENBLAS_NUM_THREADS`` first
     (numerics module docstring: its spinning threads cost CPU)."""
-    import os
-    import subprocess
-    import sys
     env = {k: v for k, v in os.environ.items() if k != nm.BLAS_THREADS_VARIABLE}
     if preset is not None:
         env[nm.BLAS_THREADS_VARIABLE] = preset

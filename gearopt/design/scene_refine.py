@@ -33,7 +33,7 @@ without a dense grid everywhere:
    breaks one is not admissible;
 4. stop when all agree (PPTE and stresses; for a minimax PPTE objective -- the largest PPTE of several meshes or
    load cases -- the smooth and the exact objective agree, :func:`ppte_agrees`), after ``max_refinements`` re-solves, when no remedy applies, or when a re-solve fails or
-   overruns its iteration budget (:data:`RESOLVE_BUDGET_FACTOR`; reported); with ``stop_without_progress`` (off
+   overruns its iteration budget (:data:`RESOLVE_BUDGET_FACTOR` times the longest solve so far; reported); with ``stop_without_progress`` (off
    by default) also as soon as a re-solve neither lowers the best exact objective so far by more than
    ``refine_tolerance`` nor gives the first admissible design (faster; a design that a later re-solve would have
    repaired and lowered is then missed);
@@ -74,15 +74,24 @@ from .scene_search import exact_geometry_violations, exact_limit_violation, exac
 from .scene_terms import quantity_kind
 
 RESOLVE_BUDGET_FACTOR, RESOLVE_BUDGET_MIN_ITERATIONS = 4, 50
-"""Iteration budget of a re-solve: this many times the first solve's Ipopt iterations, at least the minimum. A warm
-re-solve on more positions (and, for a helical mesh, more face slices) normally needs fewer iterations than the
-first solve; one that runs much longer is usually in Ipopt's restoration phase heading for "infeasible" (seen on the
-timing train's co-design: a low-helix re-solve ran 278 iterations to an infeasible stop, 182 CPU-s, under the
-former factor 8), and the refinement keeps its best admissible design instead. Measured over the 57 re-solves of
-34 refinements of the packaged scenes (micro-geometry, relief, toleranced, stress-limited, helical and co-design
-scenes): at most 3.2 times their first solve's iterations where the first took more than 12 (17 -> 55, 24 -> 65,
-56 -> 139) and at most 40 iterations otherwise, so a factor 4 with at least 50 stops none of them. Counted in
-iterations, not seconds (issue 28): the result does not depend on how busy the machine is."""
+"""Iteration budget of a re-solve: this many times the Ipopt iterations of the longest solve of the refinement so
+far, at least the minimum. A warm re-solve on more positions (and, for a helical mesh, more face slices) normally
+needs no more iterations than the solves before it; one that runs much longer is usually in Ipopt's restoration
+phase heading for "infeasible" (seen on the timing train's co-design: a low-helix re-solve ran 278 iterations to an
+infeasible stop, 182 CPU-s, after a first solve of 56), and the refinement keeps its best admissible design instead.
+The re-solves of one refinement may grow steadily as positions are added and the smoothing halves: on the co-design
+scene of ``benchmarks/bench_codesign.py`` (root shift and two reliefs, 40 positions to start) they took 40, 138,
+193, 252, 101 and 38 iterations after a first solve of 35 -- a budget of 4 times the *first* solve stopped the third
+and kept a design 3.4 % worse on the exact LTCA (0.4171 against 0.4032 um at 1280 positions). Counted in iterations,
+not seconds (issue 28): the result does not depend on how busy the machine is."""
+
+def resolve_budget(iterations, max_iter=None) -> int:
+    """Ipopt's ``max_iter`` for the next re-solve of a refinement whose solves so far took ``iterations``:
+    :data:`RESOLVE_BUDGET_FACTOR` times the longest, at least :data:`RESOLVE_BUDGET_MIN_ITERATIONS`, and no more
+    than the caller's ``max_iter`` where given."""
+    budget = max(RESOLVE_BUDGET_MIN_ITERATIONS, RESOLVE_BUDGET_FACTOR * max(int(i) for i in iterations))
+    return int(min(int(max_iter), budget)) if max_iter is not None else int(budget)
+
 
 REUSED_MODELS = ("data:", "dynamics:", "simulation:")
 """Models a re-solve takes over from the previous build (they do not depend on the positions)."""
@@ -320,8 +329,7 @@ class SceneRefinement:
             t0 = time.perf_counter()
             options = dict(ipopt)
             if it > 0:     # a re-solve that has not converged in a few first-solve runs will not pay (step 4)
-                budget = max(RESOLVE_BUDGET_MIN_ITERATIONS, RESOLVE_BUDGET_FACTOR * rows[0]["ipopt_iterations"])
-                options["max_iter"] = int(min(int(ipopt.get("max_iter", budget)), budget))
+                options["max_iter"] = resolve_budget([r["ipopt_iterations"] for r in rows], ipopt.get("max_iter"))
             try:
                 result = first if it == 0 and first is not None else current.solve_once(
                     starts=starts, seed=seed, verbose=verbose, check=True, screened=it == 0,
@@ -491,5 +499,6 @@ def solve_refined(built, *, starts: int = 1, seed: int = 0, verbose: bool = Fals
     return SceneRefinement(built).solve(starts=starts, seed=seed, verbose=verbose, **ipopt)
 
 __all__ = ["SceneRefinement", "solve_refined", "exact_final_key", "ppte_disagreement", "ppte_agrees", "exact_lower_limit_shortfalls",
-           "exact_limit_shortfalls", "BACKED_OFF_UPPER_LIMITS",
+           "exact_limit_shortfalls", "BACKED_OFF_UPPER_LIMITS", "resolve_budget", "RESOLVE_BUDGET_FACTOR",
+           "RESOLVE_BUDGET_MIN_ITERATIONS",
            "extreme_fractions", "peak_fractions", "new_fractions", "REUSED_MODELS"]

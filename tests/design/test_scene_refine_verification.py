@@ -107,3 +107,21 @@ def test_a_lower_limit_the_exact_ltca_breaks_is_named_with_its_shortfall():
     got = exact_lower_limit_shortfalls(built, exact, tolerance=1e-3)
     assert got == {"loaded_contact_ratio[crank-cam]@0.5x": pytest.approx(0.035)}
     assert exact_lower_limit_shortfalls(built, exact, tolerance=0.03) == {}       # 1.165 is within 3 % of 1.2
+
+
+def test_a_re_solve_budget_follows_the_longest_solve_so_far():
+    """The re-solves of one refinement may grow steadily: on the co-design scene of benchmarks/bench_codesign.py
+    (root shift and two reliefs, 40 positions to start) the solves took 35, 40, 138, 193, 252, 101 and 38 Ipopt
+    iterations (measured, scene_refine's RESOLVE_BUDGET docstring). Every one of them fits the budget its
+    predecessors give; a budget of 4 times the first solve (140) would stop the fourth. A re-solve heading for an
+    infeasible stop after a short history (the low-helix co-design: 278 iterations after a first solve of 56) is
+    still stopped, and the caller's own max_iter caps the budget."""
+    from gearopt.design.scene_refine import RESOLVE_BUDGET_MIN_ITERATIONS, resolve_budget
+
+    measured = [35, 40, 138, 193, 252, 101, 38]
+    for k in range(1, len(measured)):
+        assert measured[k] <= resolve_budget(measured[:k])
+    assert resolve_budget(measured[:3]) == 4 * 138 and 193 > 4 * measured[0]
+    assert resolve_budget([56]) < 278
+    assert resolve_budget([5]) == RESOLVE_BUDGET_MIN_ITERATIONS
+    assert resolve_budget(measured[:3], max_iter=100) == 100
