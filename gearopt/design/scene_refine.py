@@ -68,7 +68,7 @@ import time
 import numpy as np
 import pandas as pd
 
-from ..errors import SolveError
+from ..errors import GearoptInputError, SolveError
 from .positions import extreme_fractions, new_fractions, peak_fractions
 from .scene_search import exact_geometry_violations, exact_limit_violation, exact_polish, rank_key, search_scope
 from .scene_terms import quantity_kind
@@ -85,11 +85,15 @@ scene of ``benchmarks/bench_codesign.py`` (root shift and two reliefs, 40 positi
 and kept a design 3.4 % worse on the exact LTCA (0.4171 against 0.4032 um at 1280 positions). Counted in iterations,
 not seconds (issue 28): the result does not depend on how busy the machine is."""
 
+
 def resolve_budget(iterations, max_iter=None) -> int:
     """Ipopt's ``max_iter`` for the next re-solve of a refinement whose solves so far took ``iterations``:
     :data:`RESOLVE_BUDGET_FACTOR` times the longest, at least :data:`RESOLVE_BUDGET_MIN_ITERATIONS`, and no more
     than the caller's ``max_iter`` where given."""
-    budget = max(RESOLVE_BUDGET_MIN_ITERATIONS, RESOLVE_BUDGET_FACTOR * max(int(i) for i in iterations))
+    iterations = [int(i) for i in iterations]
+    if not iterations or min(iterations) < 0:
+        raise GearoptInputError(f"resolve_budget: iterations={iterations!r} must name the solves so far (counts >= 0)")
+    budget = max(RESOLVE_BUDGET_MIN_ITERATIONS, RESOLVE_BUDGET_FACTOR * max(iterations))
     return int(min(int(max_iter), budget)) if max_iter is not None else int(budget)
 
 
@@ -328,7 +332,7 @@ class SceneRefinement:
         for it in range(max_refinements + 1):
             t0 = time.perf_counter()
             options = dict(ipopt)
-            if it > 0:     # a re-solve that has not converged in a few first-solve runs will not pay (step 4)
+            if it > 0:     # a re-solve that runs several times the longest solve so far will not pay (step 4)
                 options["max_iter"] = resolve_budget([r["ipopt_iterations"] for r in rows], ipopt.get("max_iter"))
             try:
                 result = first if it == 0 and first is not None else current.solve_once(

@@ -125,3 +125,13 @@ def test_a_re_solve_budget_follows_the_longest_solve_so_far():
     assert resolve_budget([56]) < 278
     assert resolve_budget([5]) == RESOLVE_BUDGET_MIN_ITERATIONS
     assert resolve_budget(measured[:3], max_iter=100) == 100
+
+
+def test_a_re_solve_budget_without_solves_is_refused_by_name():
+    from gearopt.design.scene_refine import resolve_budget
+    from gearopt.errors import GearoptInputError
+
+    with pytest.raises(GearoptInputError, match="iterations"):
+        resolve_budget([])
+    with pytest.raises(GearoptInputError, match="iterations"):
+        resolve_budget([12, -1])
