@@ -54,8 +54,8 @@ class SceneStudy:
                       "knee": {c: float(knee[c]) for c in (self.front.objective_column, self.front.quantity_column)},
                       **self._front_checks()},
             "objective": ({"name": self.sensitivity.objective_name, "unit": self.sensitivity.objective_unit,
-                           "value": self.sensitivity.objective} if self.sensitivity is not None else
-                          {"value": float(self.optimum.solve.objective)}),
+                           "value": self.sensitivity.objective, "exact_value": self.sensitivity.exact_objective}
+                          if self.sensitivity is not None else {"value": float(self.optimum.solve.objective)}),
             "design": dict(self.optimum.values),
             "sensitivities": ([{k: (v if isinstance(v, str) else float(v)) for k, v in r.items()}
                                for r in self.sensitivity.table.head(rows)[
@@ -103,9 +103,12 @@ class SceneStudy:
             lines += [f"![front]({figure})", ""]
         if self.sensitivity is not None:
             note = f" {self.sensitivity.note}." if self.sensitivity.note else ""
+            o = h["objective"]
+            exact = (f", {o['exact_value']:.4g} {o['unit']} on the exact model at the reported design"
+                     if np.isfinite(o["exact_value"]) else "")
             lines += [f"Sensitivities of the optimum -- local first-order estimates, exact only for small changes "
-                      f"({h['objective']['name']} = {h['objective']['value']:.4g} "
-                      f"{h['objective']['unit']}; limits from the multipliers, data from the KKT system):{note}", "",
+                      f"({o['name']} = {o['value']:.4g} {o['unit']} at the NLP's optimum{exact}; limits from the "
+                      f"multipliers, data from the KKT system):{note}", "",
                       self.sensitivity.markdown(rows), ""]
         else:
             lines += [f"Sensitivities of the optimum: not available -- {self.sensitivity_error}", ""]
