@@ -24,7 +24,8 @@ class SceneEvaluator:
     """Quantities of a scene as functions of its inputs (see the module docstring).
 
     ``inputs``: input name -> (kind ``"variable"``/``"parameter"``, row in x or p, scale, nominal, unit);
-    ``quantities``: label -> (first, last element, shape, squared, lower, upper, unit)."""
+    ``quantities``: label -> (first, last element, shape, squared, lower, upper, unit); ``keys``: label ->
+    (quantity, target, load case or ``""``)."""
 
     function: ca.Function
     x_nominal: np.ndarray
@@ -32,6 +33,7 @@ class SceneEvaluator:
     inputs: dict[str, tuple[str, int, float, float, str]]
     quantities: dict[str, tuple[int, int, str, bool, float | None, float | None, str]]
     _mapped: dict[int, ca.Function] = field(default_factory=dict, repr=False)
+    keys: dict[str, tuple[str, str, str]] = field(default_factory=dict)
 
     def nominal(self, name: str) -> float:
         if name not in self.inputs:
@@ -88,7 +90,9 @@ class SceneEvaluator:
 
 
 def scene_evaluator(result) -> SceneEvaluator:
-    """The :class:`SceneEvaluator` of a solved scene result, at its optimum and its data's nominal values."""
+    """The :class:`SceneEvaluator` of a solved scene result, at its reported design (``result.values``: the NLP's
+    optimum, or where the exact polish moved it, the polished design -- the design ``result.quantities`` describes)
+    and its data's nominal values."""
     built = getattr(result, "source", None)
     if built is None:
         raise GearoptInputError(f"result={type(result).__name__} must be the SceneResult of a solved scene "
@@ -100,15 +104,17 @@ def scene_evaluator(result) -> SceneEvaluator:
     x0 = []
     inputs: dict[str, tuple[str, int, float, float, str]] = {}
     design = {f"{v.target}.{v.name}" for v in built.scene.variables}
+    reported = getattr(result, "values", {}) or {}
     for i, name in enumerate(problem.variable_names):
-        scale, value = float(vtable.loc[name, "scale"]), float(vtable.loc[name, "value"])
+        scale = float(vtable.loc[name, "scale"])
+        value = float(reported[name]) if name in reported else float(vtable.loc[name, "value"])
         x0.append(value / scale)
         if name in design:
             inputs[name] = ("variable", i, scale, value, str(vtable.loc[name, "unit"]))
     for j, name in enumerate(problem.parameter_names):
         entry = pb.data_parameters[name]
         inputs[name] = ("parameter", j, 1.0, float(entry["value"]), entry["unit"])
-    exprs, quantities, row = [], {}, 0
+    exprs, quantities, keys, row = [], {}, {}, 0
     for rec in pb.records:
         kind, expr = rec["kind"], rec["expr"]
         if kind.shape == "named":
@@ -118,11 +124,12 @@ def scene_evaluator(result) -> SceneEvaluator:
         exprs.append(mx)
         lo, hi = rec["lower"], rec["upper"]
         quantities[rec["label"]] = (row, row + n, kind.shape, kind.squared, lo, hi, kind.unit)
+        keys[rec["label"]] = (rec["quantity"], rec["target"], rec["load_case"] or "")
         row += n
     params = ca.vertcat(*[pb.data_parameters[n]["symbol"] for n in problem.parameter_names])  # all declared
     fn = ca.Function("scene_quantities", [opti.x, params], [ca.vertcat(*exprs)])
     p0 = np.array([pb.data_parameters[n]["value"] for n in problem.parameter_names], dtype=float)
-    return SceneEvaluator(fn, np.asarray(x0, dtype=float), p0, inputs, quantities)
+    return SceneEvaluator(fn, np.asarray(x0, dtype=float), p0, inputs, quantities, keys=keys)
 
 
 STATUS = "_status"

@@ -133,3 +133,67 @@ def test_a_failed_sample_is_recorded_and_the_others_kept(result):
     ppte = out[f"ppte_um[{MESH}]@T150"]
     assert np.isnan(ppte[1]) and np.allclose(ppte[[0, 2]], inner.evaluate({k: v[[0, 2]] for k, v in values.items()})[
         f"ppte_um[{MESH}]@T150"], rtol=1e-12)
+
+
+def test_the_exact_recheck_equals_the_exact_ltca_of_each_sample_and_counts_its_own_breaks(result):
+    """exact_samples: the first samples re-evaluated by the exact LTCA (gearopt.ltca of the sample's flanks at the
+    scene's check positions, computed here directly), their limit breaks counted from those exact values, the
+    smooth model's largest miss over them reported -- on a design whose loaded contact ratio sits on its limit."""
+    from gearopt.contact.ltca import ltca
+
+    mc = monte_carlo(result, samples=40, seed=7, exact_samples=12)
+    assert mc.exact_samples == 12 and mc.exact_note == ""
+    column = f"exact:{LCR}"
+    assert mc.table[column].iloc[:12].notna().all() and mc.table[column].iloc[12:].isna().all()
+    built = result.source
+    pair = go.load_default_train("spur").pairs[MESH]
+    positions = built.options.check.check_positions
+    for i in (0, 11):
+        row = mc.table.iloc[i]
+        values = {f"{MESH}.{v}": row[f"{MESH}.{v}"] for v in RELIEF}
+        r = ltca(pair, 150.0, microgeometry=built.microgeometry_at(values, MESH), positions=positions,
+                 driving_gear=built.graph.driving_gear(MESH))
+        assert row[column] == pytest.approx(r.loaded_contact_ratio, rel=1e-9)
+        assert row[f"exact:ppte_um[{MESH}]@T150"] == pytest.approx(r.ppte_um, rel=1e-9)
+    s = mc.summary.set_index("quantity")
+    exact = mc.table[column].iloc[:12].to_numpy(float)
+    assert s.loc[LCR, "exact_probability_broken"] == pytest.approx(np.mean(exact < 1.3))
+    assert s.loc[LCR, "exact_samples"] == 12
+    p = s.loc[LCR, "exact_probability_broken"]
+    assert s.loc[LCR, "exact_probability_broken_se"] == pytest.approx(np.sqrt(p * (1 - p) / 12))
+    smooth = mc.table[LCR].iloc[:12].to_numpy(float)
+    assert s.loc[LCR, "smooth_error_max"] == pytest.approx(np.max(np.abs(smooth - exact)))
+    nominal = ltca(pair, 150.0, microgeometry=built.microgeometry_at(result.values, MESH), positions=positions,
+                   driving_gear=built.graph.driving_gear(MESH))
+    assert s.loc[LCR, "exact_nominal"] == pytest.approx(nominal.loaded_contact_ratio, rel=1e-9)
+
+
+def test_no_exact_recheck_over_data_tolerances_and_it_says_why(result):
+    mc = monte_carlo(result, samples=8, seed=1, exact_samples=4,
+                     tolerances=[Tolerance(f"torque_Nm[{MESH}]@T450", -45.0, 45.0)])
+    assert mc.exact_samples == 0 and f"torque_Nm[{MESH}]@T450" in mc.exact_note
+    assert "exact_probability_broken" not in mc.summary.columns
+    with pytest.raises(GearoptInputError, match="exact_samples=-1"):
+        monte_carlo(result, samples=4, exact_samples=-1)
+
+
+@pytest.mark.filterwarnings("ignore")
+def test_the_samples_spread_around_the_reported_design_after_an_exact_polish():
+    """The data's crank-cam tip-relief scene (lifted contact) polishes its NLP optimum on the exact model; the
+    Monte Carlo's nominal is the reported (polished) design's -- its smooth quantities equal the result's, and its
+    exact re-check's nominal the result's exact check -- not the NLP optimum's it came from."""
+    from gearopt.studies import relief_scene_from_data
+
+    system = go.load_system()
+    scene = relief_scene_from_data(system, go.load_default_train("spur"), MESH, ltca_options={"approach": "lifted"})
+    polished = scene.build().solve()
+    assert bool(polished.refinement.attrs["polish"]["accepted"].iloc[0])
+    mc = monte_carlo(polished, samples=4, seed=0, exact_samples=1)
+    s = mc.summary.set_index("quantity")
+    q = polished.quantities.assign(label=lambda t: t["quantity"] + f"[{MESH}]@" + t["load_case"]).set_index("label")
+    ex = polished.exact_check.set_index("load_case")
+    for case in ("T150", "T450"):
+        for quantity in ("ppte_um", "max_contact_stress_MPa", "loaded_contact_ratio"):
+            label = f"{quantity}[{MESH}]@{case}"
+            assert s.loc[label, "nominal"] == pytest.approx(q.loc[label, "value"], rel=1e-9)
+            assert s.loc[label, "exact_nominal"] == pytest.approx(ex.loc[case, quantity], rel=1e-9)
