@@ -64,12 +64,13 @@ def test_ppte_trade_off_writes_front_sensitivity_and_robustness(ppte_run):
     assert (front["status"] == "ok").all()
     assert np.all(np.diff(front["loaded_contact_ratio[crank-cam]"]) > 0)
     assert "coinciding ends" in s["contact_stress_front"]
-    # the robust design (limits held at the tolerance corners) breaks no limit on the samples, never more often than
-    # the nominal one; it costs PPTE when the nominal one breaks a limit, and nothing when the nominal design (the
-    # start the exact LTCA ranks best, issue 28) already keeps off the limits
-    assert s["robust"]["worst_probability_broken"] == 0.0
+    # the robust design (limits held at the tolerance corners of the smooth model) breaks no limit of that model on
+    # the samples, and on the exact LTCA's re-check never more often than the nominal one; it costs PPTE when the
+    # nominal one breaks a limit, and nothing when the nominal design (the start the exact LTCA ranks best, issue 28)
+    # already keeps off the limits
+    assert s["robust"]["worst_probability_broken_smooth"] == 0.0
     assert s["robust"]["worst_probability_broken"] <= s["nominal"]["worst_probability_broken"]
-    if s["nominal"]["worst_probability_broken"] > 0.0:
+    if s["nominal"]["worst_probability_broken_smooth"] > 0.0:
         assert s["robust"]["ppte_um"] > s["nominal"]["ppte_um"]
     else:
         assert s["robust"]["ppte_um"] == pytest.approx(s["nominal"]["ppte_um"], rel=1e-6)
