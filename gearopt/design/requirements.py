@@ -736,6 +736,9 @@ def _joint_speed_rows(system: System, req: Requirements, dynamic: DynamicPeaks, 
                  "speed over the sweep", fixed=fixed)
         worst = next(e for e in dynamic.joint_margins
                      if f"{e['joint']} at {float(e['speed_rpm']):g} rpm" == r.worst_case)
+        if all(math.isinf(v) for _, v in items):    # no demand anywhere: no "worst" joint to name
+            r.worst_case = ("no joint carries an axial tooth force (spur meshes)" if key == "axial_margin"
+                            else "no joint carries a torque")
         if f"{key}_cycle_median" in worst and int(worst.get("cycles", 1)) > 1:
             r.detail["cycle_spread"] = {"cycles": int(worst["cycles"]),
                                         **{s: float(worst[f"{key}_cycle_{s}"]) for s in ("worst", "median", "best")}}

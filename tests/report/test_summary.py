@@ -77,6 +77,9 @@ def test_margins_over_speed_carry_their_spread_over_the_recorded_cycles():
     assert (slip.value, slip.worst_case, slip.verdict) == (0.62, "pinion at 1500 rpm", "FAIL")
     assert slip.detail["cycle_spread"] == {"cycles": 5, "worst": 0.62, "median": 0.7, "best": 0.81}
     assert slip.fixed                                     # no design variable moves a dynamics result
+    axial = check.row("axial_margin_over_speed", "all joints")    # spur meshes: no thrust on any joint
+    assert math.isinf(axial.value) and axial.verdict == "PASS"
+    assert axial.worst_case == "no joint carries an axial tooth force (spur meshes)"
     rec = {"verdict": check.verdict, "design": "design", "option": "", "why": "test", "requirements": check.as_json(),
            "macro": {"root_gear": "pinion", "root_profile_shift": 0.2, "helix_angle_deg": 0.0}, "flanks": [],
            "gears": {}}
