@@ -395,8 +395,8 @@ def _warm_resolve(p, result: SceneResult, **ipopt):
     """Solve the parametric problem ``p`` warm from the NLP optimum of ``result``: its variables and multipliers
     (:meth:`~gearopt.design.scene.SceneResult.warm_start_point`) with :data:`~gearopt.nlp.WARM_START_IPOPT` under
     ``ipopt``. A re-solve from the primal point alone starts Ipopt's barrier far from the optimum's complementarity
-    and can leave for another local optimum of a multimodal scene (measured on the packaged data's root-mesh tip-relief
-    scene: 47 iterations to a worse optimum, against 3 back to the same one warm)."""
+    and can leave for another local optimum of a multimodal scene (measured on the packaged data's root-mesh
+    tip-relief scene: 47 iterations to a worse optimum, against 3 back to the same one warm)."""
     for name, value in result.solve.values.items():
         if name in p.variable_names:
             p.set_initial(name, value)
