@@ -65,12 +65,12 @@ def monte_carlo(result, samples: int = 1000, seed: int = 0, executor: Any = "ser
     exact LTCA; around a design whose exact polish put a limit exactly on its bound the smooth model's offset moves
     the probability of breaking it (measured on the packaged data's tip-relief scene of its root mesh: contact
     stress at 450 N m smooth 944.2 MPa, exact 945.5 MPa = the limit). ``exact_samples`` > 0 re-evaluates the
-    reported design and the first ``exact_samples`` samples (a random subsample: the samples are independent; for ``method="sobol"`` the
-    first points of the sequence) with the exact LTCA (``BuiltScene.exact_check``) and tables, beside the smooth
-    statistics, the exact nominal, mean and probability of breaking each limit (with its binomial standard error)
-    and the largest difference of smooth and exact values over the subsample. It needs design-variable tolerances
-    only (the exact check takes no perturbed data): with tolerances of data the re-check is not made and
-    ``exact_note`` says so.
+    reported design and the first ``exact_samples`` samples (a random subsample: the samples are independent; for
+    ``method="sobol"`` the first points of the sequence) with the exact LTCA (``BuiltScene.exact_check``) and
+    tables, beside the smooth statistics, the exact nominal, mean and probability of breaking each limit (with its
+    binomial standard error) and the largest difference of smooth and exact values over the subsample. It needs
+    design-variable tolerances only (the exact check takes no perturbed data): with tolerances of data the re-check
+    is not made and ``exact_note`` says so.
 
     Args:
         result: a solved scene (``scene.build().solve()``).
