@@ -215,3 +215,37 @@ def test_an_exact_value_that_ties_its_limit_to_rounding_does_not_break_it():
     np.testing.assert_allclose(exact, limit, rtol=1e-12)
     assert (exact > limit).any()            # a strict comparison would count a break here
     assert mc.summary.set_index("quantity").loc[label, "exact_probability_broken"] == 0.0
+
+
+@pytest.mark.filterwarnings("ignore")
+def test_sensitivities_and_the_exact_recheck_on_another_train_with_other_names(tmp_path):
+    """Any train: the packaged minimal pair with its gears renamed, its data's tip-relief scene (lifted contact,
+    polished on the exact model): the sensitivity report is made at the NLP's optimum and says how far the polish
+    moved the design; the Monte Carlo's exact re-check names the renamed mesh and its nominal is the result's exact
+    check."""
+    import re
+
+    from gearopt.data import default_data_path, train_from_data
+    from gearopt.studies import relief_scene_from_data, sensitivity_report
+
+    text = (default_data_path().parent / "minimal_train.toml").read_text(encoding="utf-8")
+    for old, new in {"pinion": "sun_gear", "wheel": "drum_gear"}.items():
+        text = re.sub(rf"\b{old}\b", new, text)
+    path = tmp_path / "renamed.toml"
+    path.write_text(text, encoding="utf-8")
+    system = go.load_system(path)
+    mesh = "sun_gear-drum_gear"
+    scene = relief_scene_from_data(system, train_from_data(system.data, "spur"), mesh, positions=24,
+                                   ltca_options={"approach": "lifted"})
+    result = scene.build().solve()
+    report = sensitivity_report(result, resolve_top=1)
+    assert np.isfinite(report.objective) and np.isfinite(report.exact_objective)
+    assert bool(result.refinement.attrs["polish"]["accepted"].iloc[0])
+    assert "the exact polish moved the reported design" in report.note and mesh in report.note
+    mc = monte_carlo(result, samples=16, seed=0, exact_samples=8)
+    s = mc.summary.set_index("quantity")
+    ex = result.exact_check.set_index("load_case")
+    for case in ex.index:
+        label = f"loaded_contact_ratio[{mesh}]@{case}"
+        assert s.loc[label, "exact_nominal"] == pytest.approx(ex.loc[case, "loaded_contact_ratio"], rel=1e-9)
+        assert mc.table[f"exact:{label}"].iloc[:8].notna().all()
