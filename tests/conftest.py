@@ -12,6 +12,12 @@ scheduled in xdist's order (correct, perhaps late).
 
 from __future__ import annotations
 
+import re
+
+import pytest
+
+from gearopt.data import default_data_path
+
 LONGEST_FIRST: tuple[str, ...] = (
     "tests/problems/test_helix_front_script.py",                    # ~33 s: the helix front's quick run
     "tests/problems/test_cam_gear_walkoff.py",                      # ~20 s: the main job's quick run + side process
@@ -65,3 +71,18 @@ def pytest_xdist_make_scheduler(config, log):
             super()._assign_work_unit(node)
 
     return LongestFirst(config, log)
+
+
+RENAMED_GEARS = {"pinion": "sun_gear", "wheel": "drum_gear"}
+"""The packaged minimal pair's gears under other names (any train): its mesh is ``sun_gear-drum_gear``."""
+
+
+@pytest.fixture(scope="module")
+def renamed_minimal_path(tmp_path_factory):
+    """Path of the packaged minimal pair's data file with its gears renamed (:data:`RENAMED_GEARS`)."""
+    text = (default_data_path().parent / "minimal_train.toml").read_text(encoding="utf-8")
+    for old, new in RENAMED_GEARS.items():
+        text = re.sub(rf"\b{old}\b", new, text)
+    path = tmp_path_factory.mktemp("renamed") / "renamed.toml"
+    path.write_text(text, encoding="utf-8")
+    return path

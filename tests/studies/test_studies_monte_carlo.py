@@ -218,22 +218,15 @@ def test_an_exact_value_that_ties_its_limit_to_rounding_does_not_break_it():
 
 
 @pytest.mark.filterwarnings("ignore")
-def test_sensitivities_and_the_exact_recheck_on_another_train_with_other_names(tmp_path):
+def test_sensitivities_and_the_exact_recheck_on_another_train_with_other_names(renamed_minimal_path):
     """Any train: the packaged minimal pair with its gears renamed, its data's tip-relief scene (lifted contact,
     polished on the exact model): the sensitivity report is made at the NLP's optimum and says how far the polish
     moved the design; the Monte Carlo's exact re-check names the renamed mesh and its nominal is the result's exact
     check."""
-    import re
-
-    from gearopt.data import default_data_path, train_from_data
+    from gearopt.data import train_from_data
     from gearopt.studies import relief_scene_from_data, sensitivity_report
 
-    text = (default_data_path().parent / "minimal_train.toml").read_text(encoding="utf-8")
-    for old, new in {"pinion": "sun_gear", "wheel": "drum_gear"}.items():
-        text = re.sub(rf"\b{old}\b", new, text)
-    path = tmp_path / "renamed.toml"
-    path.write_text(text, encoding="utf-8")
-    system = go.load_system(path)
+    system = go.load_system(renamed_minimal_path)
     mesh = "sun_gear-drum_gear"
     scene = relief_scene_from_data(system, train_from_data(system.data, "spur"), mesh, positions=24,
                                    ltca_options={"approach": "lifted"})

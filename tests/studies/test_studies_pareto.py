@@ -156,21 +156,14 @@ def test_a_point_warm_started_from_its_neighbours_solve_reaches_the_same_optimum
     assert warm["iterations"] < cold["iterations"]
 
 
-def test_a_front_with_refinement_on_another_train_and_other_names(tmp_path):
+def test_a_front_with_refinement_on_another_train_and_other_names(renamed_minimal_path):
     # the packaged minimal pair with its gears renamed: the ends, the first grid and the refinement points (warm
     # from their neighbours) all solve, and the front trades PPTE for loaded contact ratio monotonically
-    import re
-
     import gearopt as go
-    from gearopt.data import default_data_path, train_from_data
+    from gearopt.data import train_from_data
     from gearopt.design.scene import DesignVariable, LoadCase, Limit, Scene
 
-    text = (default_data_path().parent / "minimal_train.toml").read_text(encoding="utf-8")
-    for old, new in {"pinion": "sun_gear", "wheel": "drum_gear"}.items():
-        text = re.sub(rf"\b{old}\b", new, text)
-    path = tmp_path / "renamed.toml"
-    path.write_text(text, encoding="utf-8")
-    system = go.load_system(path)
+    system = go.load_system(renamed_minimal_path)
     mesh = "sun_gear-drum_gear"
     torque = system.meshes[mesh].design_torque_Nm
     scene = Scene("other train", train=train_from_data(system.data, "spur"),
