@@ -161,7 +161,7 @@ def scene_study(scene: Scene, quantity: str, target: str, *, points: int = 9, sa
     except GearoptInputError as exc:  # not a regular local optimum: said in the study, the study goes on
         error = str(exc)
     mc = monte_carlo(optimum, samples=samples, seed=seed, executor=executor, tolerances=tolerances,
-                     exact_samples=min(int(exact_samples), int(samples)))
+                     exact_samples=exact_samples)
     return SceneStudy(front, optimum, report, mc, error)
 
 
