@@ -43,8 +43,6 @@ from typing import Mapping
 
 import numpy as np
 import pandas as pd
-from scipy.optimize import minimize
-from scipy.stats import qmc
 
 from ..errors import GearoptError
 from .scene_terms import quantity_kind, variable_kind
@@ -243,6 +241,8 @@ def exact_screen(built, *, seed: int = 0) -> pd.DataFrame:
     names = built.variable_names
     low, high = variable_bounds(built)
     samples = built.options.search.screen_samples
+    from scipy.stats import qmc   # imported here: scipy.stats takes ~0.5 s to import (every process)
+
     unit = qmc.Sobol(len(names), scramble=True, seed=seed).random_base2(int(np.log2(samples))) if samples else \
         np.zeros((0, len(names)))
     initial = built.initial_values()
@@ -301,6 +301,8 @@ def exact_polish(built, values: Mapping[str, float]) -> tuple[dict[str, float], 
                                     else -POLISH_STEP, 0.0) for i in range(len(u0))]
     best_u = u0
     if budget > 0:
+        from scipy.optimize import minimize   # imported here (as qmc above)
+
         res = minimize(merit, u0, method="Nelder-Mead",
                        options={"maxfev": budget, "initial_simplex": np.array(simplex), "xatol": 1e-6,
                                 "fatol": 1e-9 * max(abs(f0), 1e-9)})
