@@ -34,7 +34,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 import pandas as pd
-from scipy import special, stats
+from scipy import special
 
 from ..data import System, joint_record, system_of
 from ..errors import GearoptInputError
@@ -771,7 +771,9 @@ def calibrate_walk_off(model: "WalkOffModel", evidence, inputs=None, *, prior_sa
     grid = {j: np.linspace(u.low, u.high, pivot_points) for j, u in pivots.items()}
     sampled = [u for u in inputs if u.name.split(".")[0] not in pivots or
                not u.name.endswith(".interference_shift_um")]
-    unit = stats.qmc.Sobol(max(len(sampled), 1), scramble=True, seed=seed).random(prior_samples)
+    from scipy.stats import qmc   # imported here: scipy.stats takes ~1 s to import (every process)
+
+    unit = qmc.Sobol(max(len(sampled), 1), scramble=True, seed=seed).random(prior_samples)
     thetas = [{u.name: float(u.from_unit(unit[i, k])) for k, u in enumerate(sampled)} for i in range(prior_samples)]
     counts = {e.joint: e for e in evidence}
     n = len(thetas)
