@@ -241,7 +241,8 @@ def exact_screen(built, *, seed: int = 0) -> pd.DataFrame:
     names = built.variable_names
     low, high = variable_bounds(built)
     samples = built.options.search.screen_samples
-    from scipy.stats import qmc   # imported here: scipy.stats takes ~0.5 s to import (every process)
+    from scipy.stats import qmc   # imported here, not by `import gearopt`: SciPy's statistics and optimisers were
+    #                               half of its import time (executor.WORKER_PRELOAD)
 
     unit = qmc.Sobol(len(names), scramble=True, seed=seed).random_base2(int(np.log2(samples))) if samples else \
         np.zeros((0, len(names)))

@@ -771,7 +771,7 @@ def calibrate_walk_off(model: "WalkOffModel", evidence, inputs=None, *, prior_sa
     grid = {j: np.linspace(u.low, u.high, pivot_points) for j, u in pivots.items()}
     sampled = [u for u in inputs if u.name.split(".")[0] not in pivots or
                not u.name.endswith(".interference_shift_um")]
-    from scipy.stats import qmc   # imported here: scipy.stats takes ~1 s to import (every process)
+    from scipy.stats import qmc   # imported here, not by `import gearopt.studies` (as in design.scene_search)
 
     unit = qmc.Sobol(max(len(sampled), 1), scramble=True, seed=seed).random(prior_samples)
     thetas = [{u.name: float(u.from_unit(unit[i, k])) for k, u in enumerate(sampled)} for i in range(prior_samples)]
