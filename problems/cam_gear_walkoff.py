@@ -1088,6 +1088,7 @@ def main(argv: list[str] | None = None) -> int:
     from gearopt.compile_cache import cache_stats
 
     wall0, stats0 = time.perf_counter(), cache_stats()      # counters of this run only (main() may run twice)
+    cpu0 = time.process_time()                              # this process's CPU before the job (a caller's)
     timings = StageTimings()
     system, thesis = go.load_system(args.data), load_thesis_tables()
     args.out.mkdir(parents=True, exist_ok=True)
@@ -1180,9 +1181,10 @@ def main(argv: list[str] | None = None) -> int:
     result["stage_time_s"] = dict(timings)                          # every stage, the ones after write_outputs too
     result["side_process_stages"] = list(SIDE_STAGES) + list(DYNAMICS_SIDE_STAGES) if side.enabled else []
     result["wall_time_s"] = time.perf_counter() - wall0            # less than the stages' sum: two chains overlap
-    # CPU time of each process since it started (imports included; the side process's at the end of its last
-    # stage): less disturbed by other load on the machine than the wall times, it shows which chain is longer
-    result["process_cpu_s"] = {"main": time.process_time(), **{
+    # CPU time of each process of the job: the main process's since main() started (an in-process caller's
+    # earlier work excluded), a side process's since it started (imports included) to the end of its last stage:
+    # less disturbed by other load on the machine than the wall times, it shows which chain is longer
+    result["process_cpu_s"] = {"main": time.process_time() - cpu0, **{
         f"side_{pid}": max(r["process_cpu_s"] for r in side_results.values() if r["pid"] == pid)
         for pid in sorted({r["pid"] for r in side_results.values()}) if pid != os.getpid()}}
     stats = {k: v - stats0.get(k, 0) if isinstance(v, (int, float)) else v    # this run's kernels in this

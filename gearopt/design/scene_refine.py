@@ -36,7 +36,10 @@ without a dense grid everywhere:
    overruns its iteration budget (:data:`RESOLVE_BUDGET_FACTOR` times the longest solve so far; reported); with ``stop_without_progress`` (off
    by default) also as soon as a re-solve neither lowers the best exact objective so far by more than
    ``refine_tolerance`` nor gives the first admissible design (faster; a design that a later re-solve would have
-   repaired and lowered is then missed);
+   repaired and lowered is then missed); with ``stop_on_divergence`` (on by default) as soon as a re-solve lowers
+   neither the best exact objective nor the largest smooth-vs-exact PPTE error below the smallest before it and
+   breaks no exact limit that a backed-off re-solve would repair (a loop moving away from both the design and the
+   agreement: it would not converge);
 5. return the *best verified* design. Every solve is re-evaluated by the exact LTCA, so each has an exact objective
    (its PPTE terms from the exact model); a solve is admissible when it meets every limit and its exact stresses,
    temperatures and (where PPTE is limited) PPTE agree with the smooth ones within the tolerance. The result is the
@@ -380,10 +383,17 @@ class SceneRefinement:
                 break
             if it == max_refinements:
                 break
-            if it > 0 and refinement.stop_without_progress and prior_best is not None and not (
-                    admissible and exact_objective < prior_best - tol * max(abs(prior_best), 1e-12)):
+            lowered = prior_best is not None and admissible and \
+                exact_objective < prior_best - tol * max(abs(prior_best), 1e-12)
+            if it > 0 and refinement.stop_without_progress and prior_best is not None and not lowered:
                 status = (f"stopped: re-solve {it} did not lower the best exact objective by more than "
                           f"{100 * tol:g} % (stop_without_progress)")
+                break
+            if it > 0 and refinement.stop_on_divergence and prior_best is not None and not lowered \
+                    and not shortfalls and err > min(r["max_ppte_error"] for r in rows[:-1]):
+                status = (f"stopped: re-solve {it} lowered neither the best exact objective nor the smooth model's "
+                          f"largest PPTE error ({err:.3g} against {min(r['max_ppte_error'] for r in rows[:-1]):.3g} "
+                          f"before; stop_on_divergence)")
                 break
             sets, added, stress_sliced = {}, 0, False
             for mesh, fractions in result.positions.items():

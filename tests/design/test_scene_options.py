@@ -28,11 +28,13 @@ FORMER_DEFAULTS = {
 
 SEARCH_DEFAULTS = {"screen_samples": 64, "screen_positions": 320, "screen_max_variables": 8,
                    "polish_evaluations_per_variable": 25, "macro_starts": 4, "stop_without_progress": False,
+                   "stop_on_divergence": True,
                    "spring_limit_screen": 0.2, "count_width_um": 0.25, "macro_derivative_order": 2}
 TOLERANCE_DEFAULTS = {"relief_tolerance_um": 2.0, "relief_start_tolerance_deg": 0.5, "relief_sharp_start": True,
                       "toleranced_ppte_width_um": 0.01, "toleranced_ppte_screen": 0.05, "toleranced_ppte_lazy": False}
 """The options added since (issue 28: the exact screen, polish and a co-design's default starts,
-:class:`SearchOptions`; issue 29: the refinement's stop without progress, the per-spring limits by exchange; issue 26:
+:class:`SearchOptions`; issue 29: the refinement's stop without progress and on divergence, the per-spring limits by
+exchange; issue 26:
 the smooth loaded-contact count's width, :data:`gearopt.contact.ltca_smooth.DEFAULT_COUNT_WIDTH_UM`; issue 27: the
 relief tolerances of ``ppte_um_toleranced``, the requirement's defaults)."""
 
