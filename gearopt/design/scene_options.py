@@ -183,7 +183,7 @@ class RefinementOptions:
             the loop is then moving away from both the design and the agreement it refines toward. On by default: on the five scenes of
             ``benchmarks/bench_optimum_quality.py`` it never fires (each converges) and the main job's results are
             unchanged; on the root-shift co-design of ``docs/examples.md`` it ends after 5 of 7 solves with the
-            same design (9.5 against 15.4 CPU-s); on the crank-cam relief refinements of
+            same design (9.5 against 15.4 CPU-s); on the tip-relief refinements of
             ``benchmarks/bench_codesign.py`` (sequential, warm from it, from 80 positions) it returns designs
             0.05-0.7 % higher in exact PPTE, within ``refine_tolerance``, in 0.3-0.4x the CPU time.
     """
