@@ -988,9 +988,11 @@ class CodesignOutputs:
 
 @contextlib.contextmanager
 def one_thread_per_process(enabled: bool):
-    """``--quick``: the macro-symbolic LTCA maps its positions on one thread (``GEAROPT_THREADS=1``, inherited by
-    the side process) unless the user set it -- the main, side and figure processes already fill two cores, and
-    threads on top made the run slower and less steady here (9.2-11.3 s against 9.1-9.2 s)."""
+    """With side processes: the macro-symbolic LTCA maps its positions on one thread (``GEAROPT_THREADS=1``,
+    inherited by the side processes) unless the user set it -- the main, side and figure processes already fill two
+    cores, and threads on top cost CPU time without saving wall time. Measured here: ``--quick`` 9.2-11.3 s against
+    9.1-9.2 s wall; the full run 284 -> 267 CPU-s in the process tree (the co-design's process 92 -> 84), 154 -> 146
+    s wall, back to back on the same clone. ``--serial`` (one process) keeps the threads."""
     previous = os.environ.get("GEAROPT_THREADS")
     if enabled and previous is None:
         os.environ["GEAROPT_THREADS"] = "1"
@@ -1097,7 +1099,7 @@ def main(argv: list[str] | None = None) -> int:
     # it slower here, 12 s against 9.6 s: four processes on two cores)
     workers = 1 if args.quick else 2
     # SIGTERM/SIGINT (a timeout, a scheduler, kill, Ctrl-C) end the job with every process of its tree
-    with children_die_with_this_process(), one_thread_per_process(args.quick), \
+    with children_die_with_this_process(), one_thread_per_process(not args.serial), \
             side_process(enabled=not args.serial, workers=workers) as side, \
             background_figures(dpi=QUICK_DPI if args.quick else None):
         side_runs = {stage: side.submit(fn, system, args.out, quick=args.quick) for stage, fn in SIDE_STAGES.items()}
