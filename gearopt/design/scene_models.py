@@ -50,6 +50,10 @@ ROOT_KEYS = {"K_A", "K_v", "K_Fbeta", "K_Falpha", "material", "life_factor", "Y_
 :func:`~gearopt.rating.root_stress_iso6336`."""
 
 
+TRAIN_CACHE_SIZE = 8
+"""Trains :meth:`SceneModels.train_at` keeps (the most recently used)."""
+
+
 class SceneModels:
     """The model graph of one build (module docstring).
 
@@ -81,6 +85,7 @@ class SceneModels:
         self.meshes: dict[str, GearPair] = scene.meshes()
         self.needs: dict[str, set[str]] = scene.needs()
         self.load_cases: list[LoadCase] = list(scene.load_cases)
+        self._trains: dict[tuple, GearTrain] = {}      # train_at's recent trains by their variables' values
 
     @property
     def parametric(self) -> bool:
@@ -140,9 +145,23 @@ class SceneModels:
                           f"symbolic in {sorted(free)}")
 
     def train_at(self, values: Mapping[str, float]) -> GearTrain:
-        """The scene's train with the train-level variables at ``values`` (``"train.variable"`` keys)."""
+        """The scene's train with the train-level variables at ``values`` (``"train.variable"`` keys). The last
+        :data:`TRAIN_CACHE_SIZE` trains are kept by their values: an exact evaluation asks for the train of one
+        design several times (its geometry limits, its exact LTCA), and building one propagates the shifts through
+        every mesh (milliseconds)."""
         free = self._train_values(values)
-        return replace(self.scene.train, **free) if free else self.scene.train
+        if not free:
+            return self.scene.train
+        if any(nm.is_symbolic(v) for v in free.values()):
+            return replace(self.scene.train, **free)
+        key = tuple(sorted((k, float(v)) for k, v in free.items()))
+        train = self._trains.pop(key, None)
+        if train is None:
+            train = replace(self.scene.train, **free)
+            if len(self._trains) >= TRAIN_CACHE_SIZE:
+                self._trains.pop(next(iter(self._trains)))
+        self._trains[key] = train                           # most recent last
+        return train
 
     def macro_free(self, mesh: str) -> bool:
         """Whether the mesh's macro geometry depends on design variables."""

@@ -82,6 +82,27 @@ def test_geometry_limits_count_exactly_and_refused_designs_rank_last(train):
     assert exact_evaluation(built, {**start, "train.root_profile_shift": 2.0}) == (np.inf, np.inf)
 
 
+def test_the_train_of_a_design_is_built_once_and_is_the_train_rebuilt_from_its_values(train):
+    """An exact evaluation asks for the train at one design from its geometry limits and its exact LTCA: the scene
+    keeps its recent trains by the variables' values (one propagation through the meshes per design, not one per
+    question), and a kept train is the one ``dataclasses.replace`` builds from those values."""
+    from gearopt.design.scene_models import TRAIN_CACHE_SIZE
+
+    built = codesign_scene(train).build()
+    start = built.initial_values()
+    first = built.train_at({**start, "train.root_profile_shift": 0.25})
+    assert built.train_at({**start, "train.root_profile_shift": 0.25}) is first
+    assert built.numeric_pair(MESH, {**start, "train.root_profile_shift": 0.25}) is first.pairs[MESH]
+    reference = dataclasses.replace(train, root_profile_shift=0.25)
+    assert first.profile_shifts == reference.profile_shifts
+    assert first.pairs[MESH].geometry()["tip_diameter_mm"] == reference.pairs[MESH].geometry()["tip_diameter_mm"]
+    other = built.train_at({**start, "train.root_profile_shift": 0.3})
+    assert other is not first and other.root_profile_shift == 0.3
+    for x in np.linspace(0.0, 0.5, TRAIN_CACHE_SIZE):           # the oldest trains leave the bounded store
+        built.train_at({**start, "train.root_profile_shift": float(x)})
+    assert built.train_at({**start, "train.root_profile_shift": 0.25}) is not first
+
+
 def test_each_start_is_refined_and_the_best_exact_design_returned(train, solved):
     built, result, one = solved
     table = result.starts
