@@ -369,7 +369,8 @@ class GearPair:
         record = _NUMERIC_RECORDS.get(key) if key is not None else None
         if record is None:
             record = PairGeometry(**self._geometry).map_values(nm.to_float)
-            check_result(f"{self._label()} geometry", record, self._inputs())
+            if not record.is_finite():                  # the full check only to name what is not finite
+                check_result(f"{self._label()} geometry", record, self._inputs())
             if key is not None:
                 if len(_NUMERIC_RECORDS) >= NUMERIC_RECORD_CACHE_SIZE:
                     _NUMERIC_RECORDS.pop(next(iter(_NUMERIC_RECORDS)))

@@ -13,6 +13,7 @@ fails at once, listing the nearest valid names.
 from __future__ import annotations
 
 import difflib
+import math
 from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, fields
 from typing import Any
@@ -175,6 +176,18 @@ class PairGeometry(Mapping):
     def __repr__(self) -> str:
         return f"PairGeometry({self.names[0]}-{self.names[1]}, z={self.teeth[0]}/{self.teeth[1]})"
 
+    def is_finite(self) -> bool:
+        """Whether every number is finite (one pass; :func:`gearopt.validation.check_result` names a bad one)."""
+        isfinite = math.isfinite
+        for k in _FIELD_ORDER:
+            v = getattr(self, k)
+            if isinstance(v, tuple):
+                if not all(isinstance(e, (str, int)) or e is None or isfinite(e) for e in _flat(v)):
+                    return False
+            elif not (isinstance(v, (str, int)) or v is None or isfinite(v)):
+                return False
+        return True
+
     def map_values(self, fn) -> "PairGeometry":
         """A copy with ``fn`` applied to every number (tuples element-wise; teeth and names untouched)."""
         def apply(v):
@@ -184,6 +197,14 @@ class PairGeometry(Mapping):
                 return v
             return fn(v)
         return PairGeometry(**{k: apply(getattr(self, k)) for k in _FIELD_ORDER})
+
+
+def _flat(values: tuple):
+    for v in values:
+        if isinstance(v, tuple):
+            yield from _flat(v)
+        else:
+            yield v
 
 
 _FIELD_ORDER = tuple(f.name for f in fields(PairGeometry))

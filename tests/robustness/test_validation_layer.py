@@ -6,6 +6,7 @@ from __future__ import annotations
 import contextlib
 import io
 import math
+import re
 import time
 import warnings
 
@@ -76,6 +77,21 @@ def test_counts_tuples_names_arrays_and_results():
         check_array("x", np.zeros((2, 3)), shape=(2, None, 1))
     with pytest.raises(NonFiniteResultError, match=r"stress\.a\[1\] is NaN.*inputs: torque_Nm=5"):
         check_result("stress", {"a": (1.0, NAN)}, {"torque_Nm": 5})
+
+
+def test_a_numeric_geometry_record_is_finite_in_one_pass_and_a_bad_number_is_named():
+    """A numeric pair's geometry record is checked in one pass (``PairGeometry.is_finite``); only a record that
+    fails it goes through ``check_result``, which names the field and element."""
+    import dataclasses
+
+    record = _pair().geometry()
+    assert record.is_finite()
+    for field, bad in (("transverse_contact_ratio", NAN), ("tip_diameter_mm", (200.0, INF))):
+        spoiled = dataclasses.replace(record, **{field: bad})
+        assert not spoiled.is_finite()
+        element = "[1] is an infinity" if isinstance(bad, tuple) else " is NaN"
+        with pytest.raises(NonFiniteResultError, match=re.escape(f"geometry.{field}{element}")):
+            check_result("geometry", spoiled)
 
 
 def test_geometry_entry_points_reject_bad_input_by_name():
