@@ -33,8 +33,8 @@ front's smooth PPTE beside the exact LTCA's PPTE of each verified design and whe
 stay in the table with their status.
 
 Affordability: ``--quick`` (4 points, 24 NLP positions, 7 face slices, one load case, the ends from 3 starts) runs
-in about 20 s on one core; the default (9 points, 40 positions, three load cases, 4 starts, one refinement per
-point) in about 3 minutes (measured here: 176 s serially; the front ran monotone from 2.25 um at 8 deg to 3.61 um
+in about 30-35 s on one core (2026-11-29: 33.7 s, most of it the ends' six solves); the default (9 points, 40
+positions, three load cases, 4 starts, one refinement per point) in about 3 minutes (measured here: 176 s serially; the front ran monotone from 2.25 um at 8 deg to 3.61 um
 at 0 deg, and the exact LTCA agreed within the refinement's 2 % at 7 of the 9 points).
 
 Writes ``<out>/front.csv``, ``<out>/front.png`` and ``<out>/summary.json``.
