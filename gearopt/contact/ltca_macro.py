@@ -170,6 +170,12 @@ def default_map_threads() -> int:
     return max(1, min(os.cpu_count() or 1, 8))
 
 
+PIECES: dict[tuple, tuple] = {}
+"""The per-position ``SX`` functions of recently built :class:`MacroLTCAModel` s by what they depend on
+(:meth:`MacroLTCAModel._pieces_key`): a model built again at other positions reuses them."""
+PIECES_CACHE_SIZE = 16
+"""Most entries :data:`PIECES` keeps (the least recently used leave first)."""
+
 class MacroLTCAModel:
     """Smooth LTCA of one mesh as a CasADi ``Function`` ``(macro, micro, torque) -> outputs`` built once.
 
@@ -418,8 +424,50 @@ class MacroLTCAModel:
           unrolled steps. Measured on the packaged train's root mesh at 8 deg (11 slices, 40 positions x
           3 torques): the Jacobian took 197 ms through every step and per load case, 65-89 ms in these pieces.
 
-        The graph is that of one position whatever their number."""
+        The graph is that of one position whatever their number: the ``SX`` pieces do not depend on the positions or
+        the load cases, so a model built again with other positions (a refinement's re-solve) takes them from
+        :data:`PIECES` when everything else is the same."""
         P, L = self.positions, self.load_cases
+        key = self._pieces_key()
+        pieces = PIECES.pop(key, None) if key is not None else None
+        if pieces is None:
+            pieces = self._pieces()
+            if key is not None and len(PIECES) >= PIECES_CACHE_SIZE:
+                PIECES.pop(next(iter(PIECES)))
+        if key is not None:
+            PIECES[key] = pieces                                    # most recent last
+        geometry, springs, gaps, approach, contact, names = pieces
+        macro_n, micro_n = len(MACRO_INPUTS), len(MICRO_INPUTS)
+
+        def mapped(f, n):
+            return f.map(n, "thread", self.map_threads) if self.map_threads > 1 else f.map(n)
+
+        m_mx, u_mx, t_mx = ca.MX.sym("macro", macro_n), ca.MX.sym("micro", micro_n), ca.MX.sym("torque", L)
+        g_mx = geometry(m_mx)
+        per_position = mapped(springs, P)(m_mx, g_mx, ca.DM(self.fractions).T)      # N x (P * columns)
+        gap_row = ca.repmat(mapped(gaps, P)(m_mx, u_mx, g_mx, per_position), 1, L)
+        cols_row = ca.repmat(per_position, 1, L)                                    # the positions of every case
+        t_row = ca.horzcat(*[ca.repmat(t_mx[i], 1, P) for i in range(L)])
+        x_row = mapped(approach, P * L)(m_mx, g_mx, cols_row, gap_row, t_row)
+        res = list(mapped(contact, P * L)(m_mx, g_mx, cols_row, gap_row, t_row, x_row))
+        res[0] = ca.reshape(res[0], P, L)
+        self.output_names = tuple(names)
+        return ca.Function("macro_ltca", [m_mx, u_mx, t_mx], res, ["macro", "micro", "torque"], list(names))
+
+    def _pieces_key(self) -> tuple | None:
+        """What the ``SX`` pieces of :meth:`_pieces` depend on (everything but the positions, the load cases and
+        the threads), or None when the template pair's numbers are not hashable."""
+        template = self.template._numeric_key()
+        if template is None:
+            return None
+        return (template, self.driving_gear, repr(self.stiffness), self.slices, self.helical, self.smoothing_um,
+                self.engagement_width_mm, self.count_width_um, self.relief_shape, self.relief_smoothing_deg,
+                self.root_stress, self.speed_rpm, repr(sorted(self._materials.items())),
+                tuple(int(k) for k in self.pair_index), self.approach_steps, self.derivative_steps)
+
+    def _pieces(self) -> tuple:
+        """The ``SX`` functions of one position (:meth:`_build`): geometry, springs, gaps, approach, contact and the
+        contact's output names."""
         macro = ca.SX.sym("macro", len(MACRO_INPUTS))
         micro = ca.SX.sym("micro", len(MICRO_INPUTS))
         torque, frac = ca.SX.sym("torque"), ca.SX.sym("s")
@@ -465,22 +513,7 @@ class MacroLTCAModel:
             outs.append(sp_in["flash_unit_K"] * load / nm.sqrt(b_h))
             names.append("flash_rise_K")
         contact = ca.Function("macro_ltca_contact", [macro, G, cols, e, torque, x0], outs, {"cse": True})
-
-        def mapped(f, n):
-            return f.map(n, "thread", self.map_threads) if self.map_threads > 1 else f.map(n)
-
-        m_mx, u_mx, t_mx = ca.MX.sym("macro", macro.numel()), ca.MX.sym("micro", micro.numel()), \
-            ca.MX.sym("torque", L)
-        g_mx = geometry(m_mx)
-        per_position = mapped(springs, P)(m_mx, g_mx, ca.DM(self.fractions).T)      # N x (P * columns)
-        gap_row = ca.repmat(mapped(gaps, P)(m_mx, u_mx, g_mx, per_position), 1, L)
-        cols_row = ca.repmat(per_position, 1, L)                                    # the positions of every case
-        t_row = ca.horzcat(*[ca.repmat(t_mx[i], 1, P) for i in range(L)])
-        x_row = mapped(approach, P * L)(m_mx, g_mx, cols_row, gap_row, t_row)
-        res = list(mapped(contact, P * L)(m_mx, g_mx, cols_row, gap_row, t_row, x_row))
-        res[0] = ca.reshape(res[0], P, L)
-        self.output_names = tuple(names)
-        return ca.Function("macro_ltca", [m_mx, u_mx, t_mx], res, ["macro", "micro", "torque"], list(names))
+        return geometry, springs, gaps, approach, contact, tuple(names)
 
     def _flash_factors(self, on1, on2, cb) -> dict:
         """Blok's flash temperature per spring at unit load intensity and unit half-width [K], and the Hertzian

@@ -137,6 +137,30 @@ def test_one_graph_for_every_macro_value_and_position_count(train, template):
     assert big.kernel.n_nodes() == m.kernel.n_nodes()
 
 
+def test_a_model_built_again_at_other_positions_reuses_its_pieces_and_gives_the_same_numbers(train, template):
+    """The per-position SX functions do not depend on the positions or load cases: a model built again at other
+    positions (a refinement's re-solve) takes them from ``PIECES`` -- and evaluates to the last bit as one built
+    from scratch; a setting they depend on (the contact smoothing) builds new ones."""
+    from gearopt.contact import ltca_macro
+
+    options = dict(slices=5, helical=True, max_overlap_ratio=1.0, smoothing_um=0.031)
+    first = MacroLTCAModel(template, positions=20, **options)
+    key = first._pieces_key()
+    assert key in ltca_macro.PIECES
+    pieces = ltca_macro.PIECES[key]
+    again = MacroLTCAModel(template, positions=33, load_cases=2, **options)
+    assert ltca_macro.PIECES[key] is pieces and len(again.fractions) == 33
+    ltca_macro.PIECES.clear()
+    fresh = MacroLTCAModel(template, positions=33, load_cases=2, **options)
+    assert ltca_macro.PIECES[key] is not pieces
+    macro, micro = macro_vector(_shifted(train, x=0.4, beta=6.0)), micro_vector(MODS, template.geometry())
+    a, b = again.evaluate(macro, micro, [250.0, 320.0]), fresh.evaluate(macro, micro, [250.0, 320.0])
+    np.testing.assert_array_equal(a.transmission_error_um, b.transmission_error_um)
+    np.testing.assert_array_equal(a.load_intensity_N_per_mm, b.load_intensity_N_per_mm)
+    other = MacroLTCAModel(template, positions=20, **{**options, "smoothing_um": 0.05})
+    assert other._pieces_key() != key and ltca_macro.PIECES[other._pieces_key()] is not ltca_macro.PIECES[key]
+
+
 def test_bad_inputs_raise_clear_errors(template):
     with pytest.raises(GearoptInputError, match="stiffness"):
         MacroLTCAModel(template, stiffness="potential_energy")
