@@ -389,11 +389,11 @@ class SceneRefinement:
                 status = (f"stopped: re-solve {it} did not lower the best exact objective by more than "
                           f"{100 * tol:g} % (stop_without_progress)")
                 break
+            closest = min((r["max_ppte_error"] for r in rows[:-1]), default=err)   # the agreement so far
             if it > 0 and refinement.stop_on_divergence and prior_best is not None and not lowered \
-                    and not shortfalls and err > min(r["max_ppte_error"] for r in rows[:-1]):
+                    and not shortfalls and err > closest:
                 status = (f"stopped: re-solve {it} lowered neither the best exact objective nor the smooth model's "
-                          f"largest PPTE error ({err:.3g} against {min(r['max_ppte_error'] for r in rows[:-1]):.3g} "
-                          f"before; stop_on_divergence)")
+                          f"largest PPTE error ({err:.3g} against {closest:.3g} before; stop_on_divergence)")
                 break
             sets, added, stress_sliced = {}, 0, False
             for mesh, fractions in result.positions.items():
