@@ -176,6 +176,7 @@ PIECES: dict[tuple, tuple] = {}
 PIECES_CACHE_SIZE = 16
 """Most entries :data:`PIECES` keeps (the least recently used leave first)."""
 
+
 class MacroLTCAModel:
     """Smooth LTCA of one mesh as a CasADi ``Function`` ``(macro, micro, torque) -> outputs`` built once.
 
@@ -457,7 +458,7 @@ class MacroLTCAModel:
     def _pieces_key(self) -> tuple | None:
         """What the ``SX`` pieces of :meth:`_pieces` depend on (everything but the positions, the load cases and
         the threads), or None when the template pair's numbers are not hashable."""
-        template = self.template._numeric_key()
+        template = self.template.numeric_key()
         if template is None:
             return None
         return (template, self.driving_gear, repr(self.stiffness), self.slices, self.helical, self.smoothing_um,

@@ -365,7 +365,7 @@ class GearPair:
     def _record(self) -> PairGeometry:
         if self.is_symbolic:
             return PairGeometry(**self._geometry)
-        key = self._numeric_key()
+        key = self.numeric_key()
         record = _NUMERIC_RECORDS.get(key) if key is not None else None
         if record is None:
             record = PairGeometry(**self._geometry).map_values(nm.to_float)
@@ -377,9 +377,10 @@ class GearPair:
                 _NUMERIC_RECORDS[key] = record
         return record
 
-    def _numeric_key(self) -> tuple | None:
-        """The defining values of a numeric pair (every field), or None when one is unhashable: equal pairs built
-        separately (a train re-propagated, a dataclass ``replace``) share one geometry record."""
+    def numeric_key(self) -> tuple | None:
+        """The defining values of a numeric pair (every field) as a hashable key, or None when one is unhashable:
+        equal pairs built separately (a train re-propagated, a dataclass ``replace``) share one geometry record, and
+        models built on equal pairs can share what depends on the pair alone."""
         key = tuple(getattr(self, f.name) for f in fields(self))
         try:
             hash(key)
