@@ -46,6 +46,7 @@ from __future__ import annotations
 
 import math
 import os
+import threading
 from dataclasses import dataclass
 from typing import Any, Sequence
 
@@ -175,6 +176,7 @@ PIECES: dict[tuple, tuple] = {}
 (:meth:`MacroLTCAModel._pieces_key`): a model built again at other positions reuses them."""
 PIECES_CACHE_SIZE = 16
 """Most entries :data:`PIECES` keeps (the least recently used leave first)."""
+_PIECES_LOCK = threading.Lock()
 
 
 class MacroLTCAModel:
@@ -430,13 +432,16 @@ class MacroLTCAModel:
         :data:`PIECES` when everything else is the same."""
         P, L = self.positions, self.load_cases
         key = self._pieces_key()
-        pieces = PIECES.pop(key, None) if key is not None else None
+        with _PIECES_LOCK:
+            pieces = PIECES.pop(key, None) if key is not None else None
         if pieces is None:
             pieces = self._pieces()
-            if key is not None and len(PIECES) >= PIECES_CACHE_SIZE:
-                PIECES.pop(next(iter(PIECES)))
         if key is not None:
-            PIECES[key] = pieces                                    # most recent last
+            with _PIECES_LOCK:                      # a thread of a Dask worker may build beside another
+                PIECES.pop(key, None)
+                while len(PIECES) >= PIECES_CACHE_SIZE:
+                    PIECES.pop(next(iter(PIECES)))
+                PIECES[key] = pieces                # most recent last
         geometry, springs, gaps, approach, contact, names = pieces
         macro_n, micro_n = len(MACRO_INPUTS), len(MICRO_INPUTS)
 

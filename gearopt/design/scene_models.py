@@ -21,6 +21,7 @@ where the demand is nonzero and smooth where it vanishes (a spur train).
 from __future__ import annotations
 
 import inspect
+import threading
 import warnings
 from dataclasses import replace
 from typing import Any, Callable, Mapping
@@ -52,6 +53,7 @@ ROOT_KEYS = {"K_A", "K_v", "K_Fbeta", "K_Falpha", "material", "life_factor", "Y_
 
 TRAIN_CACHE_SIZE = 8
 """Trains :meth:`SceneModels.train_at` keeps (the most recently used)."""
+_TRAINS_LOCK = threading.Lock()
 
 
 class SceneModels:
@@ -155,12 +157,15 @@ class SceneModels:
         if any(nm.is_symbolic(v) for v in free.values()):
             return replace(self.scene.train, **free)
         key = tuple(sorted((k, float(v)) for k, v in free.items()))
-        train = self._trains.pop(key, None)
+        with _TRAINS_LOCK:
+            train = self._trains.pop(key, None)
         if train is None:
             train = replace(self.scene.train, **free)
-            if len(self._trains) >= TRAIN_CACHE_SIZE:
+        with _TRAINS_LOCK:                                  # a thread of a Dask worker may evaluate beside another
+            self._trains.pop(key, None)
+            while len(self._trains) >= TRAIN_CACHE_SIZE:
                 self._trains.pop(next(iter(self._trains)))
-        self._trains[key] = train                           # most recent last
+            self._trains[key] = train                       # most recent last
         return train
 
     def macro_free(self, mesh: str) -> bool:
